@@ -1,0 +1,100 @@
+#pragma once
+// The server's single semantic occupancy grid: the facade used by the LCM service.
+// Data flows scan -> integrate() -> grid; grid -> queryChunk() -> chunk_reply_t.
+// Not thread-safe: the service serialises access.
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "socc/chunk_reply_t.hpp"
+#include "socc/map/map_config.hpp"
+#include "socc/point_cloud.hpp"
+
+namespace socc::map {
+
+struct IntegrationResult {
+  std::int32_t voxels_touched = 0;  // voxels changed by hits or misses
+  std::int32_t voxels_hit = 0;
+  std::int32_t voxels_freed = 0;    // voxels that turned free (statistics dropped)
+  std::int32_t points_used = 0;     // points within [min_range, max_range]
+};
+
+struct ChunkQuery {
+  enum class Shape { kBox, kSphere } shape = Shape::kSphere;
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();  // sphere
+  double radius = 0.0;
+  Eigen::Vector3d box_min = Eigen::Vector3d::Zero();  // box
+  Eigen::Vector3d box_max = Eigen::Vector3d::Zero();
+  double occupancy_threshold = 0.5;
+  std::int32_t fields = 1;  // chunk_request_t::FIELD_* bit set
+  std::int32_t limit = 0;   // 0 = unlimited
+};
+
+struct MapStats {
+  std::int64_t num_voxels = 0;
+  std::int64_t num_occupied = 0;
+  std::int64_t num_free = 0;
+  std::int64_t num_blocks = 0;
+  std::int64_t memory_bytes = 0;
+  std::int64_t version = 0;
+};
+
+class SemanticOccupancyMap {
+ public:
+  explicit SemanticOccupancyMap(const MapConfig& config);
+  ~SemanticOccupancyMap();
+  SemanticOccupancyMap(SemanticOccupancyMap&&) noexcept;
+  SemanticOccupancyMap& operator=(SemanticOccupancyMap&&) noexcept;
+
+  const MapConfig& config() const;
+
+  /// Empty when the cloud may be integrated (finite points, sizes consistent, labels < 20,
+  /// point count and coordinates within the configured limits), otherwise the reason.
+  std::string validate(const Eigen::Isometry3d& sensor_pose, const LabeledCloud& cloud) const;
+
+  /// Integrates a cloud given in the sensor frame, sensor at sensor_pose (map frame):
+  /// hits update statistics and log-odds; rays clear free space. Call validate() first;
+  /// invalid input throws std::invalid_argument and leaves the map unchanged.
+  IntegrationResult integrate(const Eigen::Isometry3d& sensor_pose, const LabeledCloud& cloud);
+
+  /// Fills the voxel arrays of out (not its header) for the occupied (and, with FIELD_FREE,
+  /// free) voxels inside the query region.
+  void queryChunk(const ChunkQuery& query, chunk_reply_t& out) const;
+
+  MapStats stats() const;
+  std::int64_t version() const;  // increases with every change
+  void clear();
+
+  /// Snapshot: versioned, checksummed, written atomically (temp file + rename).
+  /// metadata is an opaque blob stored alongside (the service keeps robot states there).
+  void save(const std::filesystem::path& file, const std::string& metadata = {}) const;
+  /// Loads a snapshot; on any error (missing, corrupt, wrong version or checksum) throws
+  /// std::runtime_error and the current map stays unchanged.
+  static SemanticOccupancyMap load(const std::filesystem::path& file, std::string* metadata = nullptr);
+
+  /// Exports occupied voxels: OctoMap .bt (binary) or .ot (with colour = class colour),
+  /// loadable by octovis; PCD (PointXYZRGBL: voxel centre, class colour, label).
+  /// Returns the number of voxels exported. Throws std::runtime_error on I/O errors.
+  std::int64_t exportOctomap(const std::filesystem::path& file, double occupancy_threshold) const;
+  std::int64_t exportPcd(const std::filesystem::path& file, double occupancy_threshold) const;
+
+  /// Top-down RGB image of [box_min, box_max] (x right, +y up), mode as render_request_t.
+  struct Image {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> rgb;  // width * height * 3
+  };
+  Image render(const Eigen::Vector3d& box_min, const Eigen::Vector3d& box_max, double pixel_size,
+               int mode, double occupancy_threshold) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// PNG encoding (libpng) of an RGB image; used by the render service and CLI tools.
+std::vector<std::uint8_t> encodePng(const SemanticOccupancyMap::Image& image);
+
+}  // namespace socc::map
