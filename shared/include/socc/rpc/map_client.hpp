@@ -1,0 +1,81 @@
+#pragma once
+// Client side of the map service (gRPC-style request/response over LCM).
+// Each call publishes a request on SOCC/<SERVICE>/REQ and waits for the reply with the same
+// request_id on SOCC/<SERVICE>/REP/<client_id>; on timeout it retries the SAME request
+// (same request_id, and for Integrate the same seq, so the server applies it once).
+#include <Eigen/Geometry>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "socc/chunk_reply_t.hpp"
+#include "socc/chunk_request_t.hpp"
+#include "socc/integrate_reply_t.hpp"
+#include "socc/integrate_request_t.hpp"
+#include "socc/map_command_reply_t.hpp"
+#include "socc/map_command_request_t.hpp"
+#include "socc/render_reply_t.hpp"
+#include "socc/render_request_t.hpp"
+#include "socc/robot_pose_reply_t.hpp"
+#include "socc/point_cloud.hpp"
+#include "socc/stats_reply_t.hpp"
+
+namespace socc::rpc {
+
+struct ClientOptions {
+  std::string lcm_url = "udpm://239.255.76.67:7667?ttl=0";
+  std::string client_id = "robot1";
+  std::chrono::milliseconds timeout{2000};  // per attempt
+  int max_attempts = 5;
+  std::string key_file;  // optional shared key: requests are signed (HMAC-SHA256)
+};
+
+/// Error of a call: transport (no reply after all attempts) or a non-OK status.
+struct CallError {
+  std::int8_t status = 0;  // reply_header_t code; INTERNAL for timeouts
+  std::string message;
+  bool timed_out = false;
+};
+
+/// The result of a call: the reply when it arrived with status OK, else the error.
+template <typename Reply>
+struct Result {
+  std::optional<Reply> reply;
+  CallError error;
+  int attempts = 0;
+  std::int64_t bytes_received = 0;  // encoded reply size
+  bool ok() const { return reply.has_value(); }
+};
+
+class MapClient {
+ public:
+  explicit MapClient(ClientOptions options);  // throws std::runtime_error on a bad URL
+  ~MapClient();
+  MapClient(const MapClient&) = delete;
+  MapClient& operator=(const MapClient&) = delete;
+
+  const ClientOptions& options() const;
+
+  /// The header fields (request id, client id, reply channel, time, auth) are filled in here.
+  Result<integrate_reply_t> integrate(integrate_request_t request);
+  Result<chunk_reply_t> getChunk(chunk_request_t request);
+  Result<stats_reply_t> getStats();
+  Result<robot_pose_reply_t> getRobotPose(const std::string& robot_id);
+  Result<map_command_reply_t> command(map_command_request_t request);
+  Result<render_reply_t> render(render_request_t request);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Convenience builders with the documented defaults (occupancy threshold 0.5, features).
+chunk_request_t sphereChunkRequest(const Eigen::Vector3d& center, double radius,
+                                   std::int32_t fields = chunk_request_t::FIELD_FEATURES);
+integrate_request_t makeIntegrateRequest(std::int64_t seq, std::int64_t scan_utime,
+                                         const Eigen::Isometry3d& sensor_pose,
+                                         const LabeledCloud& cloud);
+
+}  // namespace socc::rpc
