@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Runs every socc test on a fresh Debian 12 machine (as root): installs the dependencies,
+# builds with warnings as errors, runs the unit and integration tests (real map_server
+# processes over UDP multicast on loopback), then the same tests under ASan/UBSan, then
+# bounded fuzzing and a short benchmark report. Exits non-zero on any failure.
+set -uo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+jobs="$(nproc)"
+start=$SECONDS
+passed=0
+failed=0
+
+section() { printf '\n==== %s (%ds) ====\n' "$1" "$((SECONDS - start))"; }
+
+# Runs ctest in a build dir and adds its counts to the totals.
+run_ctest() {
+  local dir="$1"
+  shift
+  local log="$dir/ctest.log"
+  ctest --test-dir "$dir" --output-on-failure --timeout 300 -j"$jobs" "$@" 2>&1 | tee "$log"
+  local line
+  line="$(grep -E 'tests passed, [0-9]+ tests failed out of [0-9]+' "$log" | tail -1)"
+  if [ -z "$line" ]; then
+    echo "run_tests: ctest in $dir did not report results" >&2
+    failed=$((failed + 1))
+    return
+  fi
+  local f t
+  f="$(sed -E 's/.* ([0-9]+) tests failed out of ([0-9]+).*/\1/' <<<"$line")"
+  t="$(sed -E 's/.* ([0-9]+) tests failed out of ([0-9]+).*/\2/' <<<"$line")"
+  passed=$((passed + t - f))
+  failed=$((failed + f))
+}
+
+section "set-up"
+bash scripts/setup.sh || { echo "run_tests: set-up failed"; exit 1; }
+if [ ! -d "$root/../shared/data" ]; then
+  echo "run_tests: note: ../shared/data is absent: data-dependent tests will be skipped"
+fi
+
+section "build (Release, -Werror)"
+bash scripts/build.sh "$root/build-ci" -DSOCC_WERROR=ON || { echo "run_tests: build failed"; exit 1; }
+
+section "tests (Release)"
+run_ctest "$root/build-ci"
+
+section "build (ASan + UBSan)"
+if bash scripts/build.sh "$root/build-asan" -DSOCC_SANITIZE=ON \
+  -DSOCC_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo; then
+  section "tests (ASan + UBSan)"
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    run_ctest "$root/build-asan"
+else
+  echo "run_tests: sanitizer build failed"
+  failed=$((failed + 1))
+fi
+
+if [ -x scripts/fuzz.sh ]; then
+  section "fuzzing (bounded)"
+  if bash scripts/fuzz.sh; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
+fi
+
+section "benchmark report (informational)"
+for b in "$root"/build-ci/bench/bench_map_integration; do
+  [ -x "$b" ] && "$b" --frames 16 || true
+done
+
+section "summary"
+echo "run_tests: total time $((SECONDS - start)) s"
+echo "socc: ${passed} passed, ${failed} failed"
+[ "$failed" -eq 0 ]
