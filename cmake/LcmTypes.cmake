@@ -14,7 +14,8 @@ function(socc_add_lcmtypes target dir)
     OUTPUT ${hpps}
     COMMAND ${CMAKE_COMMAND} -E make_directory ${out}/cpp
     COMMAND ${LCM_GEN_EXECUTABLE} --cpp --cpp-hpath ${out}/cpp ${lcm_files}
-    DEPENDS ${lcm_files}
+    COMMAND ${CMAKE_COMMAND} -P ${CMAKE_CURRENT_FUNCTION_LIST_DIR}/PatchLcmDecode.cmake ${hpps}
+    DEPENDS ${lcm_files} ${CMAKE_CURRENT_FUNCTION_LIST_DIR}/PatchLcmDecode.cmake
     COMMENT "lcm-gen C++ types"
     VERBATIM)
   add_custom_target(${target}_gen DEPENDS ${hpps})

@@ -61,7 +61,9 @@ class SemanticOccupancyMap {
   IntegrationResult integrate(const Eigen::Isometry3d& sensor_pose, const LabeledCloud& cloud);
 
   /// Fills the voxel arrays of out (not its header) for the occupied (and, with FIELD_FREE,
-  /// free) voxels inside the query region.
+  /// free) voxels inside the query region (voxel centre inside; blocks in key order, so answers
+  /// are deterministic). Throws std::invalid_argument for a malformed query (non-finite values,
+  /// negative radius, box_min > box_max, threshold outside [0, 1], negative limit).
   void queryChunk(const ChunkQuery& query, chunk_reply_t& out) const;
 
   MapStats stats() const;
@@ -82,6 +84,8 @@ class SemanticOccupancyMap {
   std::int64_t exportPcd(const std::filesystem::path& file, double occupancy_threshold) const;
 
   /// Top-down RGB image of [box_min, box_max] (x right, +y up), mode as render_request_t.
+  /// pixel_size 0 = voxel size. Throws std::invalid_argument for a bad box, mode or threshold,
+  /// or an image larger than 4096 x 4096.
   struct Image {
     int width = 0, height = 0;
     std::vector<std::uint8_t> rgb;  // width * height * 3

@@ -1,0 +1,9 @@
+// RENDER requests against a small populated map (request checks, rendering, PNG encoding).
+#include "fuzz_service.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const socc::service::MapService service = socc::fuzz::populatedService();
+  if (const auto request = socc::fuzz::decodeRequest<socc::render_request_t>(data, size))
+    service.render(*request);
+  return 0;
+}

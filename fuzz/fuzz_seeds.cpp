@@ -1,0 +1,194 @@
+// fuzz_seeds <dir>: writes a small seed corpus per harness into <dir>/<harness>/ — valid
+// encoded requests and valid files — so the fuzzers start from inputs that reach deep code.
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "socc/auth/message_auth.hpp"
+#include "socc/chunk_request_t.hpp"
+#include "socc/integrate_request_t.hpp"
+#include "socc/map_command_request_t.hpp"
+#include "socc/render_request_t.hpp"
+#include "socc/robot_pose_request_t.hpp"
+#include "socc/scan_t.hpp"
+#include "socc/stats_request_t.hpp"
+
+namespace {
+namespace fs = std::filesystem;
+
+class SeedWriter {
+ public:
+  explicit SeedWriter(fs::path root) : root_(std::move(root)) {}
+
+  void bytes(const std::string& harness, const std::string& name, const std::string& content) {
+    fs::create_directories(root_ / harness);
+    std::ofstream(root_ / harness / name, std::ios::binary) << content;
+  }
+  template <class Msg>
+  void message(const std::string& harness, const std::string& name, const Msg& msg) {
+    std::string buf(static_cast<std::size_t>(msg.getEncodedSize()), '\0');
+    msg.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    bytes(harness, name, buf);
+  }
+  /// For the selector-byte harnesses: first byte picks the reader.
+  void selected(const std::string& harness, char selector, const std::string& name,
+                const std::string& content) {
+    bytes(harness, name, std::string(1, selector) + content);
+  }
+
+ private:
+  fs::path root_;
+};
+
+socc::request_header_t header(const std::string& service) {
+  socc::request_header_t h{};
+  h.request_id = 1;
+  h.client_id = "robot1";
+  h.reply_channel = "SOCC/" + service + "/REP/robot1";
+  h.utime = 1'700'000'000'000'000;
+  return h;
+}
+
+template <class T>
+std::string raw(const std::vector<T>& v) {
+  return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+void requestSeeds(SeedWriter& w) {
+  const auto key = socc::auth::SharedKey::fromBytes(std::vector<std::uint8_t>(32, 7));
+  socc::integrate_request_t in{};
+  in.header = header("INTEGRATE");
+  in.seq = 1;
+  in.scan_utime = in.header.utime;
+  in.sensor_pose.quaternion[0] = 1.0;
+  for (int i = 0; i < 12; ++i) {
+    in.xyz.push_back({static_cast<float>(i) - 6.f, 3.f, 0.5f});
+    in.label.push_back(static_cast<std::uint8_t>(i % 20));
+    in.time.push_back(0.008f * static_cast<float>(i));
+  }
+  in.num_points = in.num_labels = in.num_times = 12;
+  w.message("fuzz_integrate_request", "plain", in);
+  socc::auth::sign(in, key, 42);
+  w.message("fuzz_integrate_request", "signed", in);
+
+  socc::chunk_request_t chunk{};
+  chunk.header = header("GET_CHUNK");
+  chunk.shape = socc::chunk_request_t::SHAPE_SPHERE;
+  chunk.radius = 10.0;
+  chunk.occupancy_threshold = 0.5f;
+  chunk.fields = socc::chunk_request_t::FIELD_FEATURES | socc::chunk_request_t::FIELD_INDEX;
+  w.message("fuzz_chunk_request", "sphere", chunk);
+  chunk.shape = socc::chunk_request_t::SHAPE_BOX;
+  for (int a = 0; a < 3; ++a) {
+    chunk.box_min[a] = -10.0;
+    chunk.box_max[a] = 10.0;
+  }
+  chunk.fields = 15;
+  chunk.limit = 100;
+  w.message("fuzz_chunk_request", "box_all_fields", chunk);
+
+  socc::stats_request_t stats{};
+  stats.header = header("GET_STATS");
+  w.message("fuzz_stats_request", "stats", stats);
+
+  socc::robot_pose_request_t pose{};
+  pose.header = header("GET_ROBOT_POSE");
+  pose.robot_id = "seed";
+  w.message("fuzz_robot_pose_request", "known", pose);
+
+  socc::map_command_request_t cmd{};
+  cmd.header = header("MAP_COMMAND");
+  cmd.occupancy_threshold = 0.5f;
+  const std::pair<std::int8_t, const char*> commands[] = {
+      {socc::map_command_request_t::SAVE, "snap.socc"},
+      {socc::map_command_request_t::LOAD, "snap.socc"},
+      {socc::map_command_request_t::EXPORT_OCTOMAP_BT, "map.bt"},
+      {socc::map_command_request_t::EXPORT_PCD, "map.pcd"},
+      {socc::map_command_request_t::CLEAR, ""}};
+  for (const auto& [command, path] : commands) {
+    cmd.command = command;
+    cmd.path = path;
+    w.message("fuzz_map_command_request", "command" + std::to_string(command), cmd);
+  }
+
+  socc::render_request_t render{};
+  render.header = header("RENDER");
+  for (int a = 0; a < 3; ++a) {
+    render.box_min[a] = -12.0;
+    render.box_max[a] = 12.0;
+  }
+  render.pixel_size = 0.5;
+  render.occupancy_threshold = 0.5f;
+  for (std::int8_t mode = 0; mode < 3; ++mode) {
+    render.mode = mode;
+    w.message("fuzz_render_request", "mode" + std::to_string(mode), render);
+  }
+
+  socc::scan_t scan{};
+  scan.utime = in.scan_utime;
+  scan.robot_id = "robot1";
+  scan.xyz = in.xyz;
+  scan.label = in.label;
+  scan.time = in.time;
+  scan.intensity.assign(12, 0.5f);
+  scan.num_points = scan.num_labels = scan.num_times = scan.num_intensities = 12;
+  w.message("fuzz_scan", "scan", scan);
+}
+
+void fileSeeds(SeedWriter& w) {
+  const std::string r = "fuzz_file_readers";
+  w.selected(r, 0, "kitti_bin", raw(std::vector<float>{1, 2, 3, 0.5f, 4, 5, 6, 0.25f}));
+  w.selected(r, 1, "labels", raw(std::vector<std::uint32_t>{40, (3u << 16) | 10u}));
+  const std::string row = "1 0 0 0.5 0 1 0 0.25 0 0 1 -1\n";
+  w.selected(r, 2, "poses", row + row);
+  w.selected(r, 3, "calib", "P0: 1 2 3\nTr: " + row);
+  w.selected(r, 4, "tum",
+             "# t x y z qx qy qz qw\n0.1 1 2 3 0 0 0 1\n0.2 1 2 3 0 0 0.7071068 0.7071068\n");
+  w.selected(r, 5, "times", "0.0\n1.036e-01\n");
+  w.selected(r, 6, "xyz", raw(std::vector<float>{1, 2, 3}));
+  w.selected(r, 7, "floats", raw(std::vector<float>{0.0f, 0.05f}));
+
+  const std::string y = "fuzz_config_yaml";
+  w.selected(y, 0, "map.yaml", "voxel_size: 0.5\nmax_range: 80\nsemantics: true\np_hit: 0.55\n");
+  w.selected(y, 1, "server.yaml",
+             "file_dir: /tmp\nlimits:\n  max_robots: 4\n  max_render_pixels: 1000\n");
+
+  const std::string p = "fuzz_pcd_scan";
+  const std::string head =
+      "VERSION .7\nFIELDS x y z intensity label\nSIZE 4 4 4 4 4\nTYPE F F F F U\n"
+      "COUNT 1 1 1 1 1\nWIDTH 2\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\n";
+  w.bytes(p, "ascii.pcd", head + "DATA ascii\n1 2 3 0.5 10\n4 5 6 0.25 40\n");
+  std::string body(2 * 20, '\0');
+  const float pt[4] = {1, 2, 3, 0.5f};
+  const std::uint32_t label = 50;
+  for (int i = 0; i < 2; ++i) {
+    std::memcpy(body.data() + 20 * i, pt, sizeof pt);
+    std::memcpy(body.data() + 20 * i + 16, &label, sizeof label);
+  }
+  w.bytes(p, "binary.pcd", head + "DATA binary\n" + body);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Writes a seed corpus for every socc fuzz harness into <dir>/<harness>/\n"
+      "(valid encoded requests and files; used by scripts/fuzz.sh)."};
+  std::string dir;
+  app.add_option("dir", dir, "output directory")->required();
+  CLI11_PARSE(app, argc, argv);
+  try {
+    SeedWriter w(dir);
+    requestSeeds(w);
+    fileSeeds(w);
+  } catch (const std::exception& e) {
+    std::cerr << "fuzz_seeds: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,93 @@
+#pragma once
+// The SOCC voxel behaviour (paper, Sec. Radix): WHAT a voxel stores and HOW hits and misses
+// update it. This is the one place to change for a new mapping behaviour; the grid
+// container, the ray traversal and the scan integrator only call onHits() / onMiss().
+#include <Eigen/Core>
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+#include "socc/labels.hpp"
+#include "socc/map/map_config.hpp"
+
+namespace socc::map {
+
+/// Geometric and semantic statistics of one voxel (only voxels that were hit have them).
+/// Floats keep the pool lean; merges are computed in double.
+struct VoxelStats {
+  std::array<float, 3> mean{};
+  std::array<float, 6> m2{};  // sum of squared deviations: xx xy xz yy yz zz
+  std::array<float, 3> first_point{};
+  std::uint32_t count = 0;
+  std::array<std::uint16_t, kNumClasses> class_prob{};  // p * 65535 (resolution 1.5e-5)
+  std::uint8_t label = kUnlabeled;                      // argmax of class_prob
+  bool has_semantics = false;                           // a labeled scan has hit the voxel
+
+  static constexpr float kProbScale = 65535.0f;
+  float prob(int cls) const { return static_cast<float>(class_prob[cls]) / kProbScale; }
+  /// Sample covariance M2 / (n - 1); zero below two points.
+  Eigen::Matrix3d covariance() const;
+  Eigen::Vector3d meanVector() const { return {mean[0], mean[1], mean[2]}; }
+};
+
+/// The points one scan put into one voxel: count, mean and M2 (Welford, double) and the
+/// label histogram. first_point is the scan's first point in the voxel.
+struct FrameAggregate {
+  std::uint32_t count = 0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d m2 = Eigen::Matrix3d::Zero();
+  Eigen::Vector3f first_point = Eigen::Vector3f::Zero();
+  std::array<std::uint32_t, kNumClasses> label_counts{};
+  std::uint32_t labeled = 0;  // points that carried a label
+
+  void add(const Eigen::Vector3d& p) {
+    if (count == 0) first_point = p.cast<float>();
+    ++count;
+    const Eigen::Vector3d d = p - mean;
+    mean += d / static_cast<double>(count);
+    m2.noalias() += d * (p - mean).transpose();
+  }
+  void add(const Eigen::Vector3d& p, std::uint8_t label) {
+    add(p);
+    ++label_counts[label];
+    ++labeled;
+  }
+};
+
+/// Chan et al.'s parallel update: merges a frame aggregate into running float statistics.
+void mergeStatistics(VoxelStats& stats, const FrameAggregate& frame);
+
+class SemanticVoxelBehaviour {
+ public:
+  explicit SemanticVoxelBehaviour(const MapConfig& config);
+
+  /// A scan hit the voxel with the points in frame: log-odds += l(p_hit) (clamped), statistics
+  /// merged, class distribution updated by EMA (set to the frame's frequencies on the first
+  /// labeled hit). stats is fresh (value-initialised) when the voxel had none.
+  void onHits(float& log_odds, VoxelStats& stats, const FrameAggregate& frame) const;
+
+  /// A ray passed through the voxel: log-odds += l(p_miss) of the voxel's class (clamped).
+  /// Returns true when the voxel is now free and has statistics: the caller drops them.
+  bool onMiss(float& log_odds, const VoxelStats* stats) const;
+
+  /// Log-odds added by a miss for a voxel with these statistics (nullptr: none).
+  float missLogOdds(const VoxelStats* stats) const;
+  float hitLogOdds() const { return hit_; }
+  bool isOccupied(float log_odds) const { return log_odds >= occupied_; }
+  float clampMin() const { return min_; }
+  float clampMax() const { return max_; }
+
+ private:
+  float hit_, miss_, miss_static_, miss_moving_, min_, max_, occupied_;
+  double alpha_;
+  bool semantics_;
+};
+
+inline double logit(double p) {
+  return std::log(p / (1.0 - p));
+}
+inline double probability(double log_odds) {
+  return 1.0 / (1.0 + std::exp(-log_odds));
+}
+
+}  // namespace socc::map

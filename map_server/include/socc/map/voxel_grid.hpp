@@ -1,0 +1,189 @@
+#pragma once
+// Sparse voxel grid container: blocks of 8^3 voxels hashed by block coordinate
+// (tsl::robin_map), so access is near constant time and empty space costs nothing.
+// The container knows nothing about what a voxel means: the statistics type is a
+// template parameter and all update rules live in the voxel behaviour.
+#include <tsl/robin_map.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <bitset>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace socc::map {
+
+/// Integer voxel coordinate: floor(p / voxel_size) per axis.
+using VoxelIndex = Eigen::Vector3i;
+/// Integer block coordinate: voxel index >> kBlockShift per axis.
+using BlockKey = Eigen::Vector3i;
+
+inline constexpr int kBlockShift = 3;
+inline constexpr int kBlockDim = 1 << kBlockShift;  // 8 voxels per block edge
+inline constexpr int kBlockVoxels = kBlockDim * kBlockDim * kBlockDim;
+inline constexpr std::uint16_t kNoStats = 0xFFFF;
+
+struct IndexHash {
+  std::size_t operator()(const Eigen::Vector3i& k) const noexcept {
+    // Large primes (Teschner et al.): cheap and spreads neighbouring blocks well.
+    return (static_cast<std::size_t>(static_cast<std::uint32_t>(k.x())) * 73856093u) ^
+           (static_cast<std::size_t>(static_cast<std::uint32_t>(k.y())) * 19349669u) ^
+           (static_cast<std::size_t>(static_cast<std::uint32_t>(k.z())) * 83492791u);
+  }
+};
+
+inline BlockKey blockOf(const VoxelIndex& v) {
+  // Arithmetic shift floors negative coordinates (guaranteed by GCC/Clang, C++20 standard).
+  return {v.x() >> kBlockShift, v.y() >> kBlockShift, v.z() >> kBlockShift};
+}
+inline int localOf(const VoxelIndex& v) {
+  constexpr int m = kBlockDim - 1;
+  return ((v.x() & m) << (2 * kBlockShift)) | ((v.y() & m) << kBlockShift) | (v.z() & m);
+}
+inline VoxelIndex voxelOf(const BlockKey& block, int local) {
+  // Multiplication, not <<: shifting negative values left is undefined before C++20.
+  constexpr int m = kBlockDim - 1;
+  return {block.x() * kBlockDim + ((local >> (2 * kBlockShift)) & m),
+          block.y() * kBlockDim + ((local >> kBlockShift) & m),
+          block.z() * kBlockDim + (local & m)};
+}
+/// Lexicographic order of indices: used wherever output order must not depend on hashing.
+inline bool indexLess(const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
+  if (a.x() != b.x()) return a.x() < b.x();
+  if (a.y() != b.y()) return a.y() < b.y();
+  return a.z() < b.z();
+}
+
+/// One block. Every voxel pays only for its log-odds and a 16-bit slot; the (large)
+/// statistics live in a per-block pool and exist only for voxels that have them.
+template <typename Stats>
+struct VoxelBlock {
+  std::array<float, kBlockVoxels> log_odds{};
+  std::array<std::uint16_t, kBlockVoxels> slot;
+  std::bitset<kBlockVoxels> observed;   // unknown voxels are not observed
+  std::bitset<kBlockVoxels> scan_mark;  // scratch: voxel already updated by the current scan
+  bool in_scan = false;                 // scratch: block is in the scan's touched list
+  std::vector<Stats> stats;
+  std::vector<std::uint16_t> free_slots;
+
+  VoxelBlock() { slot.fill(kNoStats); }
+
+  const Stats* statsOf(int local) const {
+    return slot[local] == kNoStats ? nullptr : &stats[slot[local]];
+  }
+  Stats* statsOf(int local) { return slot[local] == kNoStats ? nullptr : &stats[slot[local]]; }
+
+  /// Returns the voxel's statistics, creating a value-initialised entry if it has none.
+  Stats& acquireStats(int local) {
+    if (slot[local] != kNoStats) return stats[slot[local]];
+    if (!free_slots.empty()) {
+      slot[local] = free_slots.back();
+      free_slots.pop_back();
+      stats[slot[local]] = Stats{};
+    } else {
+      slot[local] = static_cast<std::uint16_t>(stats.size());
+      stats.emplace_back();
+    }
+    return stats[slot[local]];
+  }
+  void releaseStats(int local) {
+    if (slot[local] == kNoStats) return;
+    free_slots.push_back(slot[local]);
+    slot[local] = kNoStats;
+  }
+  std::size_t memoryBytes() const {
+    return sizeof(*this) + stats.capacity() * sizeof(Stats) +
+           free_slots.capacity() * sizeof(std::uint16_t);
+  }
+};
+
+template <typename Stats>
+class VoxelGrid {
+ public:
+  using Block = VoxelBlock<Stats>;
+  // unique_ptr keeps block addresses stable across rehashing (cached accessors hold them).
+  using BlockMap = tsl::robin_map<BlockKey, std::unique_ptr<Block>, IndexHash>;
+
+  const Block* find(const BlockKey& key) const {
+    const auto it = blocks_.find(key);
+    return it == blocks_.end() ? nullptr : it->second.get();
+  }
+  Block* find(const BlockKey& key) {
+    const auto it = blocks_.find(key);
+    return it == blocks_.end() ? nullptr : it->second.get();
+  }
+  Block& getOrCreate(const BlockKey& key) {
+    auto& ptr = blocks_[key];
+    if (!ptr) ptr = std::make_unique<Block>();
+    return *ptr;
+  }
+
+  const BlockMap& blocks() const { return blocks_; }
+  std::size_t numBlocks() const { return blocks_.size(); }
+  void clear() { blocks_.clear(); }
+
+  /// Blocks + statistics pools + hash table (buckets hold key, pointer and probe distance).
+  std::size_t memoryBytes() const {
+    std::size_t bytes = blocks_.bucket_count() * (sizeof(typename BlockMap::value_type) + 8);
+    for (const auto& [key, block] : blocks_) bytes += block->memoryBytes();
+    return bytes;
+  }
+
+  /// Keys of the existing blocks intersecting the inclusive block range [lo, hi], sorted
+  /// lexicographically. Enumerates the range or scans the map, whichever is cheaper.
+  std::vector<BlockKey> blocksIn(const BlockKey& lo, const BlockKey& hi) const {
+    std::vector<BlockKey> keys;
+    if ((hi.array() < lo.array()).any()) return keys;
+    const Eigen::Array3d extent = (hi - lo).cast<double>().array() + 1.0;
+    if (extent.prod() <= 2.0 * static_cast<double>(blocks_.size()) + 64.0) {
+      for (int x = lo.x(); x <= hi.x(); ++x)
+        for (int y = lo.y(); y <= hi.y(); ++y)
+          for (int z = lo.z(); z <= hi.z(); ++z)
+            if (blocks_.count(BlockKey(x, y, z)) != 0) keys.emplace_back(x, y, z);
+      return keys;  // already in lexicographic order
+    }
+    for (const auto& [key, block] : blocks_)
+      if ((key.array() >= lo.array()).all() && (key.array() <= hi.array()).all())
+        keys.push_back(key);
+    std::sort(keys.begin(), keys.end(), indexLess);
+    return keys;
+  }
+
+  /// Cached accessor for ray traversal: the last block, then a small direct-mapped cache of
+  /// recent blocks (rays from one origin keep revisiting the same blocks), then the hash map.
+  /// Creates missing blocks.
+  class Accessor {
+   public:
+    explicit Accessor(VoxelGrid& grid) : grid_(grid) {}
+    Block& block(const BlockKey& key) {
+      if (last_ != nullptr && key == last_key_) return *last_;
+      Entry& e = cache_[IndexHash{}(key) & (kCacheSize - 1)];
+      if (e.block == nullptr || e.key != key) {
+        e.block = &grid_.getOrCreate(key);
+        e.key = key;
+      }
+      last_ = e.block;
+      last_key_ = key;
+      return *last_;
+    }
+
+   private:
+    static constexpr std::size_t kCacheSize = 512;
+    struct Entry {
+      BlockKey key = BlockKey::Zero();
+      Block* block = nullptr;
+    };
+    VoxelGrid& grid_;
+    BlockKey last_key_ = BlockKey::Zero();
+    Block* last_ = nullptr;
+    std::array<Entry, kCacheSize> cache_{};
+  };
+
+ private:
+  BlockMap blocks_;
+};
+
+}  // namespace socc::map

@@ -1,0 +1,191 @@
+// map_server: owns the one semantic occupancy grid and serves it over LCM
+// (request/response services SOCC/<SERVICE>/REQ -> SOCC/<SERVICE>/REP/<client_id>, status on
+// SOCC/STATUS). See map_server/README.md, section "Service".
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <csignal>
+#include <ctime>
+#include <filesystem>
+#include <iostream>
+#include <lcm/lcm-cpp.hpp>
+#include <optional>
+#include <string>
+
+#include "service/map_service.hpp"
+#include "service/request_gate.hpp"
+#include "service/request_router.hpp"
+#include "service/service_config.hpp"
+#include "socc/channels.hpp"
+#include "socc/lcm_url.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct Options {
+  std::string lcm_url{socc::channels::kDefaultLcmUrl};
+  std::string config_file;
+  std::string restore;
+  std::string snapshot_dir;
+  double snapshot_period = 60.0;
+  std::string journal;
+  std::string file_dir;
+  double status_period = 1.0;
+  bool quiet = false;
+  bool ignore_corrupt_snapshot = false;
+};
+
+// Moves a damaged durable file out of the way (never deletes it: it may be rescued by hand).
+void setAside(const fs::path& file) {
+  const fs::path aside = file.string() + ".corrupt-" + std::to_string(std::time(nullptr));
+  std::error_code ec;
+  fs::rename(file, aside, ec);
+  std::cerr << "map_server: moved " << file << " to " << aside << '\n';
+}
+
+void restoreState(socc::service::MapService& service, const Options& options) {
+  socc::service::Durability durability;
+  if (!options.snapshot_dir.empty())
+    durability.snapshot_file = fs::path(options.snapshot_dir) / "map.snap";
+  if (!options.journal.empty()) durability.journal_file = options.journal;
+  std::optional<fs::path> restore;
+  if (!options.restore.empty()) restore = options.restore;
+  try {
+    service.openDurability(durability, restore);
+  } catch (const std::exception& e) {
+    if (!options.ignore_corrupt_snapshot) throw;
+    std::cerr << "map_server: WARNING: " << e.what()
+              << "\nmap_server: --ignore-corrupt-snapshot: starting with an empty map\n";
+    if (restore && fs::exists(*restore)) setAside(*restore);
+    if (durability.journal_file && fs::exists(*durability.journal_file))
+      setAside(*durability.journal_file);
+    service.openDurability(durability, std::nullopt);
+  }
+}
+
+int run(const Options& options) {
+  socc::service::ServerConfig config;
+  try {
+    if (!options.config_file.empty()) config = socc::service::loadServerConfig(options.config_file);
+  } catch (const std::exception& e) {
+    std::cerr << "map_server: bad config: " << e.what() << '\n';
+    return 2;
+  }
+  if (!options.file_dir.empty()) config.file_dir = options.file_dir;
+  if (!options.journal.empty() && options.snapshot_dir.empty()) {
+    std::cerr << "map_server: --journal needs --snapshot-dir (the journal restarts after each "
+                 "snapshot)\n";
+    return 2;
+  }
+  if (!options.snapshot_dir.empty()) fs::create_directories(options.snapshot_dir);
+
+  socc::service::MapService service(config);
+  try {
+    restoreState(service, options);
+  } catch (const std::exception& e) {
+    std::cerr << "map_server: cannot restore: " << e.what()
+              << "\n(use --ignore-corrupt-snapshot to start with an empty map instead)\n";
+    return 1;
+  }
+
+  lcm::LCM lcm(options.lcm_url);
+  if (!lcm.good()) {
+    std::cerr << "map_server: cannot open LCM on " << options.lcm_url
+              << " (multicast routed to lo? `ip route replace 224.0.0.0/4 dev lo`)\n";
+    return 1;
+  }
+  socc::service::AllowAllGate gate;
+  socc::service::RequestRouter router(lcm, service, gate, !options.quiet);
+
+  // SIGINT/SIGTERM are blocked and polled, so shutdown happens between two requests and the
+  // final snapshot never races a handler.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  const timespec no_wait{0, 0};
+
+  const auto status_period = std::chrono::duration<double>(options.status_period);
+  const auto snapshot_period = std::chrono::duration<double>(options.snapshot_period);
+  const bool periodic_snapshots = !options.snapshot_dir.empty() && options.snapshot_period > 0;
+  auto next_status = Clock::now();
+  auto next_snapshot = Clock::now() + snapshot_period;
+  if (!options.quiet)
+    std::cerr << "map_server: ready on " << options.lcm_url << " ("
+              << service.map().stats().num_voxels << " voxels, " << service.robots().size()
+              << " robots)\n";
+
+  while (sigtimedwait(&stop_signals, nullptr, &no_wait) < 0) {
+    if (lcm.handleTimeout(50) < 0) {
+      std::cerr << "map_server: LCM receive failed\n";
+      return 1;
+    }
+    const auto now = Clock::now();
+    if (options.status_period > 0 && now >= next_status) {
+      router.publishStatus();
+      next_status = now + std::chrono::duration_cast<Clock::duration>(status_period);
+    }
+    if (periodic_snapshots && now >= next_snapshot) {
+      try {
+        service.checkpoint();
+      } catch (const std::exception& e) {
+        std::cerr << "map_server: snapshot failed (journal kept): " << e.what() << '\n';
+      }
+      next_snapshot = now + std::chrono::duration_cast<Clock::duration>(snapshot_period);
+    }
+  }
+  if (!options.snapshot_dir.empty()) service.checkpoint();
+  if (!options.quiet) std::cerr << "map_server: stopped\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "map_server: the shared semantic occupancy grid, served over LCM.\n"
+      "Services on SOCC/<SERVICE>/REQ (INTEGRATE, GET_CHUNK, GET_STATS, GET_ROBOT_POSE,\n"
+      "MAP_COMMAND, RENDER), replies on SOCC/<SERVICE>/REP/<client_id>, status on SOCC/STATUS."};
+  Options options;
+  app.add_option("--lcm-url", options.lcm_url,
+                 "LCM URL; only udpm://239.x.y.z:port?ttl=0 or memq://. Large GET_CHUNK replies "
+                 "need a big receive buffer on the client: ...&recv_buf_size=67108864")
+      ->capture_default_str();
+  app.add_option("--config", options.config_file,
+                 "server YAML (map_server/config/server.yaml); unknown keys are an error")
+      ->check(CLI::ExistingFile);
+  app.add_option("--restore", options.restore, "snapshot to restore at start");
+  app.add_option("--snapshot-dir", options.snapshot_dir,
+                 "directory for periodic snapshots (<dir>/map.snap, written atomically)");
+  app.add_option("--snapshot-period", options.snapshot_period,
+                 "seconds between periodic snapshots (0 = only at exit)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--journal", options.journal,
+                 "write-ahead journal (LCM log) of accepted INTEGRATEs; replayed at start; "
+                 "needs --snapshot-dir");
+  app.add_option("--file-dir", options.file_dir,
+                 "directory MAP_COMMAND paths are resolved in (overrides file_dir of --config)");
+  app.add_option("--status-period", options.status_period,
+                 "seconds between map_stats_t on SOCC/STATUS (0 = off)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--quiet", options.quiet, "no log output except errors");
+  app.add_flag("--ignore-corrupt-snapshot", options.ignore_corrupt_snapshot,
+               "start with an empty map when the snapshot or journal cannot be restored "
+               "(the damaged files are moved aside, not deleted)");
+  CLI11_PARSE(app, argc, argv);
+
+  if (const std::string why = socc::checkLcmUrl(options.lcm_url); !why.empty()) {
+    std::cerr << "map_server: " << why << '\n';
+    return 2;
+  }
+  try {
+    return run(options);
+  } catch (const std::exception& e) {
+    std::cerr << "map_server: fatal: " << e.what() << '\n';
+    return 1;
+  }
+}

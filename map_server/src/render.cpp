@@ -1,0 +1,112 @@
+// Top-down rendering (render_request_t): each voxel is splatted onto the pixels its footprint
+// covers; a pixel keeps the top-most occupied voxel and whether it saw free space.
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "map_impl.hpp"
+#include "region.hpp"
+#include "socc/render_request_t.hpp"
+
+namespace socc::map {
+namespace {
+
+constexpr int kMaxImageSide = 4096;
+
+struct Column {
+  double top_z = -std::numeric_limits<double>::infinity();
+  std::uint8_t label = kUnlabeled;
+  bool occupied = false;
+  bool free = false;
+};
+
+Rgb heightColor(double t) {  // blue (low) -> green -> red (high)
+  t = std::clamp(t, 0.0, 1.0);
+  const auto u8 = [](double v) { return static_cast<std::uint8_t>(std::lround(v * 255.0)); };
+  if (t < 0.5) return {0, u8(2.0 * t), u8(1.0 - 2.0 * t)};
+  return {u8(2.0 * t - 1.0), u8(2.0 - 2.0 * t), 0};
+}
+
+Rgb pixelColor(const Column& c, int mode, double zmin, double zmax) {
+  if (mode == render_request_t::MODE_OCCUPANCY) {
+    if (c.occupied) return {40, 40, 40};
+    return c.free ? Rgb{230, 230, 230} : Rgb{128, 128, 128};
+  }
+  if (!c.occupied) return {0, 0, 0};
+  if (mode == render_request_t::MODE_HEIGHT)
+    return heightColor(zmax > zmin ? (c.top_z - zmin) / (zmax - zmin) : 0.5);
+  return c.label == kUnlabeled ? Rgb{128, 128, 128} : classColor(c.label);
+}
+
+}  // namespace
+
+SemanticOccupancyMap::Image SemanticOccupancyMap::render(const Eigen::Vector3d& box_min,
+                                                         const Eigen::Vector3d& box_max,
+                                                         double pixel_size, int mode,
+                                                         double occupancy_threshold) const {
+  const Impl& m = *impl_;
+  if (!box_min.allFinite() || !box_max.allFinite() || box_max.x() <= box_min.x() ||
+      box_max.y() <= box_min.y() || box_max.z() < box_min.z())
+    throw std::invalid_argument("render: box needs finite corners with box_min < box_max");
+  if (!std::isfinite(pixel_size) || pixel_size < 0.0)
+    throw std::invalid_argument("render: pixel_size must be finite and >= 0");
+  if (mode != render_request_t::MODE_CLASS && mode != render_request_t::MODE_OCCUPANCY &&
+      mode != render_request_t::MODE_HEIGHT)
+    throw std::invalid_argument("render: unknown mode " + std::to_string(mode));
+  if (!(occupancy_threshold >= 0.0 && occupancy_threshold <= 1.0))
+    throw std::invalid_argument("render: occupancy_threshold must be in [0, 1]");
+  const double ps = pixel_size > 0.0 ? pixel_size : m.config.voxel_size;
+  const double wd = std::ceil((box_max.x() - box_min.x()) / ps);
+  const double hd = std::ceil((box_max.y() - box_min.y()) / ps);
+  if (wd > kMaxImageSide || hd > kMaxImageSide)
+    throw std::invalid_argument("render: image would be " + std::to_string(wd) + " x " +
+                                std::to_string(hd) + " pixels (max " +
+                                std::to_string(kMaxImageSide) + " per side)");
+  Image img;
+  img.width = std::max(1, static_cast<int>(wd));
+  img.height = std::max(1, static_cast<int>(hd));
+  std::vector<Column> columns(static_cast<std::size_t>(img.width) * img.height);
+
+  const double vs = m.config.voxel_size;
+  const IndexBox box = IndexBox::of(box_min, box_max, vs);
+  const auto pixelRange = [&](double lo, double hi, double origin, int n) {
+    const int a = std::max(0, clampedFloor((lo - origin) / ps));
+    const int b = std::min(n - 1, clampedFloor(std::nextafter((hi - origin) / ps, -1e300)));
+    return std::pair<int, int>(a, b);
+  };
+  for (const BlockKey& key : m.grid.blocksIn(box.blockLo(), box.blockHi())) {
+    const Block& block = *m.grid.find(key);
+    for (int local = 0; local < kBlockVoxels; ++local) {
+      if (!block.observed[local]) continue;
+      const VoxelIndex v = voxelOf(key, local);
+      if ((v.array() < box.lo.array()).any() || (v.array() > box.hi.array()).any()) continue;
+      const bool occupied = probability(block.log_odds[local]) >= occupancy_threshold;
+      const double z = (v.z() + 0.5) * vs;
+      const VoxelStats* stats = block.statsOf(local);
+      const auto [x0, x1] = pixelRange(v.x() * vs, (v.x() + 1) * vs, box_min.x(), img.width);
+      const auto [y0, y1] = pixelRange(v.y() * vs, (v.y() + 1) * vs, box_min.y(), img.height);
+      for (int py = y0; py <= y1; ++py) {
+        for (int px = x0; px <= x1; ++px) {
+          Column& c = columns[static_cast<std::size_t>(img.height - 1 - py) * img.width + px];
+          if (!occupied) {
+            c.free = true;
+          } else if (z > c.top_z) {
+            c.top_z = z;
+            c.occupied = true;
+            c.label = stats != nullptr ? stats->label : std::uint8_t{kUnlabeled};
+          }
+        }
+      }
+    }
+  }
+  img.rgb.resize(columns.size() * 3);
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    const Rgb c = pixelColor(columns[i], mode, box_min.z(), box_max.z());
+    img.rgb[3 * i] = c.r;
+    img.rgb[3 * i + 1] = c.g;
+    img.rgb[3 * i + 2] = c.b;
+  }
+  return img;
+}
+
+}  // namespace socc::map

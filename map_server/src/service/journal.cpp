@@ -1,0 +1,97 @@
+#include "journal.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <lcm/lcm-cpp.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "socc/channels.hpp"
+
+namespace socc::service {
+namespace {
+
+constexpr const char* kStartChannel = "SOCC/JOURNAL/START";
+
+std::int64_t nowMicros() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+void writeEvent(lcm::LogFile& log, const std::string& channel, const void* data, int size,
+                const std::filesystem::path& file) {
+  lcm::LogEvent event;
+  event.eventnum = 0;  // assigned by the log writer
+  event.timestamp = nowMicros();
+  event.channel = channel;
+  event.datalen = size;
+  event.data = const_cast<void*>(data);  // LogEvent's API is not const-correct; only read
+  if (log.writeEvent(&event) != 0 || std::fflush(log.getFilePtr()) != 0)
+    throw std::runtime_error("cannot write journal " + file.string());
+}
+
+std::unique_ptr<lcm::LogFile> openLog(const std::filesystem::path& file, const char* mode) {
+  auto log = std::make_unique<lcm::LogFile>(file.string(), mode);
+  if (!log->good()) throw std::runtime_error("cannot open journal " + file.string());
+  return log;
+}
+
+}  // namespace
+
+Journal::Journal(std::filesystem::path file, std::int64_t base_sequence) : file_(std::move(file)) {
+  restart(base_sequence);
+}
+
+Journal::~Journal() = default;
+
+void Journal::restart(std::int64_t base_sequence) {
+  log_.reset();
+  // Write the new journal beside the old one and rename it over: a crash leaves either the
+  // old or the new journal, never a half-written start event.
+  const std::filesystem::path tmp = file_.string() + ".tmp";
+  {
+    auto log = openLog(tmp, "w");
+    std::uint8_t base[8];
+    for (int i = 0; i < 8; ++i) base[i] = static_cast<std::uint8_t>(base_sequence >> (56 - 8 * i));
+    writeEvent(*log, kStartChannel, base, sizeof(base), tmp);
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, file_, ec);
+  if (ec)
+    throw std::runtime_error("cannot replace journal " + file_.string() + ": " + ec.message());
+  log_ = openLog(file_, "a");
+  base_sequence_ = base_sequence;
+  entries_ = 0;
+}
+
+void Journal::append(const std::vector<std::uint8_t>& encoded_request) {
+  writeEvent(*log_, channels::request(channels::kIntegrate), encoded_request.data(),
+             static_cast<int>(encoded_request.size()), file_);
+  ++entries_;
+}
+
+JournalContents Journal::read(const std::filesystem::path& file) {
+  if (!std::filesystem::exists(file))
+    throw std::runtime_error("journal " + file.string() + " does not exist");
+  lcm::LogFile log(file.string(), "r");
+  if (!log.good()) throw std::runtime_error("cannot open journal " + file.string());
+  const lcm::LogEvent* start = log.readNextEvent();
+  if (start == nullptr || start->channel != kStartChannel || start->datalen != 8)
+    throw std::runtime_error(file.string() + " is not a socc journal (no start event)");
+  JournalContents contents;
+  const auto* base = static_cast<const std::uint8_t*>(start->data);
+  std::uint64_t value = 0;
+  for (int i = 0; i < 8; ++i) value = (value << 8) | base[i];
+  contents.base_sequence = static_cast<std::int64_t>(value);
+
+  const std::string integrate_channel = channels::request(channels::kIntegrate);
+  while (const lcm::LogEvent* event = log.readNextEvent()) {
+    if (event->channel != integrate_channel || event->datalen <= 0) continue;
+    const auto* data = static_cast<const std::uint8_t*>(event->data);
+    contents.requests.emplace_back(data, data + event->datalen);
+  }
+  return contents;
+}
+
+}  // namespace socc::service

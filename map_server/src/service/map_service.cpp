@@ -1,0 +1,133 @@
+#include "map_service.hpp"
+
+#include <stdexcept>
+
+#include "request_checks.hpp"
+#include "socc/pose_conversion.hpp"
+
+namespace socc::service {
+namespace {
+
+constexpr auto kRateWindow = std::chrono::seconds(5);
+
+std::int64_t nowMicros() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+LabeledCloud toCloud(const integrate_request_t& request) {
+  LabeledCloud cloud;
+  cloud.points.reserve(request.xyz.size());
+  for (const auto& p : request.xyz) cloud.points.emplace_back(p[0], p[1], p[2]);
+  cloud.labels = request.label;
+  cloud.times = request.time;
+  return cloud;
+}
+
+}  // namespace
+
+MapService::MapService(const ServerConfig& config) : config_(config), map_(config.map) {}
+
+integrate_reply_t MapService::integrate(const integrate_request_t& request) {
+  integrate_reply_t reply{};
+  reply.seq = request.seq;
+  setStatus(reply, applyIntegrate(request, reply));
+  reply.map_version = map_.version();
+  return reply;
+}
+
+Status MapService::applyIntegrate(const integrate_request_t& request, integrate_reply_t& reply) {
+  if (Status s = checkIntegrateRequest(request, map_.config()); !s.ok()) return s;
+  const std::string& robot_id = request.header.client_id;
+  // A retry (same seq) or an old message (lower seq) was applied before: acknowledge only.
+  if (robots_.isDuplicate(robot_id, request.seq)) {
+    reply.duplicate = true;
+    return {};
+  }
+  if (!robots_.contains(robot_id) &&
+      static_cast<std::int64_t>(robots_.size()) >= config_.limits.max_robots)
+    return Status::exhausted("the server already tracks " + std::to_string(robots_.size()) +
+                             " robots (limits.max_robots)");
+  const LabeledCloud cloud = toCloud(request);
+  const Eigen::Isometry3d pose = fromLcm(request.sensor_pose);
+  if (const std::string why = map_.validate(pose, cloud); !why.empty()) return Status::invalid(why);
+
+  // Write-ahead: journal first, so an acknowledged Integrate is never lost by a crash.
+  if (journal_) {
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(request.getEncodedSize()));
+    request.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    try {
+      journal_->append(bytes);
+    } catch (const std::exception& e) {
+      return Status::internal(std::string("not applied: ") + e.what());
+    }
+  }
+  map::IntegrationResult result;
+  try {
+    result = map_.integrate(pose, cloud);
+  } catch (const std::invalid_argument& e) {
+    return Status::invalid(e.what());
+  }
+  robots_.recordIntegration(robot_id, request.seq, request.scan_utime, request.sensor_pose);
+  ++integrations_;
+  const auto now = std::chrono::steady_clock::now();
+  recent_integrations_.push_back(now);
+  while (!recent_integrations_.empty() && now - recent_integrations_.front() > kRateWindow)
+    recent_integrations_.pop_front();
+
+  reply.voxels_touched = result.voxels_touched;
+  reply.voxels_hit = result.voxels_hit;
+  reply.voxels_freed = result.voxels_freed;
+  return {};
+}
+
+double MapService::integrationsPerSecond() const {
+  const auto now = std::chrono::steady_clock::now();
+  std::int64_t count = 0;
+  for (const auto& t : recent_integrations_) count += (now - t <= kRateWindow) ? 1 : 0;
+  return static_cast<double>(count) / std::chrono::duration<double>(kRateWindow).count();
+}
+
+map_stats_t MapService::stats(const RequestCounters& counters) const {
+  const map::MapStats m = map_.stats();
+  map_stats_t out{};
+  out.utime = nowMicros();
+  out.voxel_size = map_.config().voxel_size;
+  out.num_voxels = m.num_voxels;
+  out.num_occupied = m.num_occupied;
+  out.num_free = m.num_free;
+  out.num_blocks = m.num_blocks;
+  out.memory_bytes = m.memory_bytes;
+  out.map_version = map_.version();
+  out.integrations = integrations_;
+  out.integrations_per_s = integrationsPerSecond();
+  out.requests = counters.requests;
+  out.rejected_requests = counters.rejected;
+  out.auth_failures = counters.auth_failures;
+  out.robots = robots_.states();
+  out.num_robots = static_cast<std::int32_t>(out.robots.size());
+  return out;
+}
+
+stats_reply_t MapService::getStats(const stats_request_t& /*request*/,
+                                   const RequestCounters& counters) const {
+  stats_reply_t reply{};
+  reply.stats = stats(counters);
+  return reply;
+}
+
+robot_pose_reply_t MapService::getRobotPose(const robot_pose_request_t& request) const {
+  robot_pose_reply_t reply{};
+  reply.state.last_pose.quaternion[0] = 1.0;
+  const robot_state_t* state = robots_.find(request.robot_id);
+  if (state == nullptr) {
+    const std::string shown = request.robot_id.substr(0, 64);
+    setStatus(reply, Status::notFound("unknown robot '" + shown + "'"));
+    return reply;
+  }
+  reply.state = *state;
+  return reply;
+}
+
+}  // namespace socc::service

@@ -1,0 +1,92 @@
+#pragma once
+// The map service's handlers: one per request type, each turning a decoded request into a
+// reply (status + payload). Transport-free (the RequestRouter does LCM), so the handlers are
+// unit-tested directly. Owns the one grid, the robot states and the durability state.
+// Not thread-safe: the router calls it from its single LCM thread.
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+#include "journal.hpp"
+#include "robot_registry.hpp"
+#include "service_config.hpp"
+#include "socc/chunk_reply_t.hpp"
+#include "socc/chunk_request_t.hpp"
+#include "socc/integrate_reply_t.hpp"
+#include "socc/integrate_request_t.hpp"
+#include "socc/map/semantic_occupancy_map.hpp"
+#include "socc/map_command_reply_t.hpp"
+#include "socc/map_command_request_t.hpp"
+#include "socc/map_stats_t.hpp"
+#include "socc/render_reply_t.hpp"
+#include "socc/render_request_t.hpp"
+#include "socc/robot_pose_reply_t.hpp"
+#include "socc/robot_pose_request_t.hpp"
+#include "socc/stats_reply_t.hpp"
+#include "socc/stats_request_t.hpp"
+#include "status.hpp"
+
+namespace socc::service {
+
+/// Request counters kept by the router and reported in map_stats_t.
+struct RequestCounters {
+  std::int64_t requests = 0;
+  std::int64_t rejected = 0;  // non-OK replies and undecodable messages
+  std::int64_t auth_failures = 0;
+  std::int64_t decode_failures = 0;
+};
+
+/// Where the service keeps its durable state (both optional; journal needs the snapshot).
+struct Durability {
+  std::optional<std::filesystem::path> snapshot_file;
+  std::optional<std::filesystem::path> journal_file;
+};
+
+class MapService {
+ public:
+  explicit MapService(const ServerConfig& config);
+
+  integrate_reply_t integrate(const integrate_request_t& request);
+  chunk_reply_t getChunk(const chunk_request_t& request) const;
+  stats_reply_t getStats(const stats_request_t& request, const RequestCounters& counters) const;
+  robot_pose_reply_t getRobotPose(const robot_pose_request_t& request) const;
+  map_command_reply_t command(const map_command_request_t& request);
+  render_reply_t render(const render_request_t& request) const;
+
+  map_stats_t stats(const RequestCounters& counters) const;
+  const map::SemanticOccupancyMap& map() const { return map_; }
+  const RobotRegistry& robots() const { return robots_; }
+  std::int64_t integrations() const { return integrations_; }
+
+  // Durability -------------------------------------------------------------------------------
+  /// Restores state: snapshot (if given) then replays the journal (if it exists), then starts
+  /// journaling with a fresh checkpoint. Throws std::runtime_error with the reason on a
+  /// corrupt snapshot or a journal that does not continue the snapshot.
+  void openDurability(const Durability& durability,
+                      const std::optional<std::filesystem::path>& restore_snapshot);
+  /// Writes the snapshot (atomic) and restarts the journal after it. Returns voxels saved.
+  std::int64_t checkpoint();
+  /// Loads a snapshot into the service (map + robot states); throws std::runtime_error.
+  void loadSnapshot(const std::filesystem::path& file);
+  void saveSnapshot(const std::filesystem::path& file) const;
+  /// Applies journal entries not covered by the current state; returns how many were applied.
+  std::int64_t replayJournal(const JournalContents& contents, bool show_progress);
+
+ private:
+  Status applyIntegrate(const integrate_request_t& request, integrate_reply_t& reply);
+  Status runCommand(const map_command_request_t& request, map_command_reply_t& reply);
+  double integrationsPerSecond() const;
+
+  ServerConfig config_;
+  map::SemanticOccupancyMap map_;
+  RobotRegistry robots_;
+  std::int64_t integrations_ = 0;  // accepted Integrates ever: the journal sequence
+  std::deque<std::chrono::steady_clock::time_point> recent_integrations_;  // rate window
+  Durability durability_;
+  std::unique_ptr<Journal> journal_;
+};
+
+}  // namespace socc::service

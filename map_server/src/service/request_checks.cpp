@@ -1,0 +1,113 @@
+#include "request_checks.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "socc/pose_conversion.hpp"
+
+namespace socc::service {
+namespace {
+
+bool finite3(const double v[3]) {
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+Status checkBox(const double box_min[3], const double box_max[3], const ServiceLimits& limits) {
+  if (!finite3(box_min) || !finite3(box_max)) return Status::invalid("box corners must be finite");
+  for (int i = 0; i < 3; ++i) {
+    if (box_min[i] > box_max[i]) return Status::invalid("box_min must be <= box_max");
+    if (box_max[i] - box_min[i] > limits.max_region_extent)
+      return Status::exhausted("region edge " + std::to_string(box_max[i] - box_min[i]) +
+                               " m exceeds the server limit of " +
+                               std::to_string(limits.max_region_extent) + " m");
+  }
+  return {};
+}
+
+Status checkThreshold(float threshold) {
+  if (!(threshold >= 0.0f && threshold <= 1.0f))
+    return Status::invalid("occupancy_threshold must be in [0, 1]");
+  return {};
+}
+
+}  // namespace
+
+Status checkIntegrateRequest(const integrate_request_t& request, const map::MapConfig& config) {
+  if (request.seq < 0) return Status::invalid("seq must be >= 0");
+  if (request.num_points < 0 || static_cast<std::size_t>(request.num_points) != request.xyz.size())
+    return Status::invalid("num_points does not match the point array");
+  if (static_cast<std::size_t>(request.num_points) > config.max_points_per_scan)
+    return Status::exhausted("scan has " + std::to_string(request.num_points) +
+                             " points; the server accepts at most " +
+                             std::to_string(config.max_points_per_scan));
+  for (const auto& p : request.xyz)
+    if (p.size() != 3) return Status::invalid("every point needs 3 coordinates");
+  if (request.num_labels != 0 && request.num_labels != request.num_points)
+    return Status::invalid("num_labels must be 0 or num_points");
+  if (static_cast<std::size_t>(request.num_labels) != request.label.size())
+    return Status::invalid("num_labels does not match the label array");
+  if (request.num_times != 0 && request.num_times != request.num_points)
+    return Status::invalid("num_times must be 0 or num_points");
+  if (static_cast<std::size_t>(request.num_times) != request.time.size())
+    return Status::invalid("num_times does not match the time array");
+  if (const std::string why = checkPose(request.sensor_pose, config.max_abs_coordinate);
+      !why.empty())
+    return Status::invalid("sensor_pose: " + why);
+  return {};
+}
+
+Status checkChunkRequest(const chunk_request_t& request, const ServiceLimits& limits) {
+  constexpr std::int32_t kKnownFields = chunk_request_t::FIELD_FEATURES |
+                                        chunk_request_t::FIELD_STATS | chunk_request_t::FIELD_FREE |
+                                        chunk_request_t::FIELD_INDEX;
+  if ((request.fields & ~kKnownFields) != 0) return Status::invalid("unknown bits in fields");
+  if (request.limit < 0) return Status::invalid("limit must be >= 0");
+  if (Status s = checkThreshold(request.occupancy_threshold); !s.ok()) return s;
+  if (request.shape == chunk_request_t::SHAPE_BOX)
+    return checkBox(request.box_min, request.box_max, limits);
+  if (request.shape != chunk_request_t::SHAPE_SPHERE)
+    return Status::invalid("shape must be SHAPE_BOX or SHAPE_SPHERE");
+  if (!finite3(request.center) || !std::isfinite(request.radius) || request.radius < 0.0)
+    return Status::invalid("sphere centre must be finite and radius >= 0");
+  if (2.0 * request.radius > limits.max_region_extent)
+    return Status::exhausted("sphere diameter exceeds the server limit of " +
+                             std::to_string(limits.max_region_extent) + " m");
+  return {};
+}
+
+Status checkRenderRequest(const render_request_t& request, double voxel_size,
+                          const ServiceLimits& limits) {
+  if (Status s = checkBox(request.box_min, request.box_max, limits); !s.ok()) return s;
+  if (Status s = checkThreshold(request.occupancy_threshold); !s.ok()) return s;
+  if (request.mode < render_request_t::MODE_CLASS || request.mode > render_request_t::MODE_HEIGHT)
+    return Status::invalid("unknown render mode");
+  if (!std::isfinite(request.pixel_size) || request.pixel_size < 0.0)
+    return Status::invalid("pixel_size must be finite and >= 0");
+  const double pixel = request.pixel_size > 0.0 ? request.pixel_size : voxel_size;
+  const double pixels = std::ceil((request.box_max[0] - request.box_min[0]) / pixel) *
+                        std::ceil((request.box_max[1] - request.box_min[1]) / pixel);
+  if (pixels > static_cast<double>(limits.max_render_pixels))
+    return Status::exhausted("image would have " + std::to_string(static_cast<long long>(pixels)) +
+                             " pixels; the server limit is " +
+                             std::to_string(limits.max_render_pixels));
+  if (pixels < 1.0) return Status::invalid("render box is empty");
+  return {};
+}
+
+Status resolveCommandPath(const std::string& path, const std::filesystem::path& file_dir,
+                          std::filesystem::path& resolved) {
+  if (path.empty()) return Status::invalid("path is empty");
+  const std::filesystem::path given(path);
+  for (const auto& part : given)
+    if (part == "..") return Status::invalid("path may not contain '..'");
+  const std::filesystem::path root = std::filesystem::absolute(file_dir).lexically_normal();
+  const std::filesystem::path full =
+      (given.is_absolute() ? given : root / given).lexically_normal();
+  const auto rel = full.lexically_relative(root);
+  if (rel.empty() || rel == "." || *rel.begin() == "..")
+    return Status::invalid("path must be inside the server's file directory " + root.string());
+  resolved = full;
+  return {};
+}
+
+}  // namespace socc::service

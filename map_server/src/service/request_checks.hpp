@@ -1,0 +1,24 @@
+#pragma once
+// Validation of decoded requests, before they touch the map. Each returns an OK Status or
+// the reason (INVALID_ARGUMENT for malformed values, RESOURCE_EXHAUSTED for too-large asks).
+#include <filesystem>
+
+#include "service_config.hpp"
+#include "socc/chunk_request_t.hpp"
+#include "socc/integrate_request_t.hpp"
+#include "socc/render_request_t.hpp"
+#include "status.hpp"
+
+namespace socc::service {
+
+/// Array sizes, seq and pose of an Integrate; point values are checked by the map.
+Status checkIntegrateRequest(const integrate_request_t& request, const map::MapConfig& config);
+Status checkChunkRequest(const chunk_request_t& request, const ServiceLimits& limits);
+Status checkRenderRequest(const render_request_t& request, double voxel_size,
+                          const ServiceLimits& limits);
+
+/// Resolves a client-given path inside file_dir; refuses empty, absolute-outside and ".." paths.
+Status resolveCommandPath(const std::string& path, const std::filesystem::path& file_dir,
+                          std::filesystem::path& resolved);
+
+}  // namespace socc::service

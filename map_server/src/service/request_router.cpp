@@ -1,0 +1,158 @@
+#include "request_router.hpp"
+
+#include <chrono>
+#include <exception>
+#include <type_traits>
+#include <vector>
+
+#include "socc/channels.hpp"
+#include "socc/rpc/client_id.hpp"
+#include "socc/rpc/safe_decode.hpp"
+#include "wire_guard.hpp"
+
+namespace socc::service {
+namespace {
+
+std::int64_t nowMicros() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// Untrusted strings are shortened before they reach logs or reply messages.
+std::string shown(const std::string& text) {
+  return text.size() > 80 ? text.substr(0, 80) + "..." : text;
+}
+
+}  // namespace
+
+RequestRouter::RequestRouter(lcm::LCM& lcm, MapService& service, RequestGate& gate, bool verbose)
+    : lcm_(lcm), service_(service), gate_(gate), log_(verbose) {
+  // Raw subscriptions through LCM's C API: the typed C++ ones print and drop undecodable
+  // messages without telling us, and the C++ raw-handler wrapper trips UBSan (-fsanitize=vptr).
+  const std::array<std::string_view, 6> services = {channels::kIntegrate,  channels::kGetChunk,
+                                                    channels::kGetStats,   channels::kGetRobotPose,
+                                                    channels::kMapCommand, channels::kRender};
+  for (std::size_t i = 0; i < routes_.size(); ++i) {
+    routes_[i].router = this;
+    routes_[i].service = services[i];
+    routes_[i].subscription =
+        lcm_subscribe(lcm_.getUnderlyingLCM(), channels::request(services[i]).c_str(),
+                      &RequestRouter::onMessage, &routes_[i]);
+  }
+}
+
+RequestRouter::~RequestRouter() {
+  for (const Route& route : routes_)
+    if (route.subscription != nullptr) lcm_unsubscribe(lcm_.getUnderlyingLCM(), route.subscription);
+}
+
+void RequestRouter::onMessage(const lcm_recv_buf_t* rbuf, const char* /*channel*/, void* route) {
+  const auto* r = static_cast<const Route*>(route);
+  const lcm::ReceiveBuffer buffer{rbuf->data, rbuf->data_size, rbuf->recv_utime};
+  r->router->dispatch(r->service, buffer);
+}
+
+void RequestRouter::rejectUndecodable(std::string_view service, const std::string& why) {
+  ++counters_.decode_failures;
+  ++counters_.rejected;
+  log_.warn("dropped undecodable " + std::string(service) + " request: " + why);
+}
+
+template <typename Reply>
+void RequestRouter::publishReply(std::string_view service, const request_header_t& request,
+                                 Reply& reply) {
+  reply.header.request_id = request.request_id;
+  reply.header.client_id = request.client_id;
+  reply.header.server_utime = nowMicros();
+  if (reply.header.status != reply_header_t::OK) {
+    ++counters_.rejected;
+    log_.warn(std::string(service) + " from '" + request.client_id +
+              "' rejected: " + reply.header.message);
+  }
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(reply.getEncodedSize()));
+  reply.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  // Only ever to the requester's own reply channel, whatever the request asked for.
+  if (lcm_.publish(channels::reply(service, request.client_id), bytes.data(),
+                   static_cast<unsigned>(bytes.size())) != 0)
+    log_.warn("cannot publish a " + std::to_string(bytes.size()) + "-byte " + std::string(service) +
+              " reply (larger than LCM allows? lower limits.max_reply_bytes)");
+}
+
+template <typename Request, typename Handler>
+void RequestRouter::serve(const lcm::ReceiveBuffer& rbuf, std::string_view service,
+                          bool state_changing, Handler&& handler) {
+  using Reply = std::invoke_result_t<Handler, const Request&>;
+  ++counters_.requests;
+  const int size = static_cast<int>(rbuf.data_size);
+  const bool integrate = service == channels::kIntegrate;
+  if (const std::string why =
+          integrate ? checkIntegrateWire(rbuf.data, size) : checkRequestHeaderWire(rbuf.data, size);
+      !why.empty())
+    return rejectUndecodable(service, why);
+  const std::optional<Request> request = rpc::safeDecode<Request>(rbuf.data, size);
+  if (!request) return rejectUndecodable(service, "LCM decode failed (wrong type or damaged)");
+
+  const request_header_t& header = request->header;
+  if (const std::string why = rpc::checkClientId(header.client_id); !why.empty()) {
+    // Without a valid client id there is no safe channel to answer on.
+    ++counters_.rejected;
+    log_.warn("ignored " + std::string(service) + " request: " + shown(why));
+    return;
+  }
+  Reply reply{};
+  if (header.reply_channel != channels::reply(service, header.client_id)) {
+    setStatus(reply, Status::invalid("reply_channel must be " +
+                                     channels::reply(service, header.client_id)));
+    return publishReply(service, header, reply);
+  }
+  // The one place every request is admitted (authentication goes here).
+  if (const std::string why = gate_.admit(service, state_changing, header,
+                                          static_cast<const std::uint8_t*>(rbuf.data), size);
+      !why.empty()) {
+    ++counters_.auth_failures;
+    setStatus(reply, Status::unauthenticated(why));
+    return publishReply(service, header, reply);
+  }
+  try {
+    reply = handler(*request);
+  } catch (const std::exception& e) {
+    reply = Reply{};
+    setStatus(reply, Status::internal(e.what()));
+  }
+  publishReply(service, header, reply);
+}
+
+void RequestRouter::dispatch(std::string_view service, const lcm::ReceiveBuffer& rbuf) {
+  if (service == channels::kIntegrate)
+    serve<integrate_request_t>(rbuf, service, true, [this](const integrate_request_t& r) {
+      return service_.integrate(r);
+    });
+  else if (service == channels::kGetChunk)
+    serve<chunk_request_t>(rbuf, service, false,
+                           [this](const chunk_request_t& r) { return service_.getChunk(r); });
+  else if (service == channels::kGetStats)
+    serve<stats_request_t>(rbuf, service, false, [this](const stats_request_t& r) {
+      return service_.getStats(r, counters_);
+    });
+  else if (service == channels::kGetRobotPose)
+    serve<robot_pose_request_t>(rbuf, service, false, [this](const robot_pose_request_t& r) {
+      return service_.getRobotPose(r);
+    });
+  else if (service == channels::kMapCommand)
+    serve<map_command_request_t>(rbuf, service, true, [this](const map_command_request_t& r) {
+      return service_.command(r);
+    });
+  else if (service == channels::kRender)
+    serve<render_request_t>(rbuf, service, false,
+                            [this](const render_request_t& r) { return service_.render(r); });
+}
+
+void RequestRouter::publishStatus() {
+  map_stats_t stats = service_.stats(counters_);
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(stats.getEncodedSize()));
+  stats.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  lcm_.publish(std::string(channels::kStatus), bytes.data(), static_cast<unsigned>(bytes.size()));
+}
+
+}  // namespace socc::service

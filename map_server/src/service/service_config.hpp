@@ -1,0 +1,31 @@
+#pragma once
+// Settings of the map service: the grid parameters plus the limits that protect the server
+// from oversized requests (YAML: map_server/config/server.yaml).
+#include <cstdint>
+#include <filesystem>
+
+#include "socc/map/map_config.hpp"
+
+namespace socc::service {
+
+struct ServiceLimits {
+  std::int64_t max_chunk_voxels = 2'000'000;  // per GET_CHUNK reply; more -> truncated
+  double max_region_extent = 2000.0;          // [m] box edge / sphere diameter; more -> rejected
+  std::int64_t max_reply_bytes = 60'000'000;  // encoded reply; more -> RESOURCE_EXHAUSTED
+  std::int64_t max_render_pixels = 16'000'000;
+  std::int64_t max_robots = 1024;  // robot states kept; new robots beyond -> rejected
+};
+
+struct ServerConfig {
+  map::MapConfig map;
+  ServiceLimits limits;
+  // MAP_COMMAND paths (save/load/export) are resolved inside this directory, so a client
+  // cannot make the server read or write arbitrary files.
+  std::filesystem::path file_dir = ".";
+};
+
+/// Loads server.yaml: optional `map_config` (grid YAML, relative to this file), `file_dir` and
+/// `limits:` keys. Unknown keys or bad values throw std::runtime_error naming the key.
+ServerConfig loadServerConfig(const std::filesystem::path& file);
+
+}  // namespace socc::service

@@ -1,0 +1,22 @@
+#pragma once
+// Service state stored in the map snapshot's metadata blob, encoded as an LCM map_stats_t
+// (robot states + the journal sequence the snapshot covers), so it stays inspectable with LCM.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "socc/robot_state_t.hpp"
+
+namespace socc::service {
+
+struct SnapshotMetadata {
+  std::vector<robot_state_t> robots;
+  std::int64_t journal_sequence = 0;  // accepted Integrates contained in the snapshot
+};
+
+std::string encodeSnapshotMetadata(const SnapshotMetadata& metadata);
+/// nullopt when the blob does not decode; an empty blob is a snapshot without service state.
+std::optional<SnapshotMetadata> decodeSnapshotMetadata(const std::string& blob);
+
+}  // namespace socc::service

@@ -1,0 +1,48 @@
+#pragma once
+// Per-frame statistics: one CSV row per frame and the end-of-run summary.
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace socc::odom {
+
+struct FrameStats {
+  std::int64_t frame = 0;      // sequence number
+  double preprocess_ms = 0.0;  // read + range filter + deskew + downsampling
+  double fetch_ms = 0.0;       // GET_CHUNK round trip (queued behind the previous Integrate on
+                               // the server) + LocalMap build
+  double register_ms = 0.0;
+  double integrate_ms = 0.0;  // time the pipeline waited for this frame's Integrate ack
+  double total_ms = 0.0;      // wall time of the frame in the pipeline
+  int planar = 0;
+  int non_planar = 0;
+  double alpha = 0.0;
+  int iterations = 0;
+  std::int64_t chunk_voxels = 0;
+  std::int64_t bytes_received = 0;  // encoded chunk reply
+  double sigma = 0.0;
+  std::int64_t points = 0;              // range-filtered (integrated) points
+  std::int64_t downsampled_points = 0;  // registered points
+};
+
+/// Writes frames.csv (when a path is given) and accumulates the means for the summary.
+class FrameLog {
+ public:
+  explicit FrameLog(const std::filesystem::path& csv_file = {});
+  void add(const FrameStats& s);
+  std::int64_t frames() const { return frames_; }
+  /// Human-readable summary: frames, mean ms per stage, Hz, bytes/frame.
+  std::string summary(double wall_seconds) const;
+  FrameStats mean() const;
+  const std::vector<FrameStats>& rows() const { return rows_; }
+
+ private:
+  std::ofstream csv_;
+  std::int64_t frames_ = 0;
+  FrameStats sum_;
+  std::vector<FrameStats> rows_;
+};
+
+}  // namespace socc::odom

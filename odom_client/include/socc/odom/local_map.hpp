@@ -1,0 +1,58 @@
+#pragma once
+// The registration target of one frame: the occupied voxels of a fetched map chunk, represented
+// by their FIRST-INSERTED points (stable references, paper Sec. data association) with normal,
+// planarity, occupancy and semantic label. Nearest-neighbour search is exact (KD-tree).
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "socc/chunk_reply_t.hpp"
+
+namespace socc::odom {
+
+struct MapVoxel {
+  Eigen::Vector3d point;   // first inserted point [m, map frame]
+  Eigen::Vector3d normal;  // unit; zero when unknown (fewer than 5 points)
+  float planarity = -1.f;  // tau = l3 / (l1 + l2 + l3); negative when unknown
+  float occupancy = 0.f;   // p_occ
+  std::uint8_t label = 0;  // argmax class
+  float label_prob = 0.f;  // probability of that class
+};
+
+struct Neighbor {
+  std::size_t index;
+  double squared_distance;
+};
+
+class LocalMap {
+ public:
+  LocalMap();  // empty
+  explicit LocalMap(std::vector<MapVoxel> voxels);
+  ~LocalMap();
+  LocalMap(LocalMap&&) noexcept;
+  LocalMap& operator=(LocalMap&&) noexcept;
+
+  /// Decodes a chunk with FIELD_FEATURES, keeping voxels with p_occ >= occupancy_threshold.
+  /// Throws std::invalid_argument on a malformed reply (sizes, non-finite values, labels).
+  static LocalMap fromChunk(const chunk_reply_t& chunk, double occupancy_threshold);
+
+  std::size_t size() const;
+  bool empty() const { return size() == 0; }
+  const MapVoxel& voxel(std::size_t i) const;
+
+  /// The nearest first-inserted point within max_distance of query, if any (exact).
+  std::optional<Neighbor> nearest(const Eigen::Vector3d& query, double max_distance) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Planar voxel: tau known (>= 0) and below the threshold, with a valid normal.
+inline bool isPlanar(const MapVoxel& v, double planarity_threshold) {
+  return v.planarity >= 0.f && v.planarity < planarity_threshold && v.normal.squaredNorm() > 0.5;
+}
+
+}  // namespace socc::odom

@@ -1,0 +1,61 @@
+#pragma once
+// Parameters of the odometry client (YAML: see odom_client/config/default.yaml).
+// Defaults are the SOCC-ICP paper's hyperparameters for driving data (KITTI).
+#include <array>
+#include <filesystem>
+#include <string>
+
+#include "socc/labels.hpp"
+
+namespace socc::odom {
+
+struct OdomConfig {
+  // Preprocessing.
+  double min_range = 5.0;              // [m] closer points are dropped (ego vehicle)
+  double max_range = 100.0;            // [m]
+  bool deskew = true;                  // when per-point times exist
+  double frame_period = 0.1;           // [s] used when scans carry no timestamps
+  double deskew_reference_time = 0.0;  // [s, relative to scan time] the instant the pose refers to
+
+  // Semantic-aware adaptive voxel downsampling: v_c = alpha_c * v_adapt.
+  int target_points = 2500;         // v_adapt follows the previous frame's count to keep ~this many
+  double initial_voxel_size = 1.0;  // [m]
+  double min_voxel_size = 0.2;      // [m]
+  double max_voxel_size = 4.0;      // [m]
+  double alpha_human = 0.0;         // person, bicyclist, motorcyclist (0 = dropped)
+  double alpha_pole_sign = 0.75;    // pole, traffic-sign
+  double alpha_ground = 0.8;        // road, parking, sidewalk, terrain
+  double alpha_default = 1.0;       // every other class, and unlabeled
+  bool use_semantics = true;        // false: every label is treated as 0 (unlabeled)
+
+  // KISS-ICP adaptive threshold.
+  double initial_threshold = 2.0;  // [m] sigma before any motion was observed
+  double min_motion = 0.1;         // [m] corrections below this do not update sigma
+
+  // Map chunk around the predicted pose.
+  double chunk_radius = 125.0;       // [m]
+  double occupancy_threshold = 0.5;  // voxels with p_occ >= this are correspondence candidates
+  int min_map_points = 100;  // fewer occupied voxels: keep the prediction (e.g. first frame)
+
+  // Registration.
+  double planarity_threshold = 0.1;  // tau < this (and n >= 5) => point-to-plane
+  double gamma = 1.5;                // w_occ = p_occ^gamma
+  double w_lower = 0.25;             // semantic weight of non-matching labels
+  int max_iterations = 100;
+  double convergence = 1e-4;  // ||dx|| below this stops the iterations
+
+  // Map service.
+  int timeout_ms = 2000;  // per attempt
+  int max_attempts = 5;
+};
+
+/// alpha_c per class id (0..K) from the config; all 1.0 when semantics are off.
+std::array<double, kNumClasses> classFactors(const OdomConfig& cfg);
+
+/// Loads a YAML file (flat keys named like the fields above). Unknown keys, wrong types and
+/// invalid values throw std::runtime_error naming the file and the key; missing keys keep defaults.
+OdomConfig loadOdomConfig(const std::filesystem::path& file);
+/// Empty when cfg is valid, otherwise the first problem found.
+std::string validate(const OdomConfig& cfg);
+
+}  // namespace socc::odom

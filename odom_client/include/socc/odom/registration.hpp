@@ -1,0 +1,47 @@
+#pragma once
+// SOCC-ICP scan-to-map registration: GenZ-ICP-style adaptive mix of point-to-plane (planar
+// voxels) and point-to-point residuals, alpha = N_pl / (N_pl + N_po), each correspondence
+// weighted by w_gm * w_occ * w_sem; Gauss-Newton on SE(3) (6x6 normal equations, LDLT).
+#include <Eigen/Geometry>
+
+#include "socc/odom/local_map.hpp"
+#include "socc/point_cloud.hpp"
+
+namespace socc::odom {
+
+struct RegistrationParams {
+  double planarity_threshold = 0.1;
+  double gamma = 1.5;
+  double w_lower = 0.25;
+  int max_iterations = 100;
+  double convergence = 1e-4;  // ||dx|| below this stops
+};
+
+struct RegistrationResult {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // map_T_sensor
+  int iterations = 0;
+  bool converged = false;  // ||dx|| < convergence
+  bool stalled = false;    // stopped because the iteration cycled back to a recent pose
+  int planar = 0;          // correspondences of the last iteration
+  int non_planar = 0;
+  double alpha = 0.0;  // N_pl / (N_pl + N_po) of the last iteration
+};
+
+/// One correspondence's contribution, exposed so tests can check the formulas.
+struct Correspondence {
+  bool planar = false;
+  double squared_residual = 0.0;
+  double weight = 0.0;  // w_gm * w_occ * w_sem
+};
+/// Classifies and weighs the pair (map-frame point with its label, voxel) with sigma's kernel.
+Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t label,
+                                      const MapVoxel& voxel, double sigma,
+                                      const RegistrationParams& params);
+
+/// Registers scan (sensor frame, labels optional) against map from initial_guess; sigma is the
+/// adaptive threshold (correspondences within 3 sigma, kernel sigma / 3).
+RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
+                                const Eigen::Isometry3d& initial_guess, double sigma,
+                                const RegistrationParams& params);
+
+}  // namespace socc::odom

@@ -1,0 +1,12 @@
+#pragma once
+// A LocalMap made directly from one cloud (no map server): voxels of voxel_size with the first
+// point, the covariance's smallest eigenvector and planarity (n >= 5), p_occ = 1 and the
+// majority label. Used for scan-to-scan reference registrations (tests, benchmarks, tools).
+#include "socc/odom/local_map.hpp"
+#include "socc/point_cloud.hpp"
+
+namespace socc::odom {
+
+LocalMap buildScanMap(const LabeledCloud& cloud, double voxel_size);
+
+}  // namespace socc::odom

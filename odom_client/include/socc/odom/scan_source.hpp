@@ -1,0 +1,50 @@
+#pragma once
+// Where scans come from: a KITTI-layout directory, a directory of PCD/PLY files, or a live LCM
+// channel (socc::scan_t on SOCC/SCAN/<robot_id>, e.g. replayed by lcm-logplayer).
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "socc/point_cloud.hpp"
+
+namespace socc::odom {
+
+struct Scan {
+  LabeledCloud cloud;      // sensor frame; labels are class ids 0..19
+  std::int64_t utime = 0;  // scan time [us]
+  std::int64_t seq = 0;    // frame index (directories) or the driver's sequence number (LCM)
+  std::string name;        // for messages, e.g. the file name
+};
+
+class ScanSource {
+ public:
+  virtual ~ScanSource() = default;
+  /// The next scan, or nullopt at the end (directories) / after the idle timeout (LCM).
+  /// Throws std::runtime_error with the file name on unreadable input.
+  virtual std::optional<Scan> next() = 0;
+  /// Scans left, when known (0 = unknown, live input).
+  virtual std::size_t remaining() const = 0;
+};
+
+struct FrameRange {
+  std::int64_t first = 0;  // first frame index to read
+  std::int64_t last = -1;  // last frame index (inclusive); -1 = until the end
+};
+
+/// velodyne/*.bin, optional labels/*.label (raw SemanticKITTI ids, mapped), optional times.txt
+/// (scan times [s]) and point_times/NNNNNN.bin (float32 per-point times [s]).
+std::unique_ptr<ScanSource> openKittiDirectory(const std::filesystem::path& root, FrameRange range);
+
+/// Sorted *.pcd / *.ply files of a directory; the frame index is the position in that order.
+std::unique_ptr<ScanSource> openPointCloudDirectory(const std::filesystem::path& dir,
+                                                    FrameRange range, double frame_period);
+
+/// Subscribes to SOCC/SCAN/<robot_id>; next() waits up to idle_timeout for a scan.
+/// Malformed scans (sizes, labels) are reported on stderr and skipped.
+std::unique_ptr<ScanSource> openLcmScans(const std::string& lcm_url, const std::string& robot_id,
+                                         std::chrono::milliseconds idle_timeout);
+
+}  // namespace socc::odom

@@ -1,0 +1,17 @@
+#pragma once
+// SE(3) exponential/logarithm on 6-vectors (translation part first, then rotation).
+// expSe3/logSe3: the true group exponential (screw motion), used to interpolate motion within
+// a sweep. applyIncrement: MRPT's Lie-group SE(3) exp, used for ICP updates.
+#include <Eigen/Geometry>
+
+namespace socc::odom {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+Eigen::Isometry3d expSe3(const Vector6d& xi);
+Vector6d logSe3(const Eigen::Isometry3d& pose);
+
+/// exp(dx) * pose with dx = (translation, rotation) through mrpt::poses::Lie::SE<3>::exp.
+Eigen::Isometry3d applyIncrement(const Vector6d& dx, const Eigen::Isometry3d& pose);
+
+}  // namespace socc::odom

@@ -1,0 +1,33 @@
+#pragma once
+// Correspondence weights of SOCC-ICP (paper Sec. semantic-assisted data association):
+// w = w_gm * w_occ * w_sem, each in [0, 1].
+#include <cmath>
+#include <cstdint>
+
+namespace socc::odom {
+
+/// Geman-McClure weight as KISS-ICP: k^2 / (k + r^2)^2 with kernel scale k (= sigma / 3) and
+/// squared residual r^2; 1 at r = 0, decreasing towards 0.
+inline double gemanMcClureWeight(double squared_residual, double kernel) {
+  const double d = kernel + squared_residual;
+  return (kernel * kernel) / (d * d);
+}
+
+/// w_occ = p_occ^gamma.
+inline double occupancyWeight(double p_occ, double gamma) {
+  return std::pow(p_occ, gamma);
+}
+
+/// Labels match when equal or when either is 0 (unlabeled).
+inline bool labelsMatch(std::uint8_t point_label, std::uint8_t voxel_label) {
+  return point_label == voxel_label || point_label == 0 || voxel_label == 0;
+}
+
+/// w_sem = w_lower + match * (1 - w_lower) * p_label.
+inline double semanticWeight(std::uint8_t point_label, std::uint8_t voxel_label, double p_label,
+                             double w_lower) {
+  const double match = labelsMatch(point_label, voxel_label) ? 1.0 : 0.0;
+  return w_lower + match * (1.0 - w_lower) * p_label;
+}
+
+}  // namespace socc::odom

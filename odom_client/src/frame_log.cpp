@@ -1,0 +1,81 @@
+#include "socc/odom/frame_log.hpp"
+
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+namespace socc::odom {
+
+FrameLog::FrameLog(const std::filesystem::path& csv_file) {
+  if (csv_file.empty()) return;
+  csv_.open(csv_file, std::ios::trunc);
+  if (!csv_) throw std::runtime_error(csv_file.string() + ": cannot open for writing");
+  csv_ << "frame,preprocess_ms,fetch_ms,register_ms,integrate_ms,total_ms,corr_planar,"
+          "corr_non_planar,alpha,iterations,chunk_voxels,bytes_received,sigma,points,"
+          "downsampled_points\n";
+}
+
+void FrameLog::add(const FrameStats& s) {
+  ++frames_;
+  rows_.push_back(s);
+  sum_.preprocess_ms += s.preprocess_ms;
+  sum_.fetch_ms += s.fetch_ms;
+  sum_.register_ms += s.register_ms;
+  sum_.integrate_ms += s.integrate_ms;
+  sum_.total_ms += s.total_ms;
+  sum_.planar += s.planar;
+  sum_.non_planar += s.non_planar;
+  sum_.alpha += s.alpha;
+  sum_.iterations += s.iterations;
+  sum_.chunk_voxels += s.chunk_voxels;
+  sum_.bytes_received += s.bytes_received;
+  sum_.sigma += s.sigma;
+  sum_.points += s.points;
+  sum_.downsampled_points += s.downsampled_points;
+  if (!csv_.is_open()) return;
+  csv_ << s.frame << std::fixed << std::setprecision(3) << ',' << s.preprocess_ms << ','
+       << s.fetch_ms << ',' << s.register_ms << ',' << s.integrate_ms << ',' << s.total_ms << ','
+       << s.planar << ',' << s.non_planar << ',' << std::setprecision(4) << s.alpha << ','
+       << s.iterations << ',' << s.chunk_voxels << ',' << s.bytes_received << ','
+       << std::setprecision(4) << s.sigma << ',' << s.points << ',' << s.downsampled_points << '\n';
+  csv_.flush();  // a killed client still leaves a complete log
+}
+
+FrameStats FrameLog::mean() const {
+  FrameStats m;
+  if (frames_ == 0) return m;
+  const double n = static_cast<double>(frames_);
+  m.preprocess_ms = sum_.preprocess_ms / n;
+  m.fetch_ms = sum_.fetch_ms / n;
+  m.register_ms = sum_.register_ms / n;
+  m.integrate_ms = sum_.integrate_ms / n;
+  m.total_ms = sum_.total_ms / n;
+  m.planar = static_cast<int>(sum_.planar / n);
+  m.non_planar = static_cast<int>(sum_.non_planar / n);
+  m.alpha = sum_.alpha / n;
+  m.iterations = static_cast<int>(sum_.iterations / n);
+  m.chunk_voxels = static_cast<std::int64_t>(static_cast<double>(sum_.chunk_voxels) / n);
+  m.bytes_received = static_cast<std::int64_t>(static_cast<double>(sum_.bytes_received) / n);
+  m.sigma = sum_.sigma / n;
+  m.points = static_cast<std::int64_t>(static_cast<double>(sum_.points) / n);
+  m.downsampled_points =
+      static_cast<std::int64_t>(static_cast<double>(sum_.downsampled_points) / n);
+  return m;
+}
+
+std::string FrameLog::summary(double wall_seconds) const {
+  const FrameStats m = mean();
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(2) << "frames: " << frames_ << "\n"
+      << "mean ms/frame: preprocess " << m.preprocess_ms << ", fetch " << m.fetch_ms
+      << ", register " << m.register_ms << ", integrate wait " << m.integrate_ms << ", total "
+      << m.total_ms << "\n"
+      << "rate: " << (wall_seconds > 0.0 ? frames_ / wall_seconds : 0.0) << " Hz over "
+      << wall_seconds << " s\n"
+      << "chunk: " << m.chunk_voxels << " voxels, " << m.bytes_received / 1024.0
+      << " KiB/frame; registered points " << m.downsampled_points << " of " << m.points
+      << "; iterations " << m.iterations << "; alpha " << m.alpha << "\n";
+  return out.str();
+}
+
+}  // namespace socc::odom

@@ -1,0 +1,79 @@
+// KITTI-layout directory scan source.
+#include <cstdio>
+#include <stdexcept>
+
+#include "socc/kitti_io.hpp"
+#include "socc/labels.hpp"
+#include "socc/odom/scan_source.hpp"
+
+namespace socc::odom {
+namespace fs = std::filesystem;
+namespace {
+
+class KittiDirectorySource final : public ScanSource {
+ public:
+  KittiDirectorySource(const fs::path& root, FrameRange range)
+      : sequence_(listKittiSequence(root)) {
+    if (sequence_.scans.empty())
+      throw std::runtime_error(root.string() + ": no velodyne/*.bin scans");
+    const fs::path times = root / "times.txt";
+    if (fs::exists(times)) {
+      times_ = readTimes(times);
+      if (times_.size() < sequence_.scans.size())
+        throw std::runtime_error(times.string() + ": fewer times than scans");
+    }
+    const auto n = static_cast<std::int64_t>(sequence_.scans.size());
+    if (range.first < 0 || range.first >= n)
+      throw std::runtime_error(root.string() + ": first frame " + std::to_string(range.first) +
+                               " is outside 0.." + std::to_string(n - 1));
+    next_ = range.first;
+    end_ = range.last < 0 ? n : std::min(n, range.last + 1);
+  }
+
+  std::optional<Scan> next() override {
+    if (next_ >= end_) return std::nullopt;
+    const auto i = static_cast<std::size_t>(next_);
+    Scan scan;
+    scan.seq = next_++;
+    scan.name = sequence_.scans[i].filename().string();
+    scan.cloud.points = readKittiBin(sequence_.scans[i]);
+    if (!sequence_.labels[i].empty()) {
+      const std::vector<std::uint32_t> raw = readSemanticKittiLabels(sequence_.labels[i]);
+      if (raw.size() != scan.cloud.size())
+        throw std::runtime_error(sequence_.labels[i].string() + ": " + std::to_string(raw.size()) +
+                                 " labels for " + std::to_string(scan.cloud.size()) + " points");
+      scan.cloud.labels.reserve(raw.size());
+      for (const std::uint32_t l : raw)
+        scan.cloud.labels.push_back(mapSemanticKittiLabel(l & 0xFFFFu));
+    }
+    char name[32];
+    std::snprintf(name, sizeof(name), "%06zu.bin", i);
+    const fs::path point_times = sequence_.root / "point_times" / name;
+    if (fs::exists(point_times)) {
+      scan.cloud.times = readFloatBin(point_times);
+      if (scan.cloud.times.size() != scan.cloud.size())
+        throw std::runtime_error(point_times.string() + ": " +
+                                 std::to_string(scan.cloud.times.size()) + " times for " +
+                                 std::to_string(scan.cloud.size()) + " points");
+    }
+    scan.utime = times_.empty() ? static_cast<std::int64_t>(i) * 100000
+                                : static_cast<std::int64_t>(times_[i] * 1e6);
+    return scan;
+  }
+
+  std::size_t remaining() const override { return static_cast<std::size_t>(end_ - next_); }
+
+ private:
+  KittiSequence sequence_;
+  std::vector<double> times_;
+  std::int64_t next_ = 0;
+  std::int64_t end_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<ScanSource> openKittiDirectory(const fs::path& root, FrameRange range) {
+  return std::make_unique<KittiDirectorySource>(root, range);
+}
+
+}  // namespace socc::odom

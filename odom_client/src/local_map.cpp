@@ -1,0 +1,127 @@
+#include "socc/odom/local_map.hpp"
+
+#include <cmath>
+#include <limits>
+#include <nanoflann.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "socc/chunk_request_t.hpp"
+#include "socc/labels.hpp"
+
+namespace socc::odom {
+namespace {
+
+// nanoflann dataset adaptor over the first-inserted points.
+struct PointsAdaptor {
+  const std::vector<MapVoxel>* voxels;
+  std::size_t kdtree_get_point_count() const { return voxels->size(); }
+  double kdtree_get_pt(std::uint32_t i, std::size_t dim) const { return (*voxels)[i].point[dim]; }
+  template <typename Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+
+using KdTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
+                                        PointsAdaptor, 3, std::uint32_t>;
+
+// Result set keeping only the nearest point closer than a bound; the bound prunes the search.
+class NearestWithin {
+ public:
+  explicit NearestWithin(double bound2) : best_(bound2) {}
+  bool full() const { return true; }
+  bool addPoint(double dist2, std::uint32_t index) {
+    if (dist2 < best_) {
+      best_ = dist2;
+      index_ = index;
+    }
+    return true;
+  }
+  double worstDist() const { return best_; }
+  std::optional<Neighbor> result() const {
+    if (index_ == kNone) return std::nullopt;
+    return Neighbor{index_, best_};
+  }
+
+ private:
+  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  double best_;
+  std::uint32_t index_ = kNone;
+};
+
+[[noreturn]] void malformed(const std::string& why) {
+  throw std::invalid_argument("malformed chunk reply: " + why);
+}
+
+}  // namespace
+
+struct LocalMap::Impl {
+  explicit Impl(std::vector<MapVoxel> v)
+      : voxels(std::move(v)),
+        adaptor{&voxels},
+        tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {}
+  std::vector<MapVoxel> voxels;
+  PointsAdaptor adaptor;
+  KdTree tree;
+};
+
+LocalMap::LocalMap() : LocalMap(std::vector<MapVoxel>{}) {}
+LocalMap::LocalMap(std::vector<MapVoxel> voxels)
+    : impl_(std::make_unique<Impl>(std::move(voxels))) {}
+LocalMap::~LocalMap() = default;
+LocalMap::LocalMap(LocalMap&&) noexcept = default;
+LocalMap& LocalMap::operator=(LocalMap&&) noexcept = default;
+
+std::size_t LocalMap::size() const {
+  return impl_->voxels.size();
+}
+const MapVoxel& LocalMap::voxel(std::size_t i) const {
+  return impl_->voxels[i];
+}
+
+std::optional<Neighbor> LocalMap::nearest(const Eigen::Vector3d& query, double max_distance) const {
+  if (impl_->voxels.empty() || !query.allFinite()) return std::nullopt;
+  NearestWithin result(max_distance * max_distance);
+  impl_->tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
+  return result.result();
+}
+
+LocalMap LocalMap::fromChunk(const chunk_reply_t& chunk, double occupancy_threshold) {
+  const int n = chunk.num_voxels;
+  if (n < 0) malformed("negative num_voxels");
+  if (n == 0) return LocalMap();
+  if (!(chunk.fields & chunk_request_t::FIELD_FEATURES) || chunk.n_features != n)
+    malformed("FIELD_FEATURES missing or n_features (" + std::to_string(chunk.n_features) +
+              ") != num_voxels (" + std::to_string(n) + ")");
+  const auto sized = [n](std::size_t s) { return s == static_cast<std::size_t>(n); };
+  if (!sized(chunk.first_point.size()) || !sized(chunk.normal.size()) ||
+      !sized(chunk.planarity.size()) || !sized(chunk.occupancy.size()) ||
+      !sized(chunk.label.size()) || !sized(chunk.label_prob.size()))
+    malformed("feature array sizes differ from num_voxels");
+
+  std::vector<MapVoxel> voxels;
+  voxels.reserve(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
+    MapVoxel v;
+    v.occupancy = chunk.occupancy[i] / 255.f;
+    if (v.occupancy + 1e-6f < occupancy_threshold) continue;
+    const auto& p = chunk.first_point[i];
+    v.point = Eigen::Vector3d(p[0], p[1], p[2]);
+    if (!v.point.allFinite()) malformed("non-finite first point at voxel " + std::to_string(i));
+    const auto& q = chunk.normal[i];
+    v.normal = Eigen::Vector3d(q[0], q[1], q[2]) / 32767.0;
+    const double norm = v.normal.norm();
+    v.normal = norm > 0.5 ? Eigen::Vector3d(v.normal / norm) : Eigen::Vector3d::Zero();
+    v.planarity = std::isfinite(chunk.planarity[i]) ? chunk.planarity[i] : -1.f;
+    v.label = chunk.label[i];
+    if (!isValidClass(v.label))
+      malformed("label " + std::to_string(v.label) + " at voxel " + std::to_string(i));
+    v.label_prob = chunk.label_prob[i] / 255.f;
+    voxels.push_back(v);
+  }
+  return LocalMap(std::move(voxels));
+}
+
+}  // namespace socc::odom

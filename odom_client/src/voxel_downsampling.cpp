@@ -1,0 +1,92 @@
+#include "socc/odom/voxel_downsampling.hpp"
+
+#include <tsl/robin_map.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace socc::odom {
+namespace {
+
+struct VoxelKey {
+  std::int32_t x, y, z;
+  std::uint8_t label;
+  bool operator==(const VoxelKey& o) const {
+    return x == o.x && y == o.y && z == o.z && label == o.label;
+  }
+};
+
+struct VoxelKeyHash {
+  std::size_t operator()(const VoxelKey& k) const {
+    // Large primes spread neighbouring voxels (Teschner et al. spatial hashing).
+    return (static_cast<std::size_t>(k.x) * 73856093u) ^
+           (static_cast<std::size_t>(k.y) * 19349669u) ^
+           (static_cast<std::size_t>(k.z) * 83492791u) ^ (static_cast<std::size_t>(k.label) << 56);
+  }
+};
+
+struct Sum {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int count = 0;
+  std::size_t order = 0;  // first point's index: keeps the output deterministic
+};
+
+}  // namespace
+
+LabeledCloud semanticVoxelDownsample(const LabeledCloud& cloud, double voxel_size,
+                                     const std::array<double, kNumClasses>& class_factor) {
+  std::array<double, kNumClasses> inv_size{};
+  for (int c = 0; c < kNumClasses; ++c)
+    inv_size[c] = class_factor[c] > 0.0 ? 1.0 / (class_factor[c] * voxel_size) : 0.0;
+
+  tsl::robin_map<VoxelKey, Sum, VoxelKeyHash> voxels;
+  voxels.reserve(cloud.size() / 4);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const std::uint8_t label = cloud.hasLabels() ? cloud.labels[i] : std::uint8_t{kUnlabeled};
+    if (!isValidClass(label) || inv_size[label] == 0.0) continue;
+    const Eigen::Vector3d p = cloud.points[i].cast<double>();
+    if (!p.allFinite()) continue;
+    const Eigen::Vector3d v = (p * inv_size[label]).array().floor();
+    const VoxelKey key{static_cast<std::int32_t>(v.x()), static_cast<std::int32_t>(v.y()),
+                       static_cast<std::int32_t>(v.z()), label};
+    auto [it, inserted] = voxels.try_emplace(key);
+    Sum& s = it.value();
+    if (inserted) s.order = i;
+    s.sum += p;
+    ++s.count;
+  }
+
+  std::vector<std::pair<std::size_t, std::pair<Eigen::Vector3f, std::uint8_t>>> ordered;
+  ordered.reserve(voxels.size());
+  for (const auto& [key, s] : voxels)
+    ordered.push_back({s.order, {(s.sum / s.count).cast<float>(), key.label}});
+  std::sort(ordered.begin(), ordered.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+
+  LabeledCloud out;
+  out.points.reserve(ordered.size());
+  out.labels.reserve(ordered.size());
+  for (const auto& [order, point] : ordered) {
+    out.points.push_back(point.first);
+    out.labels.push_back(point.second);
+  }
+  return out;
+}
+
+AdaptiveVoxelSize::AdaptiveVoxelSize(double initial, double min_size, double max_size, int target)
+    : size_(initial), min_size_(min_size), max_size_(max_size), target_(target) {}
+
+void AdaptiveVoxelSize::update(std::size_t count) {
+  const double ratio = static_cast<double>(std::max<std::size_t>(count, 1)) / target_;
+  const double step = std::clamp(std::sqrt(ratio), 0.5, 2.0);
+  size_ = std::clamp(size_ * step, min_size_, max_size_);
+}
+
+bool AdaptiveVoxelSize::farOff(std::size_t count) const {
+  const double ratio = static_cast<double>(count) / target_;
+  const bool can_shrink = size_ > min_size_;
+  const bool can_grow = size_ < max_size_;
+  return (ratio < 0.5 && can_shrink) || (ratio > 2.0 && can_grow);
+}
+
+}  // namespace socc::odom

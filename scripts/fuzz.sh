@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# Bounded fuzzing of socc's untrusted-input paths with libFuzzer (clang, ASan + UBSan):
+#   scripts/fuzz.sh [-t SECONDS_PER_HARNESS] [-b BUILD_DIR] [-j JOBS]
+# Configures a separate build (default build-fuzz) with CC=clang CXX=clang++ -DSOCC_FUZZ=ON,
+# builds only the harnesses, writes a seed corpus (fuzz_seeds) and runs every harness for
+# SECONDS (default 15) with -max_total_time. Crash inputs are kept in BUILD_DIR/fuzz-artifacts.
+# Exits non-zero when a harness finds a crash, leak, timeout or out-of-memory, or fails to build.
+set -uo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="$root/build-fuzz"
+seconds=15
+jobs="$(nproc)"
+while [ $# -gt 0 ]; do
+  case "$1" in
+    -h | --help) sed -n '2,7p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -t | --time) seconds="$2"; shift 2 ;;
+    -b | --build) build="$(realpath -m "$2")"; shift 2 ;;
+    -j | --jobs) jobs="$2"; shift 2 ;;
+    *) echo "fuzz.sh: unknown argument $1" >&2; exit 2 ;;
+  esac
+done
+[[ "$seconds" =~ ^[0-9]+$ ]] && [ "$seconds" -gt 0 ] || { echo "fuzz.sh: bad -t $seconds" >&2; exit 2; }
+command -v clang++ >/dev/null || { echo "fuzz.sh: clang++ not found (apt-get install clang libclang-rt-14-dev)" >&2; exit 1; }
+
+# The libraries under test get coverage instrumentation too (fuzzer-no-link); only the
+# harnesses link libFuzzer's main.
+mkdir -p "$build"
+CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DSOCC_FUZZ=ON -DSOCC_SANITIZE=ON \
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSOCC_BUILD_TESTS=OFF -DSOCC_BUILD_BENCH=OFF \
+  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" -DCMAKE_C_FLAGS="-fsanitize=fuzzer-no-link" \
+  >"$build/configure.log" 2>&1 || { cat "$build/configure.log"; echo "fuzz.sh: configure failed" >&2; exit 1; }
+cmake --build "$build" -j"$jobs" --target socc_fuzzers || { echo "fuzz.sh: build failed" >&2; exit 1; }
+
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+"$build/fuzz/fuzz_seeds" "$work/seeds" || { echo "fuzz.sh: fuzz_seeds failed" >&2; exit 1; }
+artifacts="$build/fuzz-artifacts"
+mkdir -p "$artifacts"
+
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:allocator_may_return_null=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+failed=()
+passed=0
+while read -r harness; do
+  [ -n "$harness" ] || continue
+  corpus="$work/corpus/$harness"
+  scratch="$work/tmp/$harness"  # TMPDIR of the harness: temp files and MAP_COMMAND file_dir
+  mkdir -p "$corpus" "$scratch"
+  [ -d "$work/seeds/$harness" ] && cp "$work/seeds/$harness"/* "$corpus"/
+  log="$work/$harness.log"
+  printf '== %-28s %ss ... ' "$harness" "$seconds"
+  TMPDIR="$scratch" "$build/fuzz/$harness" -max_total_time="$seconds" -timeout=10 \
+    -rss_limit_mb=2048 -max_len=16384 -print_final_stats=1 \
+    -artifact_prefix="$artifacts/$harness-" "$corpus" >"$log" 2>&1
+  rc=$?
+  execs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)"
+  cov="$(grep -o 'cov: [0-9]*' "$log" | tail -1)"
+  if [ $rc -eq 0 ]; then
+    passed=$((passed + 1))
+    echo "ok (${execs:-?} runs, ${cov:-cov: ?})"
+  else
+    failed+=("$harness")
+    echo "FAILED (exit $rc)"
+    grep -E "ERROR|SUMMARY|runtime error|Test unit written|==[0-9]+==" "$log" | head -20 | sed 's/^/   /'
+    cp "$log" "$artifacts/$harness.log"
+  fi
+done <"$build/fuzz/harnesses.txt"
+
+echo "fuzz: ${#failed[@]} of $((passed + ${#failed[@]})) harnesses found problems${failed:+: ${failed[*]}}"
+[ ${#failed[@]} -eq 0 ]

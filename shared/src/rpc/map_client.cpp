@@ -1,0 +1,228 @@
+#include "socc/rpc/map_client.hpp"
+
+#include <atomic>
+#include <condition_variable>
+#include <lcm/lcm-cpp.hpp>
+#include <mutex>
+#include <random>
+#include <stdexcept>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include "socc/channels.hpp"
+#include "socc/lcm_url.hpp"
+#include "socc/pose_conversion.hpp"
+#include "socc/robot_pose_request_t.hpp"
+#include "socc/rpc/client_id.hpp"
+#include "socc/rpc/safe_decode.hpp"
+#include "socc/stats_request_t.hpp"
+
+namespace socc::rpc {
+namespace {
+
+std::int64_t nowMicros() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// Every reply starts with its 8-byte type hash followed by reply_header_t, whose first field
+// is the int64 request_id (big endian). Peeking it routes raw bytes without knowing the type.
+std::optional<std::int64_t> peekRequestId(const lcm::ReceiveBuffer& rbuf) {
+  if (rbuf.data_size < 16) return std::nullopt;
+  const auto* bytes = static_cast<const std::uint8_t*>(rbuf.data);
+  std::uint64_t id = 0;
+  for (int i = 8; i < 16; ++i) id = (id << 8) | bytes[i];
+  return static_cast<std::int64_t>(id);
+}
+
+}  // namespace
+
+struct MapClient::Impl {
+  explicit Impl(ClientOptions opts) : options(std::move(opts)), lcm(options.lcm_url) {}
+
+  ClientOptions options;
+  lcm::LCM lcm;
+  std::mutex mutex;
+  std::condition_variable arrived;
+  // request_id -> reply bytes (empty until the reply arrives). Only ids in here are kept,
+  // so late duplicates of an answered request are dropped.
+  std::unordered_map<std::int64_t, std::vector<std::uint8_t>> pending;
+  std::atomic<std::int64_t> next_request_id{0};
+  std::atomic<bool> stop{false};
+  std::thread receiver;
+
+  // LCM C API callback (the C++ raw-handler wrapper trips UBSan's vptr check).
+  static void onReply(const lcm_recv_buf_t* rbuf, const char* /*channel*/, void* self) {
+    static_cast<Impl*>(self)->store(
+        lcm::ReceiveBuffer{rbuf->data, rbuf->data_size, rbuf->recv_utime});
+  }
+
+  void store(const lcm::ReceiveBuffer& rbuf) {
+    const auto id = peekRequestId(rbuf);
+    if (!id) return;
+    const std::lock_guard<std::mutex> lock(mutex);
+    const auto it = pending.find(*id);
+    if (it == pending.end() || !it->second.empty()) return;
+    const auto* bytes = static_cast<const std::uint8_t*>(rbuf.data);
+    it->second.assign(bytes, bytes + rbuf.data_size);
+    arrived.notify_all();
+  }
+
+  void receiveLoop() {
+    while (!stop.load()) lcm.handleTimeout(50);
+  }
+
+  template <typename Request>
+  static std::string encodeAttempt(Request& request, std::vector<std::uint8_t>& bytes) {
+    request.header.auth_counter = 0;
+    request.header.mac_len = 0;
+    request.header.mac.clear();
+    // TODO(auth): sign state-changing requests here (socc/auth, options.key_file).
+    bytes.resize(static_cast<std::size_t>(request.getEncodedSize()));
+    if (request.encode(bytes.data(), 0, static_cast<int>(bytes.size())) < 0)
+      return "request cannot be encoded";
+    return {};
+  }
+
+  template <typename Reply, typename Request>
+  Result<Reply> call(std::string_view service, Request& request) {
+    request.header.request_id = next_request_id.fetch_add(1);
+    request.header.client_id = options.client_id;
+    request.header.reply_channel = channels::reply(service, options.client_id);
+    request.header.utime = nowMicros();
+    const std::string channel = channels::request(service);
+    const std::int64_t id = request.header.request_id;
+
+    Result<Reply> result;
+    std::unique_lock<std::mutex> lock(mutex);
+    pending.emplace(id, std::vector<std::uint8_t>{});
+    for (int attempt = 1; attempt <= std::max(1, options.max_attempts); ++attempt) {
+      result.attempts = attempt;
+      lock.unlock();
+      // The same request (request_id, seq) on every attempt: the server deduplicates Integrate
+      // on (client, seq). Encoded per attempt because a signed request must be re-signed.
+      std::vector<std::uint8_t> bytes;
+      if (const std::string why = encodeAttempt(request, bytes); !why.empty()) {
+        const std::lock_guard<std::mutex> relock(mutex);
+        pending.erase(id);
+        result.error = {reply_header_t::INVALID_ARGUMENT, why, false};
+        return result;
+      }
+      lcm.publish(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
+      lock.lock();
+      if (arrived.wait_for(lock, options.timeout, [&] { return !pending[id].empty(); })) break;
+    }
+    std::vector<std::uint8_t> raw = std::move(pending[id]);
+    pending.erase(id);
+    lock.unlock();
+
+    if (raw.empty()) {
+      result.error = {reply_header_t::INTERNAL,
+                      "no reply on " + channels::reply(service, options.client_id) + " after " +
+                          std::to_string(result.attempts) +
+                          " attempt(s) (is map_server running on " + options.lcm_url + "?)",
+                      true};
+      return result;
+    }
+    result.bytes_received = static_cast<std::int64_t>(raw.size());
+    auto reply = safeDecode<Reply>(raw.data(), static_cast<int>(raw.size()));
+    if (!reply) {
+      result.error = {reply_header_t::INTERNAL, "undecodable reply on " + std::string(service),
+                      false};
+      return result;
+    }
+    if (reply->header.status != reply_header_t::OK) {
+      result.error = {reply->header.status, reply->header.message, false};
+      return result;
+    }
+    result.reply = std::move(reply);
+    return result;
+  }
+};
+
+MapClient::MapClient(ClientOptions options) {
+  if (const std::string why = checkLcmUrl(options.lcm_url); !why.empty())
+    throw std::runtime_error(why);
+  if (const std::string why = checkClientId(options.client_id); !why.empty())
+    throw std::runtime_error(why);
+  if (!options.key_file.empty())
+    throw std::runtime_error("request signing (--key) is not available in this build yet");
+  impl_ = std::make_unique<Impl>(std::move(options));
+  if (!impl_->lcm.good())
+    throw std::runtime_error("cannot open LCM on " + impl_->options.lcm_url +
+                             " (is multicast routed to lo? see scripts/setup.sh)");
+  // Random start so two processes sharing a client id do not reuse each other's ids.
+  std::random_device rd;
+  impl_->next_request_id = static_cast<std::int64_t>(
+      ((static_cast<std::uint64_t>(rd()) << 31) ^ rd()) & 0x3fffffffffffffffULL);
+  for (const auto service : {channels::kIntegrate, channels::kGetChunk, channels::kGetStats,
+                             channels::kGetRobotPose, channels::kMapCommand, channels::kRender})
+    lcm_subscribe(impl_->lcm.getUnderlyingLCM(),
+                  channels::reply(service, impl_->options.client_id).c_str(), &Impl::onReply,
+                  impl_.get());
+  impl_->receiver = std::thread([impl = impl_.get()] { impl->receiveLoop(); });
+}
+
+MapClient::~MapClient() {
+  impl_->stop = true;
+  if (impl_->receiver.joinable()) impl_->receiver.join();
+}
+
+const ClientOptions& MapClient::options() const {
+  return impl_->options;
+}
+
+Result<integrate_reply_t> MapClient::integrate(integrate_request_t request) {
+  return impl_->call<integrate_reply_t>(channels::kIntegrate, request);
+}
+Result<chunk_reply_t> MapClient::getChunk(chunk_request_t request) {
+  return impl_->call<chunk_reply_t>(channels::kGetChunk, request);
+}
+Result<stats_reply_t> MapClient::getStats() {
+  stats_request_t request;
+  return impl_->call<stats_reply_t>(channels::kGetStats, request);
+}
+Result<robot_pose_reply_t> MapClient::getRobotPose(const std::string& robot_id) {
+  robot_pose_request_t request;
+  request.robot_id = robot_id;
+  return impl_->call<robot_pose_reply_t>(channels::kGetRobotPose, request);
+}
+Result<map_command_reply_t> MapClient::command(map_command_request_t request) {
+  return impl_->call<map_command_reply_t>(channels::kMapCommand, request);
+}
+Result<render_reply_t> MapClient::render(render_request_t request) {
+  return impl_->call<render_reply_t>(channels::kRender, request);
+}
+
+chunk_request_t sphereChunkRequest(const Eigen::Vector3d& center, double radius,
+                                   std::int32_t fields) {
+  chunk_request_t request{};
+  request.shape = chunk_request_t::SHAPE_SPHERE;
+  for (int i = 0; i < 3; ++i) request.center[i] = center[i];
+  request.radius = radius;
+  request.occupancy_threshold = 0.5f;
+  request.fields = fields;
+  request.limit = 0;
+  return request;
+}
+
+integrate_request_t makeIntegrateRequest(std::int64_t seq, std::int64_t scan_utime,
+                                         const Eigen::Isometry3d& sensor_pose,
+                                         const LabeledCloud& cloud) {
+  integrate_request_t request{};
+  request.seq = seq;
+  request.scan_utime = scan_utime;
+  request.sensor_pose = toLcm(sensor_pose);
+  request.num_points = static_cast<std::int32_t>(cloud.size());
+  request.xyz.reserve(cloud.size());
+  for (const auto& p : cloud.points) request.xyz.push_back({p.x(), p.y(), p.z()});
+  request.num_labels = static_cast<std::int32_t>(cloud.labels.size());
+  request.label.assign(cloud.labels.begin(), cloud.labels.end());
+  request.num_times = static_cast<std::int32_t>(cloud.times.size());
+  request.time = cloud.times;
+  return request;
+}
+
+}  // namespace socc::rpc

@@ -1,0 +1,25 @@
+#pragma once
+// Writes a simulated sequence in the KITTI / SemanticKITTI layout:
+//   velodyne/NNNNNN.bin  labels/NNNNNN.label (raw ids)  point_times/NNNNNN.bin (float32, s)
+//   poses.txt (LiDAR-frame GT relative to frame 0, 3x4)  calib.txt (identity Tr)  times.txt
+#include <filesystem>
+
+#include "socc/sim/lidar_model.hpp"
+#include "socc/sim/scan_simulator.hpp"
+#include "socc/sim/scene.hpp"
+
+namespace socc::sim {
+
+struct SequenceOptions {
+  std::size_t frames = 100;
+  double frame_period = 0.1;  // [s]
+  bool write_point_times = false;
+  bool show_progress = true;
+  ScanOptions scan;
+};
+
+/// Throws std::runtime_error when the directory cannot be written.
+void writeSequence(const std::filesystem::path& out, const Scene& scene, const LidarModel& model,
+                   const SequenceOptions& options);
+
+}  // namespace socc::sim

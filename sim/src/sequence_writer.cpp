@@ -1,0 +1,62 @@
+#include "socc/sim/sequence_writer.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+#include "socc/kitti_io.hpp"
+#include "socc/progress_bar.hpp"
+
+namespace socc::sim {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string frameName(std::size_t k, const char* ext) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "%06zu%s", k, ext);
+  return name;
+}
+
+void writeText(const fs::path& file, const std::string& text) {
+  std::ofstream out(file);
+  out << text;
+  if (!out) throw std::runtime_error(file.string() + ": cannot write");
+}
+
+}  // namespace
+
+void writeSequence(const fs::path& out, const Scene& scene, const LidarModel& model,
+                   const SequenceOptions& options) {
+  for (const char* dir : {"velodyne", "labels"}) fs::create_directories(out / dir);
+  if (options.write_point_times) fs::create_directories(out / "point_times");
+
+  Poses poses;
+  std::string times;
+  const Eigen::Isometry3d first_inverse = scene.trajectory.poseAt(0.0).inverse();
+  ProgressBar progress("socc-sim", options.frames, options.show_progress);
+  for (std::size_t k = 0; k < options.frames; ++k) {
+    const double t = options.frame_period * static_cast<double>(k);
+    const SimulatedScan scan = simulateScan(scene, model, t, k, options.scan);
+    writeKittiBin(out / "velodyne" / frameName(k, ".bin"), scan.points, &scan.reflectance);
+    writeSemanticKittiLabels(out / "labels" / frameName(k, ".label"), scan.labels);
+    if (options.write_point_times) {
+      std::ofstream f(out / "point_times" / frameName(k, ".bin"), std::ios::binary);
+      f.write(reinterpret_cast<const char*>(scan.times.data()),
+              static_cast<std::streamsize>(scan.times.size() * sizeof(float)));
+      if (!f) throw std::runtime_error((out / "point_times").string() + ": cannot write");
+    }
+    // KITTI convention: poses relative to the first frame.
+    poses.push_back(first_inverse * scene.trajectory.poseAt(t));
+    char line[32];
+    std::snprintf(line, sizeof(line), "%e\n", t);
+    times += line;
+    progress.tick(std::to_string(scan.points.size()) + " pts");
+  }
+  progress.finish();
+  writeKittiPoses(out / "poses.txt", poses);
+  writeText(out / "times.txt", times);
+  writeText(out / "calib.txt", "Tr: 1 0 0 0 0 1 0 0 0 0 1 0\n");
+}
+
+}  // namespace socc::sim

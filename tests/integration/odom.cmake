@@ -1,0 +1,14 @@
+# odom_client end-to-end tests (included from tests/integration/CMakeLists.txt): a real
+# map_server and odom_client processes over UDP multicast on loopback (random port 40000-49999).
+if(TARGET map_server AND TARGET odom_client)
+  add_executable(test_odom_integration ${CMAKE_CURRENT_LIST_DIR}/odom_integration_test.cpp)
+  target_link_libraries(test_odom_integration PRIVATE socc_odom socc_rpc GTest::gtest_main)
+  target_compile_definitions(test_odom_integration PRIVATE
+    SOCC_SHARED_DATA_DIR="${SOCC_SHARED_DATA_DIR}"
+    SOCC_MAP_SERVER_BIN="$<TARGET_FILE:map_server>"
+    SOCC_ODOM_CLIENT_BIN="$<TARGET_FILE:odom_client>")
+  add_dependencies(test_odom_integration map_server odom_client)
+  socc_target_warnings(test_odom_integration)
+  add_test(NAME integration.odom COMMAND test_odom_integration)
+  set_tests_properties(integration.odom PROPERTIES LABELS integration TIMEOUT 240)
+endif()

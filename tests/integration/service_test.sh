@@ -1,0 +1,136 @@
+#!/usr/bin/env bash
+# Integration test of map_server + socc-cli as real processes over UDP multicast on loopback.
+# usage: service_test.sh basic|crash <map_server> <socc-cli>
+#   basic: integrate, duplicate, chunk, stats, pose, save/load, exports, render, clear
+#   crash: kill -9 (idle and mid-run), restart with snapshot + journal -> byte-equal chunks;
+#          corrupt snapshot refused unless --ignore-corrupt-snapshot
+set -euo pipefail
+mode=$1 server_bin=$2 cli_bin=$3
+
+if ! ip route show 224.0.0.0/4 2>/dev/null | grep -q "dev lo"; then
+  echo "FAIL: multicast is not routed to loopback, so LCM udpm traffic cannot stay local."
+  echo "      Enable it with: sudo ip route replace 224.0.0.0/4 dev lo   (scripts/setup.sh does this)"
+  exit 1
+fi
+
+work=$(mktemp -d)
+server_pid=""
+cleanup() {
+  if [[ -n $server_pid ]]; then kill -9 "$server_pid" 2>/dev/null || true; wait "$server_pid" 2>/dev/null || true; fi
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+# Random group and port (30000-39999) so concurrent runs never see each other's traffic.
+seed=$(( ((RANDOM << 15) | RANDOM) ^ $$ ))
+url="udpm://239.255.$((seed / 10000 % 250 + 1)).$((seed / 2500000 % 250 + 1)):$((30000 + seed % 10000))?ttl=0&recv_buf_size=67108864"
+echo "LCM URL: $url   work dir: $work"
+
+fail() { echo "FAIL: $*"; [[ -f $work/server.log ]] && sed 's/^/  server: /' "$work/server.log"; exit 1; }
+cli() { "$cli_bin" --lcm-url "$url" "$@"; }
+expect() { # expect <pattern> <command...>: command succeeds and prints pattern
+  local pattern=$1; shift
+  local out
+  out=$("$@" 2>&1) || fail "'$*' failed: $out"
+  grep -Eq -- "$pattern" <<<"$out" || fail "'$*' printed '$out', expected /$pattern/"
+  echo "ok: $* -> $(head -1 <<<"$out")"
+}
+
+start_server() {
+  "$server_bin" --lcm-url "$url" --file-dir "$work" "$@" >"$work/server.log" 2>&1 &
+  server_pid=$!
+  for _ in $(seq 100); do
+    if cli --timeout-ms 100 --attempts 1 stats >/dev/null 2>&1; then return 0; fi
+    kill -0 "$server_pid" 2>/dev/null || fail "map_server exited during start-up"
+    sleep 0.1
+  done
+  fail "map_server did not answer GET_STATS within 10 s"
+}
+kill9_server() { kill -9 "$server_pid"; wait "$server_pid" 2>/dev/null || true; server_pid=""; }
+digest() { cli chunk "$@" --digest | sed -n 's/^digest=//p'; }
+integrate() { # integrate <robot> <seq> [socc-cli options]: a synthetic scan from a seq-dependent pose
+  local robot=$1 seq=$2; shift 2
+  cli --client-id "$robot" "$@" integrate --seq "$seq" --pose "$((seq % 7))" "$((seq % 3))" 0 \
+    "$((seq * 5))" --seed "$seq"
+}
+
+basic() {
+  start_server --quiet
+  expect "seq=1 applied" integrate robot1 1
+  expect "seq=2 applied" integrate robot1 2
+  expect "seq=3 applied" integrate robot1 3
+  expect "seq=2 duplicate" integrate robot1 2
+  expect "seq=1 applied" integrate robot2 1
+  expect "integrations=4 .* robots=2" cli stats
+  expect "^robot1 seq=3 integrations=3" cli pose robot1
+  if cli pose ghost >/dev/null 2>&1; then fail "pose of an unknown robot succeeded"; fi
+  expect "voxels=[1-9][0-9]* .*bytes=[1-9]" cli chunk --sphere 0 0 0 30 --fields features stats index
+  expect "voxels=[1-9]" cli chunk --box -10 -10 -3 10 10 3
+  local before; before=$(digest --sphere 0 0 0 30 --fields features stats free index)
+  expect "map.snap voxels=[1-9]" cli save map.snap
+  expect "map.bt voxels=[1-9]" cli export bt map.bt
+  expect "map.ot voxels=[1-9]" cli export ot map.ot
+  expect "map.pcd voxels=[1-9]" cli export pcd map.pcd
+  for f in map.snap map.bt map.ot map.pcd; do [[ -s $work/$f ]] || fail "$f missing"; done
+  expect "x" cli render --box -20 -20 -5 20 20 5 --out "$work/map.png"
+  [[ $(head -c 4 "$work/map.png" | tail -c 3) == PNG ]] || fail "map.png is not a PNG"
+  if cli save ../escape.snap >/dev/null 2>&1; then fail "path outside --file-dir accepted"; fi
+  expect "cleared" cli clear
+  expect "voxels=0 " cli stats
+  expect "voxels=[1-9]" cli load map.snap
+  [[ $(digest --sphere 0 0 0 30 --fields features stats free index) == "$before" ]] ||
+    fail "chunk after save/clear/load differs"
+  echo "ok: chunk identical after save -> clear -> load"
+}
+
+crash() {
+  local durable=(--snapshot-dir "$work/snaps" --journal "$work/journal.lcmlog" --quiet)
+  start_server "${durable[@]}" --snapshot-period 1
+  for s in 1 2 3 4; do integrate robot1 $s >/dev/null; done
+  sleep 1.5  # a periodic snapshot covers 1..4; 5..8 live only in the journal
+  for s in 5 6 7 8; do integrate robot1 $s >/dev/null; done
+  [[ -s $work/snaps/map.snap ]] || fail "no periodic snapshot written"
+  local q=(--box -30 -30 -5 30 30 5 --fields features stats free index)
+  local before; before=$(digest "${q[@]}")
+  kill9_server
+  echo "ok: killed map_server with -9 after 8 integrations"
+  start_server "${durable[@]}" --restore "$work/snaps/map.snap" --snapshot-period 1
+  [[ $(digest "${q[@]}") == "$before" ]] || fail "chunk differs after kill -9 + restore"
+  echo "ok: byte-equal chunk after kill -9 and snapshot + journal restore"
+  expect "seq=8 duplicate" integrate robot1 8
+  expect "^robot1 seq=8 integrations=8" cli pose robot1
+
+  # Mid-run: kill -9 while a client streams scans, restart, let the client resend everything
+  # (duplicates are acknowledged, the rest applied) and compare with a server that never crashed.
+  ( for s in $(seq 9 30); do
+      integrate robot1 "$s" --timeout-ms 300 --attempts 1 >/dev/null 2>&1 || break
+    done ) &
+  local streamer=$!
+  sleep 0.4
+  kill9_server
+  wait "$streamer" || true
+  start_server "${durable[@]}" --restore "$work/snaps/map.snap" --snapshot-period 1
+  for s in $(seq 1 30); do integrate robot1 "$s" >/dev/null || fail "resend of seq $s failed"; done
+  local crashed; crashed=$(digest "${q[@]}")
+  kill9_server
+  start_server --quiet
+  for s in $(seq 1 30); do integrate robot1 "$s" >/dev/null; done
+  [[ $(digest "${q[@]}") == "$crashed" ]] || fail "map after mid-run kill -9 differs from a clean run"
+  echo "ok: mid-run kill -9 + resend equals an uninterrupted run"
+  kill9_server
+
+  # A damaged snapshot is refused with a clear error; --ignore-corrupt-snapshot starts empty.
+  printf 'garbage' | dd of="$work/snaps/map.snap" bs=1 seek=300 conv=notrunc status=none
+  if "$server_bin" --lcm-url "$url" "${durable[@]}" --restore "$work/snaps/map.snap" \
+      >"$work/corrupt.log" 2>&1; then
+    fail "map_server started from a corrupt snapshot"
+  fi
+  grep -q "cannot restore" "$work/corrupt.log" || fail "no clear error: $(cat "$work/corrupt.log")"
+  echo "ok: corrupt snapshot refused: $(head -1 "$work/corrupt.log")"
+  start_server "${durable[@]}" --restore "$work/snaps/map.snap" --ignore-corrupt-snapshot
+  expect "voxels=0 " cli stats
+  ls "$work/snaps" | grep -q "corrupt-" || fail "corrupt snapshot was not set aside"
+}
+
+"$mode"
+echo "PASS: $mode"

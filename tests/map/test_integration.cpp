@@ -1,0 +1,203 @@
+// Scan integration through the facade: hits vs rays, max range, moving objects, bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "socc/chunk_request_t.hpp"
+#include "socc/map/semantic_voxel.hpp"
+#include "test_helpers.hpp"
+
+namespace socc::map {
+namespace {
+
+using test::query;
+
+ChunkQuery boxQuery(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::int32_t fields,
+                    double threshold = 0.5) {
+  ChunkQuery q;
+  q.shape = ChunkQuery::Shape::kBox;
+  q.box_min = lo;
+  q.box_max = hi;
+  q.fields = fields;
+  q.occupancy_threshold = threshold;
+  return q;
+}
+
+TEST(Integration, HitVoxelIsNeverMissedBySameScan) {
+  SemanticOccupancyMap map{MapConfig{}};
+  LabeledCloud c;
+  c.points = {Eigen::Vector3f(5.1f, 0.1f, 0.1f), Eigen::Vector3f(10.1f, 0.1f, 0.1f)};
+  const IntegrationResult r = map.integrate(Eigen::Isometry3d::Identity(), c);
+  EXPECT_EQ(r.voxels_hit, 2);
+  EXPECT_EQ(r.points_used, 2);
+  const auto reply =
+      query(map, boxQuery({5.0, 0.0, 0.0}, {5.4, 0.4, 0.4}, chunk_request_t::FIELD_STATS));
+  ASSERT_EQ(reply.num_voxels, 1);
+  EXPECT_NEAR(reply.log_odds[0], logit(0.55), 1e-6);
+  // Voxels between are free (missed once each), and counted.
+  const auto free =
+      query(map, boxQuery({1.0, 0.0, 0.0}, {4.9, 0.4, 0.4}, chunk_request_t::FIELD_FREE));
+  EXPECT_EQ(free.num_voxels, 0);
+  EXPECT_EQ(free.n_free, 8);  // x in [1, 4.9]: voxel centres 1.25 .. 4.75
+  const MapStats s = map.stats();
+  EXPECT_EQ(s.num_occupied, 2);
+  EXPECT_EQ(s.num_voxels, 2 + 19);  // 21 voxels along x from 0 to 10
+  EXPECT_EQ(r.voxels_touched, 21);
+}
+
+TEST(Integration, FarPointsOnlyClearUpToMaxRange) {
+  MapConfig cfg;
+  cfg.max_range = 20.0;
+  SemanticOccupancyMap map(cfg);
+  LabeledCloud c;
+  c.points = {Eigen::Vector3f(30.1f, 0.1f, 0.1f)};
+  const IntegrationResult r = map.integrate(Eigen::Isometry3d::Identity(), c);
+  EXPECT_EQ(r.voxels_hit, 0);
+  EXPECT_EQ(r.points_used, 0);
+  const auto near =
+      query(map, boxQuery({15.0, 0.0, 0.0}, {19.9, 0.4, 0.4}, chunk_request_t::FIELD_FREE, 0.5));
+  EXPECT_EQ(near.n_free, 10);
+  const auto far =
+      query(map, boxQuery({20.6, -1.0, -1.0}, {40.0, 1.0, 1.0}, chunk_request_t::FIELD_FREE, 0.5));
+  EXPECT_EQ(far.n_free + far.num_voxels, 0);
+}
+
+TEST(Integration, MovingObjectLeavesNoGhost) {
+  SemanticOccupancyMap map{MapConfig{}};
+  const LabeledCloud wall = test::wall(20.0, 4.0, 0.1, kBuilding);
+  LabeledCloud with_car = wall;
+  test::append(with_car, test::wall(10.0, 1.0, 0.1, kCar));
+  const Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  for (int i = 0; i < 5; ++i) map.integrate(pose, with_car);
+
+  const ChunkQuery car_box =
+      boxQuery({9.0, -1.5, -1.5}, {11.0, 1.5, 1.5}, chunk_request_t::FIELD_FEATURES);
+  const auto before = query(map, car_box);
+  ASSERT_GT(before.num_voxels, 10);
+  for (int i = 0; i < before.num_voxels; ++i) EXPECT_EQ(before.label[i], kCar);
+
+  std::int32_t freed = 0;
+  for (int i = 0; i < 15; ++i) freed += map.integrate(pose, wall).voxels_freed;
+  const auto after = query(map, car_box);
+  EXPECT_EQ(after.num_voxels, 0) << "car voxels survived the object leaving";
+  EXPECT_GE(freed, before.num_voxels);
+  const auto wall_reply =
+      query(map, boxQuery({19.5, -3.0, -3.0}, {20.5, 3.0, 3.0}, chunk_request_t::FIELD_FEATURES));
+  EXPECT_GT(wall_reply.num_voxels, 100);
+
+  // The car comes back: fresh statistics, the first point is from the new scan.
+  LabeledCloud car_again = wall;
+  LabeledCloud moved = test::wall(10.0, 1.0, 0.1, kCar);
+  for (auto& p : moved.points) p.x() = 10.3f;
+  test::append(car_again, moved);
+  map.integrate(pose, car_again);
+  map.integrate(pose, car_again);
+  map.integrate(pose, car_again);
+  map.integrate(pose, car_again);
+  map.integrate(pose, car_again);
+  map.integrate(pose, car_again);
+  const auto back =
+      query(map, boxQuery({9.0, -1.5, -1.5}, {11.0, 1.5, 1.5},
+                          chunk_request_t::FIELD_FEATURES | chunk_request_t::FIELD_STATS));
+  ASSERT_GT(back.num_voxels, 0);
+  for (int i = 0; i < back.num_voxels; ++i) {
+    EXPECT_NEAR(back.first_point[i][0], 10.3f, 1e-5);
+    EXPECT_EQ(back.count[i] % 6, 0);  // only the 6 new scans' points
+  }
+}
+
+class BadInput : public ::testing::Test {
+ protected:
+  BadInput() : map_(makeConfig()) {
+    map_.integrate(Eigen::Isometry3d::Identity(), test::randomCloud(200, 5.0, 1));
+  }
+  static MapConfig makeConfig() {
+    MapConfig c;
+    c.max_points_per_scan = 1000;
+    return c;
+  }
+  void expectRejected(const Eigen::Isometry3d& pose, const LabeledCloud& cloud,
+                      const std::string& fragment) {
+    const MapStats before = map_.stats();
+    const std::string msg = map_.validate(pose, cloud);
+    EXPECT_NE(msg.find(fragment), std::string::npos) << "message: '" << msg << "'";
+    EXPECT_THROW(map_.integrate(pose, cloud), std::invalid_argument);
+    const MapStats after = map_.stats();
+    EXPECT_EQ(after.version, before.version);
+    EXPECT_EQ(after.num_voxels, before.num_voxels);
+    EXPECT_EQ(after.num_occupied, before.num_occupied);
+    EXPECT_EQ(after.num_blocks, before.num_blocks);
+  }
+  SemanticOccupancyMap map_;
+};
+
+TEST_F(BadInput, NonFinitePoints) {
+  LabeledCloud c = test::randomCloud(10, 5.0, 2);
+  c.points[3].y() = std::numeric_limits<float>::quiet_NaN();
+  expectRejected(Eigen::Isometry3d::Identity(), c, "point 3 is not finite");
+  c.points[3].y() = std::numeric_limits<float>::infinity();
+  expectRejected(Eigen::Isometry3d::Identity(), c, "point 3 is not finite");
+}
+
+TEST_F(BadInput, LabelsAndSizes) {
+  LabeledCloud c = test::randomCloud(10, 5.0, 3);
+  c.labels.pop_back();
+  expectRejected(Eigen::Isometry3d::Identity(), c, "label count 9 != point count 10");
+  c = test::randomCloud(10, 5.0, 3);
+  c.labels[4] = 200;
+  expectRejected(Eigen::Isometry3d::Identity(), c, "label 200 of point 4");
+  c = test::randomCloud(10, 5.0, 3);
+  c.times.resize(3);
+  expectRejected(Eigen::Isometry3d::Identity(), c, "time count");
+  expectRejected(Eigen::Isometry3d::Identity(), test::randomCloud(1001, 5.0, 4), "too many points");
+}
+
+TEST_F(BadInput, AbsurdPoses) {
+  const LabeledCloud c = test::randomCloud(10, 5.0, 5);
+  Eigen::Isometry3d far = Eigen::Isometry3d::Identity();
+  far.translation() = Eigen::Vector3d(1e9, 0, 0);
+  expectRejected(far, c, "translation exceeds");
+  Eigen::Isometry3d scaled = Eigen::Isometry3d::Identity();
+  scaled.linear() *= 2.0;
+  expectRejected(scaled, c, "rotation");
+  Eigen::Isometry3d nan = Eigen::Isometry3d::Identity();
+  nan.translation().x() = std::nan("");
+  expectRejected(nan, c, "not finite");
+  LabeledCloud far_point = c;
+  far_point.points[0].x() = 2e5f;
+  expectRejected(Eigen::Isometry3d::Identity(), far_point, "point 0 lies beyond");
+}
+
+TEST(Integration, EmptyCloudAndUnlabeledCloud) {
+  SemanticOccupancyMap map{MapConfig{}};
+  const IntegrationResult r = map.integrate(Eigen::Isometry3d::Identity(), LabeledCloud{});
+  EXPECT_EQ(r.voxels_touched, 0);
+  EXPECT_EQ(map.version(), 1);
+  LabeledCloud c = test::randomCloud(100, 5.0, 9);
+  c.labels.clear();
+  map.integrate(Eigen::Isometry3d::Identity(), c);
+  ChunkQuery q;
+  q.radius = 100.0;
+  q.fields = chunk_request_t::FIELD_FEATURES;
+  const auto reply = query(map, q);
+  ASSERT_GT(reply.num_voxels, 0);
+  for (int i = 0; i < reply.num_voxels; ++i) {
+    EXPECT_EQ(reply.label[i], 0);
+    EXPECT_EQ(reply.label_prob[i], 0);
+  }
+}
+
+TEST(MapConfigValidation, RejectsBadValues) {
+  MapConfig c;
+  EXPECT_EQ(validate(c), "");
+  c.voxel_size = -1.0;
+  EXPECT_NE(validate(c).find("voxel_size"), std::string::npos);
+  EXPECT_THROW(SemanticOccupancyMap{c}, std::invalid_argument);
+  c = MapConfig{};
+  c.p_miss = 0.7;
+  EXPECT_NE(validate(c).find("p_miss"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace socc::map

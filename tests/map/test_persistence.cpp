@@ -1,0 +1,243 @@
+// Snapshots, exports (OctoMap, PCD), rendering and YAML configs.
+#include <gtest/gtest.h>
+#include <octomap/ColorOcTree.h>
+#include <octomap/OcTree.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/point_types.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "socc/chunk_request_t.hpp"
+#include "socc/render_request_t.hpp"
+#include "test_helpers.hpp"
+
+namespace socc::map {
+namespace {
+
+namespace fs = std::filesystem;
+using test::query;
+
+class TempDir {
+ public:
+  TempDir() {
+    path_ = fs::temp_directory_path() /
+            ("socc_test_map_" + std::to_string(::getpid()) + "_" + std::to_string(counter_++));
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  static inline int counter_ = 0;
+  fs::path path_;
+};
+
+SemanticOccupancyMap sampleMap() {
+  MapConfig cfg;
+  cfg.voxel_size = 0.4;
+  SemanticOccupancyMap map(cfg);
+  for (int i = 0; i < 4; ++i) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation().x() = 0.5 * i;
+    LabeledCloud c = test::randomCloud(3000, 8.0, 10 + i);
+    test::append(c, test::wall(9.0, 3.0, 0.1, kBuilding));
+    map.integrate(pose, c);
+  }
+  return map;
+}
+
+chunk_reply_t everything(const SemanticOccupancyMap& map) {
+  ChunkQuery q;
+  q.radius = 1000.0;
+  q.fields = chunk_request_t::FIELD_FEATURES | chunk_request_t::FIELD_STATS |
+             chunk_request_t::FIELD_INDEX | chunk_request_t::FIELD_FREE;
+  return query(map, q);
+}
+
+std::vector<std::uint8_t> encode(const chunk_reply_t& r) {
+  std::vector<std::uint8_t> buf(static_cast<std::size_t>(r.getEncodedSize()));
+  r.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  return buf;
+}
+
+TEST(Snapshot, RoundTripIsExact) {
+  TempDir dir;
+  const SemanticOccupancyMap map = sampleMap();
+  map.save(dir / "map.socc", "robots: 2");
+  std::string meta;
+  const SemanticOccupancyMap loaded = SemanticOccupancyMap::load(dir / "map.socc", &meta);
+  EXPECT_EQ(meta, "robots: 2");
+  EXPECT_EQ(loaded.version(), map.version());
+  EXPECT_EQ(loaded.config().voxel_size, 0.4);
+  const MapStats a = map.stats(), b = loaded.stats();
+  EXPECT_EQ(a.num_voxels, b.num_voxels);
+  EXPECT_EQ(a.num_occupied, b.num_occupied);
+  EXPECT_EQ(a.num_blocks, b.num_blocks);
+  EXPECT_EQ(encode(everything(map)), encode(everything(loaded)));  // bit-identical answers
+  // No temp file left behind.
+  int files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir / "")) ++files;
+  EXPECT_EQ(files, 1);
+}
+
+TEST(Snapshot, CorruptionIsDetected) {
+  TempDir dir;
+  const SemanticOccupancyMap map = sampleMap();
+  map.save(dir / "map.socc");
+  std::string bytes;
+  {
+    std::ifstream in(dir / "map.socc", std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const auto writeVariant = [&](const std::string& data) {
+    std::ofstream out(dir / "bad.socc", std::ios::binary | std::ios::trunc);
+    out.write(data.data(), static_cast<std::streamsize>(data.size()));
+  };
+  const auto expectError = [&](const std::string& fragment) {
+    try {
+      SemanticOccupancyMap::load(dir / "bad.socc");
+      ADD_FAILURE() << "corrupt snapshot loaded";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  for (const std::size_t pos : {bytes.size() / 2, bytes.size() - 1, std::size_t{100}}) {
+    std::string flipped = bytes;
+    flipped[pos] = static_cast<char>(flipped[pos] ^ 0x10);
+    writeVariant(flipped);
+    expectError("checksum");
+  }
+  std::string header = bytes;
+  header[12] ^= 1;  // reserved field: header checksum catches it
+  writeVariant(header);
+  expectError("header checksum");
+  writeVariant(bytes.substr(0, bytes.size() - 7));
+  expectError("size mismatch");
+  writeVariant("not a map at all, definitely not a map");
+  expectError("bad magic");
+  writeVariant("");
+  expectError("too short");
+  EXPECT_THROW(SemanticOccupancyMap::load(dir / "missing.socc"), std::runtime_error);
+
+  // A failed load leaves an existing map untouched.
+  SemanticOccupancyMap current = sampleMap();
+  const auto before = encode(everything(current));
+  try {
+    current = SemanticOccupancyMap::load(dir / "bad.socc");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_EQ(encode(everything(current)), before);
+}
+
+TEST(Snapshot, UnwritableTargetThrows) {
+  const SemanticOccupancyMap map = sampleMap();
+  EXPECT_THROW(map.save("/nonexistent_dir_socc/map.socc"), std::runtime_error);
+}
+
+TEST(Export, OctomapBinaryHasTheOccupiedVoxels) {
+  TempDir dir;
+  const SemanticOccupancyMap map = sampleMap();
+  const std::int64_t n = map.exportOctomap(dir / "map.bt", 0.5);
+  EXPECT_EQ(n, map.stats().num_occupied);
+  octomap::OcTree tree(0.1);
+  ASSERT_TRUE(tree.readBinary((dir / "map.bt").string()));
+  EXPECT_DOUBLE_EQ(tree.getResolution(), 0.4);
+  std::int64_t occupied_leaves = 0;
+  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it)
+    if (tree.isNodeOccupied(*it)) ++occupied_leaves;
+  EXPECT_GE(occupied_leaves, 1);  // binary trees prune: count the occupied voxels by lookup
+  const chunk_reply_t r = everything(map);
+  for (int i = 0; i < r.num_voxels; ++i) {
+    const octomap::point3d p((r.index[i][0] + 0.5f) * 0.4f, (r.index[i][1] + 0.5f) * 0.4f,
+                             (r.index[i][2] + 0.5f) * 0.4f);
+    const octomap::OcTreeNode* node = tree.search(p);
+    ASSERT_NE(node, nullptr);
+    EXPECT_TRUE(tree.isNodeOccupied(node));
+  }
+  EXPECT_GT(map.exportOctomap(dir / "map.ot", 0.5), 0);
+  std::unique_ptr<octomap::AbstractOcTree> ot(
+      octomap::AbstractOcTree::read((dir / "map.ot").string()));
+  ASSERT_NE(ot, nullptr);
+  EXPECT_EQ(ot->getTreeType(), "ColorOcTree");
+  EXPECT_THROW(map.exportOctomap(dir / "map.xyz", 0.5), std::runtime_error);
+}
+
+TEST(Export, PcdReadBackByPcl) {
+  TempDir dir;
+  const SemanticOccupancyMap map = sampleMap();
+  const std::int64_t n = map.exportPcd(dir / "map.pcd", 0.5);
+  pcl::PointCloud<pcl::PointXYZRGBL> cloud;
+  ASSERT_EQ(pcl::io::loadPCDFile((dir / "map.pcd").string(), cloud), 0);
+  EXPECT_EQ(static_cast<std::int64_t>(cloud.size()), n);
+  EXPECT_EQ(n, map.stats().num_occupied);
+  bool building = false;
+  for (const auto& p : cloud.points)
+    if (p.label == kBuilding) {
+      building = true;
+      const Rgb c = classColor(kBuilding);
+      EXPECT_EQ(p.r, c.r);
+      EXPECT_EQ(p.g, c.g);
+      EXPECT_EQ(p.b, c.b);
+    }
+  EXPECT_TRUE(building);
+}
+
+TEST(Render, PngOfExpectedSize) {
+  const SemanticOccupancyMap map = sampleMap();
+  for (const int mode : {render_request_t::MODE_CLASS, render_request_t::MODE_OCCUPANCY,
+                         render_request_t::MODE_HEIGHT}) {
+    const auto img = map.render({-10, -5, -3}, {10, 5, 3}, 0.2, mode, 0.5);
+    EXPECT_EQ(img.width, 100);
+    EXPECT_EQ(img.height, 50);
+    ASSERT_EQ(img.rgb.size(), 100u * 50u * 3u);
+    const auto png = encodePng(img);
+    ASSERT_GT(png.size(), 8u);
+    EXPECT_EQ(png[1], 'P');
+    EXPECT_EQ(png[2], 'N');
+    EXPECT_EQ(png[3], 'G');
+  }
+  // The building wall at x = 9 is drawn in its class colour.
+  const auto img =
+      map.render({8.0, -1.0, -3}, {10.0, 1.0, 3}, 0.4, render_request_t::MODE_CLASS, 0.5);
+  const Rgb c = classColor(kBuilding);
+  int building = 0;
+  for (std::size_t i = 0; i < img.rgb.size(); i += 3)
+    building += img.rgb[i] == c.r && img.rgb[i + 1] == c.g && img.rgb[i + 2] == c.b;
+  EXPECT_GT(building, 0);
+  EXPECT_THROW(map.render({0, 0, 0}, {10000, 10, 1}, 0.5, 0, 0.5), std::invalid_argument);
+  EXPECT_THROW(map.render({0, 0, 0}, {10, 10, 1}, 0.5, 7, 0.5), std::invalid_argument);
+}
+
+TEST(Config, YamlDefaultsAndErrors) {
+  TempDir dir;
+  const fs::path defaults = fs::path(SOCC_SOURCE_DIR) / "map_server/config/default.yaml";
+  const MapConfig c = loadMapConfig(defaults);
+  EXPECT_EQ(c.voxel_size, MapConfig{}.voxel_size);
+  EXPECT_EQ(c.p_miss_moving, MapConfig{}.p_miss_moving);
+  { std::ofstream(dir / "a.yaml") << "voxel_size: 0.25\nsemantics: false\n"; }
+  const MapConfig a = loadMapConfig(dir / "a.yaml");
+  EXPECT_EQ(a.voxel_size, 0.25);
+  EXPECT_FALSE(a.semantics);
+  const auto expectError = [&](const std::string& yaml, const std::string& fragment) {
+    std::ofstream(dir / "b.yaml") << yaml;
+    try {
+      loadMapConfig(dir / "b.yaml");
+      ADD_FAILURE() << "accepted: " << yaml;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  expectError("voxel_sise: 0.5\n", "unknown key 'voxel_sise'");
+  expectError("voxel_size: big\n", "voxel_size");
+  expectError("p_hit: 0.3\n", "p_hit");
+  expectError("max_points_per_scan: -5\n", "max_points_per_scan");
+  EXPECT_THROW(loadMapConfig(dir / "missing.yaml"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace socc::map

@@ -1,0 +1,81 @@
+// Amanatides-Woo traversal against brute force.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include "socc/map/ray_traversal.hpp"
+
+namespace socc::map {
+namespace {
+
+using Key = std::array<int, 3>;
+Key key(const VoxelIndex& v) {
+  return {v.x(), v.y(), v.z()};
+}
+
+/// Does segment [a, b] intersect the voxel's closed box, grown by eps? (slab test)
+bool intersects(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const VoxelIndex& v, double vs,
+                double eps) {
+  double t0 = 0.0, t1 = 1.0;
+  for (int i = 0; i < 3; ++i) {
+    const double lo = v[i] * vs - eps, hi = (v[i] + 1) * vs + eps;
+    const double d = b[i] - a[i];
+    if (std::abs(d) < 1e-15) {
+      if (a[i] < lo || a[i] > hi) return false;
+      continue;
+    }
+    double ta = (lo - a[i]) / d, tb = (hi - a[i]) / d;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+TEST(RayTraversal, MatchesBruteForceOnRandomRays) {
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<double> u(-20.0, 20.0);
+  const double vs = 0.5;
+  for (int ray = 0; ray < 500; ++ray) {
+    const Eigen::Vector3d a(u(rng), u(rng), u(rng));
+    Eigen::Vector3d b(u(rng), u(rng), u(rng));
+    if (ray % 10 == 0) b.y() = a.y();  // axis-parallel components
+    if (ray % 20 == 0) b.z() = a.z();
+    std::vector<VoxelIndex> voxels;
+    traverseRay(a, b, vs, voxels);
+    ASSERT_FALSE(voxels.empty());
+    EXPECT_EQ(voxels.front(), voxelIndex(a, 1.0 / vs));
+    EXPECT_EQ(voxels.back(), voxelIndex(b, 1.0 / vs));
+    std::set<Key> visited;
+    for (std::size_t i = 0; i < voxels.size(); ++i) {
+      EXPECT_TRUE(visited.insert(key(voxels[i])).second) << "voxel visited twice";
+      EXPECT_TRUE(intersects(a, b, voxels[i], vs, 1e-9)) << "voxel not on the segment";
+      if (i > 0) {
+        EXPECT_EQ((voxels[i] - voxels[i - 1]).cwiseAbs().sum(), 1) << "not 6-connected";
+      }
+    }
+    // Dense samples along the segment all fall in visited voxels.
+    const int samples = 20000;
+    for (int s = 0; s <= samples; ++s) {
+      const Eigen::Vector3d p = a + (b - a) * (static_cast<double>(s) / samples);
+      ASSERT_TRUE(visited.count(key(voxelIndex(p, 1.0 / vs))))
+          << "sample voxel missing from traversal (ray " << ray << ")";
+    }
+  }
+}
+
+TEST(RayTraversal, SinglePointAndNegativeCoordinates) {
+  std::vector<VoxelIndex> v;
+  traverseRay(Eigen::Vector3d(-0.1, -0.1, -0.1), Eigen::Vector3d(-0.2, -0.2, -0.2), 0.5, v);
+  ASSERT_EQ(v.size(), 1u);
+  EXPECT_EQ(v[0], VoxelIndex(-1, -1, -1));
+  v.clear();
+  traverseRay(Eigen::Vector3d(0.25, 0.25, 0.25), Eigen::Vector3d(-2.25, 0.25, 0.25), 0.5, v);
+  ASSERT_EQ(v.size(), 6u);
+  EXPECT_EQ(v.back(), VoxelIndex(-5, 0, 0));
+}
+
+}  // namespace
+}  // namespace socc::map

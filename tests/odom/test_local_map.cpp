@@ -1,0 +1,100 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "socc/chunk_request_t.hpp"
+#include "socc/labels.hpp"
+#include "socc/odom/local_map.hpp"
+
+using namespace socc::odom;
+
+namespace {
+socc::chunk_reply_t makeChunk(const std::vector<Eigen::Vector3f>& points, std::uint8_t occupancy) {
+  socc::chunk_reply_t c{};
+  c.fields = socc::chunk_request_t::FIELD_FEATURES;
+  c.num_voxels = static_cast<int>(points.size());
+  c.n_index = 0;
+  c.n_features = c.num_voxels;
+  c.n_stats = 0;
+  c.num_classes = 0;
+  c.n_free = 0;
+  for (const auto& p : points) {
+    c.first_point.push_back({p.x(), p.y(), p.z()});
+    c.normal.push_back({0, 0, 32767});
+    c.planarity.push_back(0.01f);
+    c.occupancy.push_back(occupancy);
+    c.label.push_back(socc::kRoad);
+    c.label_prob.push_back(255);
+  }
+  return c;
+}
+}  // namespace
+
+TEST(LocalMap, DecodesFeaturesOfAChunk) {
+  const auto chunk = makeChunk({{1, 2, 3}, {4, 5, 6}}, 200);
+  const LocalMap map = LocalMap::fromChunk(chunk, 0.5);
+  ASSERT_EQ(map.size(), 2u);
+  const MapVoxel& v = map.voxel(1);
+  EXPECT_TRUE(v.point.isApprox(Eigen::Vector3d(4, 5, 6)));
+  EXPECT_TRUE(v.normal.isApprox(Eigen::Vector3d::UnitZ()));
+  EXPECT_NEAR(v.occupancy, 200.f / 255.f, 1e-6);
+  EXPECT_EQ(v.label, socc::kRoad);
+  EXPECT_FLOAT_EQ(v.label_prob, 1.f);
+}
+
+TEST(LocalMap, SkipsVoxelsBelowTheOccupancyThreshold) {
+  EXPECT_EQ(LocalMap::fromChunk(makeChunk({{1, 2, 3}}, 100), 0.5).size(), 0u);
+  EXPECT_EQ(LocalMap::fromChunk(makeChunk({{1, 2, 3}}, 128), 0.5).size(), 1u);
+}
+
+TEST(LocalMap, RejectsMalformedChunks) {
+  auto chunk = makeChunk({{1, 2, 3}, {4, 5, 6}}, 200);
+  auto bad = chunk;
+  bad.n_features = 1;
+  EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
+  bad = chunk;
+  bad.planarity.pop_back();
+  EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
+  bad = chunk;
+  bad.first_point[0][1] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
+  bad = chunk;
+  bad.label[1] = 42;
+  EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
+  bad = chunk;
+  bad.fields = 0;
+  EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
+  bad = chunk;
+  bad.num_voxels = -3;
+  EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
+}
+
+TEST(LocalMap, NearestIsExactWithinTheBound) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-20.f, 20.f);
+  std::vector<MapVoxel> voxels(3000);
+  for (auto& v : voxels) v.point = Eigen::Vector3d(u(rng), u(rng), u(rng));
+  const LocalMap map(voxels);
+  for (int q = 0; q < 300; ++q) {
+    const Eigen::Vector3d query(u(rng), u(rng), u(rng));
+    const double bound = 2.0;
+    std::size_t best = voxels.size();
+    double best2 = bound * bound;
+    for (std::size_t i = 0; i < voxels.size(); ++i) {
+      const double d2 = (voxels[i].point - query).squaredNorm();
+      if (d2 < best2) {
+        best2 = d2;
+        best = i;
+      }
+    }
+    const auto nn = map.nearest(query, bound);
+    if (best == voxels.size()) {
+      EXPECT_FALSE(nn.has_value());
+    } else {
+      ASSERT_TRUE(nn.has_value());
+      EXPECT_EQ(nn->index, best);
+      EXPECT_NEAR(nn->squared_distance, best2, 1e-9);
+    }
+  }
+  EXPECT_FALSE(LocalMap().nearest(Eigen::Vector3d::Zero(), 100.0).has_value());
+}

@@ -1,0 +1,79 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "socc/odom/odom_config.hpp"
+
+namespace fs = std::filesystem;
+using socc::odom::OdomConfig;
+
+namespace {
+fs::path writeTemp(const std::string& name, const std::string& text) {
+  const fs::path p =
+      fs::temp_directory_path() / ("socc_odom_cfg_" + std::to_string(::getpid()) + name);
+  std::ofstream(p) << text;
+  return p;
+}
+}  // namespace
+
+TEST(OdomConfig, DefaultsArePaperHyperparametersAndValid) {
+  const OdomConfig c;
+  EXPECT_TRUE(socc::odom::validate(c).empty());
+  EXPECT_DOUBLE_EQ(c.gamma, 1.5);
+  EXPECT_DOUBLE_EQ(c.w_lower, 0.25);
+  EXPECT_DOUBLE_EQ(c.planarity_threshold, 0.1);
+  EXPECT_DOUBLE_EQ(c.initial_threshold, 2.0);
+  EXPECT_DOUBLE_EQ(c.min_motion, 0.1);
+  const auto a = socc::odom::classFactors(c);
+  EXPECT_EQ(a[socc::kPerson], 0.0);
+  EXPECT_EQ(a[socc::kBicyclist], 0.0);
+  EXPECT_EQ(a[socc::kMotorcyclist], 0.0);
+  EXPECT_EQ(a[socc::kPole], 0.75);
+  EXPECT_EQ(a[socc::kTrafficSign], 0.75);
+  for (auto g : {socc::kRoad, socc::kParking, socc::kSidewalk, socc::kTerrain})
+    EXPECT_EQ(a[g], 0.8);
+  EXPECT_EQ(a[socc::kBuilding], 1.0);
+  EXPECT_EQ(a[socc::kUnlabeled], 1.0);
+}
+
+TEST(OdomConfig, NoSemanticsMakesAllFactorsOne) {
+  OdomConfig c;
+  c.use_semantics = false;
+  for (double a : socc::odom::classFactors(c)) EXPECT_EQ(a, 1.0);
+}
+
+TEST(OdomConfig, LoadsKnownKeys) {
+  const fs::path p = writeTemp("ok.yaml", "max_range: 80\nmax_iterations: 20\ndeskew: false\n");
+  const OdomConfig c = socc::odom::loadOdomConfig(p);
+  EXPECT_DOUBLE_EQ(c.max_range, 80.0);
+  EXPECT_EQ(c.max_iterations, 20);
+  EXPECT_FALSE(c.deskew);
+  fs::remove(p);
+}
+
+TEST(OdomConfig, DefaultYamlOfTheRepoLoads) {
+  const fs::path p = fs::path(SOCC_ODOM_CONFIG_DIR) / "default.yaml";
+  const OdomConfig c = socc::odom::loadOdomConfig(p);  // every key documented there is known
+  EXPECT_TRUE(socc::odom::validate(c).empty());
+}
+
+TEST(OdomConfig, RejectsUnknownKeysWrongTypesAndBadValues) {
+  const auto expectError = [](const std::string& text, const std::string& needle) {
+    const fs::path p = writeTemp("bad.yaml", text);
+    try {
+      socc::odom::loadOdomConfig(p);
+      ADD_FAILURE() << "no error for: " << text;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+    fs::remove(p);
+  };
+  expectError("max_rang: 80\n", "unknown key 'max_rang'");
+  expectError("max_range: far\n", "max_range");
+  expectError("w_lower: 2\n", "w_lower");
+  expectError("min_range: 50\nmax_range: 10\n", "max_range");
+  expectError("[1, 2]\n", "map");
+  expectError("a: [\n", "YAML");
+  EXPECT_THROW(socc::odom::loadOdomConfig("/nonexistent/odom.yaml"), std::runtime_error);
+}

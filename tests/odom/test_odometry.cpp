@@ -1,0 +1,146 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "socc/kitti_io.hpp"
+#include "socc/odom/frame_log.hpp"
+#include "socc/odom/odometry.hpp"
+#include "socc/odom/scan_map.hpp"
+#include "socc/odom/scan_source.hpp"
+#include "socc/odom/se3.hpp"
+
+namespace fs = std::filesystem;
+using namespace socc::odom;
+
+namespace {
+const fs::path kKitti = fs::path(SOCC_SHARED_DATA_DIR) / "kitti_00_first16";
+
+socc::LabeledCloud ring(float radius, std::uint8_t label, int n = 2000) {
+  socc::LabeledCloud c;
+  for (int i = 0; i < n; ++i) {
+    const float a = 6.2831853f * static_cast<float>(i) / static_cast<float>(n);
+    c.points.push_back(
+        {radius * std::cos(a), radius * std::sin(a), 0.1f * static_cast<float>(i % 20)});
+    c.labels.push_back(label);
+  }
+  return c;
+}
+}  // namespace
+
+TEST(Odometry, PrepareFiltersRangeDropsHumansAndKeepsFullCloudForTheMap) {
+  Odometry odom(OdomConfig{}, Eigen::Isometry3d::Identity());
+  socc::LabeledCloud scan = ring(20.f, socc::kBuilding);
+  const socc::LabeledCloud people = ring(10.f, socc::kPerson, 500);
+  scan.points.insert(scan.points.end(), people.points.begin(), people.points.end());
+  scan.labels.insert(scan.labels.end(), people.labels.begin(), people.labels.end());
+  scan.points.push_back({1.f, 0.f, 0.f});  // too close
+  scan.labels.push_back(socc::kCar);
+  const PreparedScan p = odom.prepare(scan, 0.1);
+  EXPECT_EQ(p.full.size(), 2500u);  // range filter only: humans still go to the map
+  for (const auto l : p.downsampled.labels) EXPECT_NE(l, socc::kPerson);
+  EXPECT_GT(p.downsampled.size(), 0u);
+  EXPECT_FALSE(p.full.hasTimes());
+}
+
+TEST(Odometry, PrepareRejectsInconsistentScansWithAClearError) {
+  Odometry odom(OdomConfig{}, Eigen::Isometry3d::Identity());
+  socc::LabeledCloud scan = ring(20.f, socc::kBuilding);
+  scan.labels.pop_back();
+  EXPECT_THROW(odom.prepare(scan, 0.1), std::invalid_argument);
+  scan = ring(20.f, 25);
+  EXPECT_THROW(odom.prepare(scan, 0.1), std::invalid_argument);
+}
+
+TEST(Odometry, NoSemanticsTreatsEveryPointAsUnlabeled) {
+  OdomConfig cfg;
+  cfg.use_semantics = false;
+  Odometry odom(cfg, Eigen::Isometry3d::Identity());
+  const PreparedScan p = odom.prepare(ring(20.f, socc::kPerson), 0.1);
+  EXPECT_GT(p.downsampled.size(), 0u);  // humans are not dropped without semantics
+  for (const auto l : p.full.labels) EXPECT_EQ(l, 0);
+}
+
+TEST(Odometry, SmallMapKeepsThePredictionAndVelocityFollowsTheEstimates) {
+  const Eigen::Isometry3d start = expSe3((Vector6d() << 5, 1, 0, 0, 0, 0.3).finished());
+  Odometry odom(OdomConfig{}, start);
+  const PreparedScan p = odom.prepare(ring(20.f, socc::kBuilding), 0.1);
+  const FrameEstimate e = odom.registerFrame(p, LocalMap());
+  EXPECT_FALSE(e.registered);
+  EXPECT_TRUE(e.pose.isApprox(start));
+  EXPECT_TRUE(odom.velocity().isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_DOUBLE_EQ(odom.sigma(), 2.0);
+  odom.reset(Eigen::Isometry3d::Identity());
+  EXPECT_TRUE(odom.pose().isApprox(Eigen::Isometry3d::Identity()));
+}
+
+TEST(Odometry, TracksConsecutiveKittiFramesAgainstAScanMap) {
+  if (!fs::exists(kKitti)) GTEST_SKIP() << "shared data folder absent: " << kKitti;
+  const auto source = openKittiDirectory(kKitti, {0, 3});
+  EXPECT_EQ(source->remaining(), 4u);
+  Odometry odom(OdomConfig{}, Eigen::Isometry3d::Identity());
+  socc::LabeledCloud map_cloud;  // the previous scan in the map frame
+  for (int k = 0; k < 4; ++k) {
+    const auto scan = source->next();
+    ASSERT_TRUE(scan);
+    EXPECT_EQ(scan->seq, k);
+    if (k == 0) {
+      EXPECT_TRUE(scan->cloud.hasLabels());  // labels/000000.label, mapped
+    }
+    const PreparedScan p = odom.prepare(scan->cloud, 0.1);
+    EXPECT_NEAR(static_cast<double>(p.downsampled.size()), 2500.0, 1250.0);
+    const FrameEstimate e = odom.registerFrame(p, buildScanMap(map_cloud, 0.5));
+    EXPECT_EQ(e.registered, k > 0);
+    map_cloud = p.full;
+    for (auto& q : map_cloud.points) q = (e.pose * q.cast<double>()).cast<float>();
+  }
+  EXPECT_FALSE(source->next());
+  // About 0.7 m per frame forward (see the data README), in the LiDAR's +x.
+  EXPECT_NEAR(odom.pose().translation().x(), 2.1, 0.3);
+  EXPECT_LT(odom.sigma(), 2.0);  // the threshold adapted
+}
+
+TEST(ScanSource, KittiDirectoryErrorsAreClear) {
+  EXPECT_THROW(openKittiDirectory("/nonexistent/kitti", {}), std::runtime_error);
+  if (!fs::exists(kKitti)) GTEST_SKIP() << "shared data folder absent: " << kKitti;
+  EXPECT_THROW(openKittiDirectory(kKitti, {99, -1}), std::runtime_error);
+  EXPECT_THROW(openPointCloudDirectory(kKitti, {}, 0.1), std::runtime_error);  // no pcd/ply
+}
+
+TEST(ScanSource, PointCloudDirectoryReadsPlyFiles) {
+  const fs::path dir = fs::path(SOCC_SHARED_DATA_DIR) / "small_gicp_pair";
+  if (!fs::exists(dir)) GTEST_SKIP() << "shared data folder absent: " << dir;
+  const auto source = openPointCloudDirectory(dir, {}, 0.1);
+  EXPECT_EQ(source->remaining(), 2u);
+  const auto first = source->next();
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->name, "source.ply");
+  EXPECT_GT(first->cloud.size(), 60000u);
+  EXPECT_EQ(source->next()->utime, 100000);
+}
+
+TEST(FrameLog, WritesCsvRowsAndMeans) {
+  const fs::path csv =
+      fs::temp_directory_path() / ("socc_odom_frames_" + std::to_string(::getpid()) + ".csv");
+  {
+    FrameLog log(csv);
+    FrameStats s;
+    s.register_ms = 10.0;
+    s.bytes_received = 1000;
+    log.add(s);
+    s.frame = 1;
+    s.register_ms = 20.0;
+    log.add(s);
+    EXPECT_DOUBLE_EQ(log.mean().register_ms, 15.0);
+    EXPECT_NE(log.summary(1.0).find("frames: 2"), std::string::npos);
+  }
+  std::ifstream in(csv);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header.rfind("frame,preprocess_ms,fetch_ms,register_ms,integrate_ms,total_ms", 0), 0u);
+  int rows = 0;
+  for (std::string line; std::getline(in, line);) ++rows;
+  EXPECT_EQ(rows, 2);
+  fs::remove(csv);
+  EXPECT_THROW(FrameLog("/nonexistent/dir/frames.csv"), std::runtime_error);
+}

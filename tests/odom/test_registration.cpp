@@ -1,0 +1,174 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "socc/kitti_io.hpp"
+#include "socc/odom/odom_config.hpp"
+#include "socc/odom/point_cloud_file.hpp"
+#include "socc/odom/preprocessing.hpp"
+#include "socc/odom/registration.hpp"
+#include "socc/odom/scan_map.hpp"
+#include "socc/odom/se3.hpp"
+#include "socc/odom/voxel_downsampling.hpp"
+
+namespace fs = std::filesystem;
+using namespace socc::odom;
+
+namespace {
+
+const fs::path kData = SOCC_SHARED_DATA_DIR;
+
+double translationError(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return (a.inverse() * b).translation().norm();
+}
+double rotationErrorDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd((a.inverse() * b).linear()).angle() * 180.0 / M_PI;
+}
+
+socc::LabeledCloud transformed(const socc::LabeledCloud& c, const Eigen::Isometry3d& t) {
+  socc::LabeledCloud out = c;
+  for (auto& p : out.points) p = (t * p.cast<double>()).cast<float>();
+  return out;
+}
+
+// The source scan as the odometry registers it: range-filtered, downsampled to ~2500 points.
+socc::LabeledCloud registrationCloud(const socc::LabeledCloud& scan, double min_range) {
+  const OdomConfig cfg;
+  const socc::LabeledCloud filtered = rangeFilter(scan, min_range, cfg.max_range);
+  AdaptiveVoxelSize v(cfg.initial_voxel_size, cfg.min_voxel_size, cfg.max_voxel_size,
+                      cfg.target_points);
+  socc::LabeledCloud out;
+  for (int i = 0; i < 4; ++i) {
+    out = semanticVoxelDownsample(filtered, v.size(), classFactors(cfg));
+    v.update(out.size());
+  }
+  return out;
+}
+
+RegistrationParams paperParams() {
+  const OdomConfig cfg;
+  return {cfg.planarity_threshold, cfg.gamma, cfg.w_lower, cfg.max_iterations, cfg.convergence};
+}
+
+}  // namespace
+
+TEST(Registration, RecoversAKnownTransformOnSyntheticStructure) {
+  // A box-shaped room (planes) plus scattered clutter.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-10.f, 10.f);
+  socc::LabeledCloud world;
+  for (int i = 0; i < 20000; ++i) {
+    const float a = u(rng), b = u(rng);
+    switch (i % 5) {
+      case 0:
+        world.points.push_back({a, b, -2.f});
+        break;
+      case 1:
+        world.points.push_back({10.f, a, b * 0.3f});
+        break;
+      case 2:
+        world.points.push_back({a, 10.f, b * 0.3f});
+        break;
+      case 3:
+        world.points.push_back({-10.f, a, b * 0.3f});
+        break;
+      default:
+        world.points.push_back({a * 0.5f, b * 0.5f, std::abs(u(rng)) * 0.2f});
+        break;
+    }
+  }
+  const LocalMap map = buildScanMap(world, 0.5);
+  const Eigen::Isometry3d truth =
+      expSe3((Vector6d() << 0.4, -0.3, 0.05, 0.01, -0.02, 0.08).finished());
+  const socc::LabeledCloud scan = transformed(world, truth.inverse());
+  const socc::LabeledCloud down = semanticVoxelDownsample(scan, 0.6, classFactors(OdomConfig{}));
+  const RegistrationResult r =
+      registerScan(down, map, Eigen::Isometry3d::Identity(), 1.0, paperParams());
+  EXPECT_TRUE(r.converged);
+  EXPECT_GT(r.planar, 0);
+  EXPECT_GT(r.non_planar, 0);
+  EXPECT_NEAR(r.alpha, double(r.planar) / (r.planar + r.non_planar), 1e-12);
+  EXPECT_LT(translationError(r.pose, truth), 0.02);
+  EXPECT_LT(rotationErrorDeg(r.pose, truth), 0.05);
+}
+
+TEST(Registration, EmptyInputsKeepTheInitialGuess) {
+  const Eigen::Isometry3d guess = expSe3((Vector6d() << 1, 2, 3, 0, 0, 0.1).finished());
+  socc::LabeledCloud scan;
+  scan.points = {{1, 2, 3}};
+  const RegistrationResult r = registerScan(scan, LocalMap(), guess, 1.0, paperParams());
+  EXPECT_TRUE(r.pose.isApprox(guess));
+  EXPECT_EQ(r.planar + r.non_planar, 0);
+}
+
+// KITTI seq 00 pairs: map from the first scan (its LiDAR frame = map frame), register the second
+// from identity; compare with the KITTI GT relative motion (ICP agrees with it to 5 / 18 mm).
+class KittiPair : public ::testing::TestWithParam<std::pair<int, int>> {};
+
+TEST_P(KittiPair, MatchesGroundTruthWithin5cmAnd0p1deg) {
+  const fs::path dir = kData / "kitti_pairs" / "00" / "velodyne";
+  if (!fs::exists(dir)) GTEST_SKIP() << "shared data folder absent: " << dir;
+  const auto [a, b] = GetParam();
+  const auto name = [](int f) {
+    char buf[16];
+    std::snprintf(buf, sizeof(buf), "%06d.bin", f);
+    return std::string(buf);
+  };
+  const socc::Poses cam = socc::readKittiPoses(kData / "kitti_gt" / "poses" / "00.txt");
+  const Eigen::Isometry3d tr = socc::readKittiCalibTr(kData / "kitti_gt" / "calib_00-02.txt");
+  const socc::Poses lidar = socc::cameraToLidarPoses({cam.at(a), cam.at(b)}, tr);
+  const Eigen::Isometry3d truth = lidar[0].inverse() * lidar[1];
+
+  socc::LabeledCloud target, source;
+  target.points = socc::readKittiBin(dir / name(a));
+  source.points = socc::readKittiBin(dir / name(b));
+  const LocalMap map = buildScanMap(rangeFilter(target, 5.0, 100.0), 0.5);
+  const socc::LabeledCloud down = registrationCloud(source, 5.0);
+  const RegistrationResult r =
+      registerScan(down, map, Eigen::Isometry3d::Identity(), 2.0, paperParams());
+  const double et = translationError(r.pose, truth), er = rotationErrorDeg(r.pose, truth);
+  std::cout << a << "->" << b << ": " << down.size() << " points, " << r.iterations
+            << " iterations, alpha " << r.alpha << ", error " << et * 100 << " cm " << er
+            << " deg (motion " << truth.translation().norm() << " m)\n";
+  EXPECT_LT(et, 0.05);
+  EXPECT_LT(er, 0.1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Seq00, KittiPair,
+                         ::testing::Values(std::make_pair(94, 95), std::make_pair(198, 199)));
+
+// small_gicp's outdoor pair: its T_target_source agrees with ICP to 14 mm / 0.16 deg.
+TEST(Registration, SmallGicpPairMatchesGivenTransform) {
+  const fs::path dir = kData / "small_gicp_pair";
+  if (!fs::exists(dir)) GTEST_SKIP() << "shared data folder absent: " << dir;
+  Eigen::Matrix4d m;
+  std::ifstream in(dir / "T_target_source.txt");
+  for (int i = 0; i < 16; ++i) ASSERT_TRUE(in >> m(i / 4, i % 4));
+  const Eigen::Isometry3d truth(m);
+
+  const socc::LabeledCloud target = loadPointCloudFile(dir / "target.ply");
+  const socc::LabeledCloud source = loadPointCloudFile(dir / "source.ply");
+  ASSERT_GT(target.size(), 1000u);
+  const LocalMap map = buildScanMap(rangeFilter(target, 1.0, 100.0), 0.5);
+  const socc::LabeledCloud down = registrationCloud(source, 1.0);
+  const RegistrationResult r =
+      registerScan(down, map, Eigen::Isometry3d::Identity(), 2.0, paperParams());
+  const double et = translationError(r.pose, truth), er = rotationErrorDeg(r.pose, truth);
+  std::cout << "small_gicp: " << down.size() << " points, " << r.iterations << " iterations, error "
+            << et * 100 << " cm " << er << " deg\n";
+  EXPECT_LT(et, 0.05);
+  EXPECT_LT(er, 0.3);
+}
+
+TEST(PointCloudFile, MissingAndWrongFilesGiveClearErrors) {
+  EXPECT_THROW(loadPointCloudFile("/nonexistent/scan.pcd"), std::runtime_error);
+  const fs::path p =
+      fs::temp_directory_path() / ("socc_odom_bad_" + std::to_string(::getpid()) + ".pcd");
+  std::ofstream(p) << "this is not a pcd file\n";
+  EXPECT_THROW(loadPointCloudFile(p), std::runtime_error);
+  fs::remove(p);
+  EXPECT_TRUE(isPointCloudFile("a/b.PLY"));
+  EXPECT_FALSE(isPointCloudFile("a/b.bin"));
+}

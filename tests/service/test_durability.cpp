@@ -1,0 +1,156 @@
+// Snapshots + journal: a restarted service equals the one that crashed.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "service/journal.hpp"
+#include "service/snapshot_metadata.hpp"
+#include "service_test_helpers.hpp"
+
+namespace socc::service {
+namespace {
+
+using test::scan;
+
+struct Files {
+  test::TempDir dir;
+  Durability durability() const { return {dir.path() / "map.snap", dir.path() / "journal.lcmlog"}; }
+};
+
+TEST(Durability, SnapshotPlusJournalReplayEqualsLiveMap) {
+  Files files;
+  std::vector<std::uint8_t> live_content;
+  std::int64_t live_integrations = 0;
+  {
+    MapService live(test::smallConfig(files.dir.path()));
+    live.openDurability(files.durability(), std::nullopt);
+    for (int seq = 1; seq <= 3; ++seq) live.integrate(scan("robot1", seq, 0.3 * seq));
+    live.checkpoint();  // snapshot covers 3, journal restarts
+    for (int seq = 4; seq <= 6; ++seq) live.integrate(scan("robot1", seq, 0.3 * seq));
+    live.integrate(scan("robot2", 1, -2.0));
+    live_content = test::content(live.getChunk(test::everything()));
+    live_integrations = live.integrations();
+    // No clean shutdown: the object is dropped like a killed process (nothing else written).
+  }
+  EXPECT_EQ(Journal::read(files.dir.path() / "journal.lcmlog").requests.size(), 4u);
+
+  MapService restored(test::smallConfig(files.dir.path()));
+  restored.openDurability(files.durability(), files.dir.path() / "map.snap");
+  EXPECT_EQ(test::content(restored.getChunk(test::everything())), live_content);
+  EXPECT_EQ(restored.integrations(), live_integrations);
+  ASSERT_NE(restored.robots().find("robot1"), nullptr);
+  EXPECT_EQ(restored.robots().find("robot1")->last_seq, 6);
+  EXPECT_TRUE(restored.integrate(scan("robot1", 6)).duplicate) << "a client retry after restart";
+  EXPECT_FALSE(restored.integrate(scan("robot1", 7)).duplicate);
+}
+
+TEST(Durability, JournalEntriesAlreadyInTheSnapshotAreSkipped) {
+  // Crash between writing the snapshot and restarting the journal: both hold scans 1..2.
+  Files files;
+  MapService live(test::smallConfig(files.dir.path()));
+  live.openDurability(files.durability(), std::nullopt);
+  live.integrate(scan("robot1", 1));
+  live.integrate(scan("robot1", 2, 1.0));
+  live.saveSnapshot(files.dir.path() / "map.snap");
+  const auto content = test::content(live.getChunk(test::everything()));
+
+  MapService restored(test::smallConfig(files.dir.path()));
+  restored.openDurability(files.durability(), files.dir.path() / "map.snap");
+  EXPECT_EQ(restored.integrations(), 2);
+  EXPECT_EQ(test::content(restored.getChunk(test::everything())), content);
+}
+
+TEST(Durability, TornLastJournalEventIsDropped) {
+  Files files;
+  std::vector<std::uint8_t> content_after_two;
+  {
+    MapService live(test::smallConfig(files.dir.path()));
+    live.openDurability(files.durability(), std::nullopt);
+    live.integrate(scan("robot1", 1));
+    live.integrate(scan("robot1", 2, 1.0));
+    content_after_two = test::content(live.getChunk(test::everything()));
+    live.integrate(scan("robot1", 3, 2.0));
+  }
+  const auto journal = files.dir.path() / "journal.lcmlog";
+  std::filesystem::resize_file(journal, std::filesystem::file_size(journal) - 100);
+
+  MapService restored(test::smallConfig(files.dir.path()));
+  restored.openDurability(files.durability(), files.dir.path() / "map.snap");
+  EXPECT_EQ(restored.integrations(), 2);
+  EXPECT_EQ(test::content(restored.getChunk(test::everything())), content_after_two);
+}
+
+TEST(Durability, CorruptSnapshotIsReportedAndNotLoaded) {
+  Files files;
+  {
+    MapService live(test::smallConfig(files.dir.path()));
+    live.integrate(scan("robot1", 1));
+    live.saveSnapshot(files.dir.path() / "map.snap");
+  }
+  {
+    std::fstream f(files.dir.path() / "map.snap", std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(200);
+    f.put('\x5a').put('\x17');
+  }
+  MapService service(test::smallConfig(files.dir.path()));
+  service.integrate(scan("robot9", 1));
+  const auto content = test::content(service.getChunk(test::everything()));
+  EXPECT_THROW(service.loadSnapshot(files.dir.path() / "map.snap"), std::runtime_error);
+  EXPECT_EQ(test::content(service.getChunk(test::everything())), content);
+  EXPECT_NE(service.robots().find("robot9"), nullptr);
+
+  map_command_request_t load{};
+  load.command = map_command_request_t::LOAD;
+  load.path = "map.snap";
+  EXPECT_EQ(service.command(load).header.status, +reply_header_t::INVALID_ARGUMENT);
+  EXPECT_EQ(test::content(service.getChunk(test::everything())), content);
+}
+
+TEST(Durability, JournalThatDoesNotContinueTheSnapshotIsRefused) {
+  Files files;
+  {
+    MapService live(test::smallConfig(files.dir.path()));
+    live.openDurability(files.durability(), std::nullopt);
+    live.integrate(scan("robot1", 1));
+    live.checkpoint();
+    live.integrate(scan("robot1", 2, 1.0));
+  }
+  MapService without_snapshot(test::smallConfig(files.dir.path()));
+  EXPECT_THROW(without_snapshot.openDurability(files.durability(), std::nullopt),
+               std::runtime_error);
+}
+
+TEST(Durability, ClearAndLoadRestartTheJournal) {
+  Files files;
+  MapService live(test::smallConfig(files.dir.path()));
+  live.openDurability(files.durability(), std::nullopt);
+  live.integrate(scan("robot1", 1));
+  map_command_request_t clear{};
+  clear.command = map_command_request_t::CLEAR;
+  ASSERT_EQ(live.command(clear).header.status, +reply_header_t::OK);
+  live.integrate(scan("robot1", 2, 1.0));
+  const auto content = test::content(live.getChunk(test::everything()));
+
+  MapService restored(test::smallConfig(files.dir.path()));
+  restored.openDurability(files.durability(), files.dir.path() / "map.snap");
+  EXPECT_EQ(test::content(restored.getChunk(test::everything())), content);
+}
+
+TEST(Durability, MetadataRoundTripAndGarbage) {
+  SnapshotMetadata metadata;
+  metadata.journal_sequence = 42;
+  robot_state_t state{};
+  state.robot_id = "r";
+  state.last_seq = 7;
+  metadata.robots.push_back(state);
+  const auto decoded = decodeSnapshotMetadata(encodeSnapshotMetadata(metadata));
+  ASSERT_TRUE(decoded);
+  EXPECT_EQ(decoded->journal_sequence, 42);
+  ASSERT_EQ(decoded->robots.size(), 1u);
+  EXPECT_EQ(decoded->robots[0].last_seq, 7);
+  EXPECT_FALSE(decodeSnapshotMetadata("not an lcm message"));
+  EXPECT_TRUE(decodeSnapshotMetadata(""));
+}
+
+}  // namespace
+}  // namespace socc::service

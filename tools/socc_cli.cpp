@@ -1,0 +1,264 @@
+// socc-cli: command-line client of map_server (stats, poses, snapshots, exports, chunks,
+// rendering, test integrations). Exit code 0 on OK, 1 on an error reply or timeout.
+#include <openssl/evp.h>
+
+#include <CLI/CLI.hpp>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "socc/channels.hpp"
+#include "socc/kitti_io.hpp"
+#include "socc/labels.hpp"
+#include "socc/rpc/map_client.hpp"
+
+namespace {
+
+using socc::rpc::MapClient;
+
+template <typename Reply>
+bool report(const socc::rpc::Result<Reply>& result, const std::string& what) {
+  if (result.ok()) return true;
+  std::cerr << "socc-cli " << what << ": "
+            << (result.error.timed_out ? "TIMEOUT"
+                                       : "status " + std::to_string(result.error.status))
+            << ": " << result.error.message << '\n';
+  return false;
+}
+
+// SHA-256 of a chunk's content: the reply with the per-call header and map_version blanked,
+// so answers of two servers holding the same voxels compare equal byte for byte.
+std::string contentDigest(socc::chunk_reply_t reply) {
+  reply.header = socc::reply_header_t{};
+  reply.map_version = 0;
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(reply.getEncodedSize()));
+  reply.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  std::array<unsigned char, EVP_MAX_MD_SIZE> md{};
+  unsigned int length = 0;
+  EVP_Digest(bytes.data(), bytes.size(), md.data(), &length, EVP_sha256(), nullptr);
+  std::string hex;
+  char buf[3];
+  for (unsigned int i = 0; i < length; ++i) {
+    std::snprintf(buf, sizeof(buf), "%02x", md[i]);
+    hex += buf;
+  }
+  return hex;
+}
+
+// A deterministic test scene around the sensor: road-labelled ground and building walls.
+socc::LabeledCloud syntheticCloud(std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-15.0f, 15.0f);
+  socc::LabeledCloud cloud;
+  for (int i = 0; i < 3000; ++i) {
+    cloud.points.emplace_back(u(rng), u(rng), -1.7f);
+    cloud.labels.push_back(socc::kRoad);
+  }
+  for (int i = 0; i < 3000; ++i) {
+    const float along = u(rng), height = 0.2f * std::abs(u(rng)) - 1.5f;
+    const bool x_wall = (i % 2) == 0;
+    const float side = (i % 4) < 2 ? 16.0f : -16.0f;
+    cloud.points.emplace_back(x_wall ? side : along, x_wall ? along : side, height);
+    cloud.labels.push_back(socc::kBuilding);
+  }
+  return cloud;
+}
+
+std::int32_t parseFields(const std::vector<std::string>& names) {
+  std::int32_t fields = 0;
+  for (const auto& n : names) {
+    if (n == "features") fields |= socc::chunk_request_t::FIELD_FEATURES;
+    if (n == "stats") fields |= socc::chunk_request_t::FIELD_STATS;
+    if (n == "free") fields |= socc::chunk_request_t::FIELD_FREE;
+    if (n == "index") fields |= socc::chunk_request_t::FIELD_INDEX;
+  }
+  return fields;
+}
+
+void printPose(const socc::robot_state_t& s) {
+  const auto& t = s.last_pose.translation;
+  const auto& q = s.last_pose.quaternion;
+  std::cout << s.robot_id << " seq=" << s.last_seq << " integrations=" << s.integrations
+            << " utime=" << s.last_scan_utime << " t=[" << t[0] << ' ' << t[1] << ' ' << t[2]
+            << "] q=[" << q[0] << ' ' << q[1] << ' ' << q[2] << ' ' << q[3] << "]\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"socc-cli: talk to map_server over LCM"};
+  app.require_subcommand(1);
+  socc::rpc::ClientOptions options;
+  options.lcm_url = std::string(socc::channels::kDefaultLcmUrl);
+  options.client_id = "socc-cli";
+  int timeout_ms = 2000;
+  app.add_option("--lcm-url", options.lcm_url,
+                 "LCM URL (udpm://239.x.y.z:port?ttl=0); add &recv_buf_size=67108864 for big "
+                 "chunks")
+      ->capture_default_str();
+  app.add_option("--client-id", options.client_id, "client / robot id")->capture_default_str();
+  app.add_option("--timeout-ms", timeout_ms, "per attempt")->capture_default_str();
+  app.add_option("--attempts", options.max_attempts, "attempts per call")->capture_default_str();
+
+  auto* stats = app.add_subcommand("stats", "print map statistics and robot states");
+  std::string robot;
+  auto* pose = app.add_subcommand("pose", "print the last pose the server holds for a robot");
+  pose->add_option("robot", robot, "robot id")->required();
+  std::string path;
+  auto* save = app.add_subcommand("save", "save a snapshot (path on the server)");
+  save->add_option("path", path)->required();
+  auto* load = app.add_subcommand("load", "load a snapshot (path on the server)");
+  load->add_option("path", path)->required();
+  std::string format;
+  float threshold = 0.5f;
+  auto* exp = app.add_subcommand("export", "export occupied voxels (OctoMap .bt/.ot or PCD)");
+  exp->add_option("format", format)->required()->check(CLI::IsMember({"bt", "ot", "pcd"}));
+  exp->add_option("path", path)->required();
+  exp->add_option("--threshold", threshold, "occupancy threshold")->capture_default_str();
+  auto* clear = app.add_subcommand("clear", "clear the map and robot states");
+
+  std::vector<double> box, sphere;
+  std::string out_png = "map.png";
+  double pixel_size = 0.0;
+  int mode = 0;
+  auto* render = app.add_subcommand("render", "top-down PNG of a box");
+  render->add_option("--box", box, "xmin ymin zmin xmax ymax zmax")->expected(6)->required();
+  render->add_option("--out", out_png, "PNG file")->capture_default_str();
+  render->add_option("--pixel-size", pixel_size, "[m] (0 = voxel size)");
+  render->add_option("--mode", mode, "0 class, 1 occupancy, 2 height")->check(CLI::Range(0, 2));
+
+  std::vector<std::string> field_names{"features"};
+  int limit = 0;
+  bool digest = false;
+  auto* chunk = app.add_subcommand("chunk", "fetch a chunk; prints counts and bytes");
+  auto* sphere_opt = chunk->add_option("--sphere", sphere, "x y z r")->expected(4);
+  chunk->add_option("--box", box, "xmin ymin zmin xmax ymax zmax")
+      ->expected(6)
+      ->excludes(sphere_opt);
+  chunk->add_option("--fields", field_names, "features stats free index")
+      ->check(CLI::IsMember({"features", "stats", "free", "index"}))
+      ->capture_default_str();
+  chunk->add_option("--limit", limit, "max voxels (0 = server max)");
+  chunk->add_option("--threshold", threshold, "occupancy threshold")->capture_default_str();
+  chunk->add_flag("--digest", digest, "also print a SHA-256 of the voxel content");
+
+  std::int64_t seq = 0;
+  std::vector<double> xyz_yaw{0, 0, 0, 0};
+  std::string bin_file, label_file;
+  std::uint32_t seed = 1;
+  auto* integrate = app.add_subcommand("integrate", "integrate one scan (synthetic or KITTI .bin)");
+  integrate->add_option("--seq", seq, "per-robot sequence number")->required();
+  integrate->add_option("--pose", xyz_yaw, "sensor x y z yaw[deg]")->expected(4);
+  integrate->add_option("--bin", bin_file, "KITTI velodyne .bin (default: synthetic scene)")
+      ->check(CLI::ExistingFile);
+  integrate->add_option("--labels", label_file, "SemanticKITTI .label for --bin")
+      ->check(CLI::ExistingFile);
+  integrate->add_option("--seed", seed, "seed of the synthetic scene")->capture_default_str();
+
+  CLI11_PARSE(app, argc, argv);
+  options.timeout = std::chrono::milliseconds(timeout_ms);
+
+  try {
+    MapClient client(options);
+    if (stats->parsed()) {
+      const auto r = client.getStats();
+      if (!report(r, "stats")) return 1;
+      const auto& s = r.reply->stats;
+      std::cout << "voxels=" << s.num_voxels << " occupied=" << s.num_occupied
+                << " free=" << s.num_free << " blocks=" << s.num_blocks
+                << " memory_bytes=" << s.memory_bytes << " version=" << s.map_version
+                << " integrations=" << s.integrations << " rate=" << s.integrations_per_s
+                << "/s requests=" << s.requests << " rejected=" << s.rejected_requests
+                << " robots=" << s.num_robots << '\n';
+      for (const auto& state : s.robots) printPose(state);
+    } else if (pose->parsed()) {
+      const auto r = client.getRobotPose(robot);
+      if (!report(r, "pose")) return 1;
+      printPose(r.reply->state);
+    } else if (save->parsed() || load->parsed() || exp->parsed() || clear->parsed()) {
+      socc::map_command_request_t request{};
+      request.path = path;
+      request.occupancy_threshold = threshold;
+      if (save->parsed()) request.command = socc::map_command_request_t::SAVE;
+      if (load->parsed()) request.command = socc::map_command_request_t::LOAD;
+      if (clear->parsed()) request.command = socc::map_command_request_t::CLEAR;
+      if (exp->parsed())
+        request.command = format == "bt"   ? socc::map_command_request_t::EXPORT_OCTOMAP_BT
+                          : format == "ot" ? socc::map_command_request_t::EXPORT_OCTOMAP_OT
+                                           : socc::map_command_request_t::EXPORT_PCD;
+      const auto r = client.command(request);
+      if (!report(r, "command")) return 1;
+      std::cout << r.reply->detail << " voxels=" << r.reply->num_voxels
+                << " bytes=" << r.reply->num_bytes << '\n';
+    } else if (render->parsed()) {
+      socc::render_request_t request{};
+      for (int i = 0; i < 3; ++i) {
+        request.box_min[i] = box[i];
+        request.box_max[i] = box[i + 3];
+      }
+      request.pixel_size = pixel_size;
+      request.mode = static_cast<std::int8_t>(mode);
+      request.occupancy_threshold = 0.5f;
+      const auto r = client.render(request);
+      if (!report(r, "render")) return 1;
+      std::ofstream out(out_png, std::ios::binary);
+      out.write(reinterpret_cast<const char*>(r.reply->png.data()),
+                static_cast<std::streamsize>(r.reply->png.size()));
+      if (!out) throw std::runtime_error("cannot write " + out_png);
+      std::cout << out_png << ' ' << r.reply->width << 'x' << r.reply->height << '\n';
+    } else if (chunk->parsed()) {
+      socc::chunk_request_t request = socc::rpc::sphereChunkRequest(Eigen::Vector3d::Zero(), 0.0);
+      if (sphere.size() == 4) {
+        request = socc::rpc::sphereChunkRequest({sphere[0], sphere[1], sphere[2]}, sphere[3]);
+      } else if (box.size() == 6) {
+        request.shape = socc::chunk_request_t::SHAPE_BOX;
+        for (int i = 0; i < 3; ++i) {
+          request.box_min[i] = box[i];
+          request.box_max[i] = box[i + 3];
+        }
+      } else {
+        std::cerr << "socc-cli chunk: give --sphere x y z r or --box ...\n";
+        return 2;
+      }
+      request.fields = parseFields(field_names);
+      request.limit = limit;
+      request.occupancy_threshold = threshold;
+      const auto r = client.getChunk(request);
+      if (!report(r, "chunk")) return 1;
+      std::cout << "voxels=" << r.reply->num_voxels << " free=" << r.reply->n_free
+                << " truncated=" << (r.reply->truncated ? 1 : 0) << " bytes=" << r.bytes_received
+                << " version=" << r.reply->map_version << '\n';
+      if (digest) std::cout << "digest=" << contentDigest(*r.reply) << '\n';
+    } else if (integrate->parsed()) {
+      socc::LabeledCloud cloud;
+      if (bin_file.empty()) {
+        cloud = syntheticCloud(seed);
+      } else {
+        cloud.points = socc::readKittiBin(bin_file);
+        if (!label_file.empty())
+          for (const std::uint32_t raw : socc::readSemanticKittiLabels(label_file))
+            cloud.labels.push_back(socc::mapSemanticKittiLabel(raw));
+      }
+      Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
+      sensor.translation() = Eigen::Vector3d(xyz_yaw[0], xyz_yaw[1], xyz_yaw[2]);
+      sensor.linear() =
+          Eigen::AngleAxisd(xyz_yaw[3] * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      const auto r =
+          client.integrate(socc::rpc::makeIntegrateRequest(seq, seq * 100000, sensor, cloud));
+      if (!report(r, "integrate")) return 1;
+      std::cout << "seq=" << r.reply->seq << (r.reply->duplicate ? " duplicate" : " applied")
+                << " touched=" << r.reply->voxels_touched << " hit=" << r.reply->voxels_hit
+                << " freed=" << r.reply->voxels_freed << " version=" << r.reply->map_version
+                << " attempts=" << r.attempts << '\n';
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "socc-cli: " << e.what() << '\n';
+    return 1;
+  }
+  return 0;
+}

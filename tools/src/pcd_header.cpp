@@ -1,0 +1,90 @@
+#include "socc/tools/pcd_header.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace socc::tools {
+
+namespace {
+
+[[noreturn]] void fail(const std::filesystem::path& file, const std::string& why) {
+  throw std::runtime_error(file.string() + ": " + why);
+}
+
+bool parseCount(const std::string& text, unsigned long long& value) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || text.size() > 12)
+    return false;
+  value = std::stoull(text);
+  return true;
+}
+
+}  // namespace
+
+void checkPcdHeader(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) fail(file, "cannot open");
+  static const char* const kKeys[] = {"VERSION", "FIELDS", "SIZE",      "TYPE",   "COUNT",
+                                      "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+  std::map<std::string, std::vector<std::string>> header;
+  std::uintmax_t header_bytes = 0;
+  std::string line;
+  for (int n = 0; n < 64 && header.count("DATA") == 0 && std::getline(in, line); ++n) {
+    header_bytes += line.size() + 1;
+    std::istringstream tokens(line);
+    std::string key;
+    if (!(tokens >> key) || key[0] == '#') continue;
+    if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys))
+      fail(file, "not a PCD file (unexpected header line '" + line.substr(0, 40) + "')");
+    std::vector<std::string>& values = header[key];
+    for (std::string v; tokens >> v;) values.push_back(v);
+  }
+  for (const char* key : {"FIELDS", "SIZE", "TYPE", "WIDTH", "POINTS", "DATA"})
+    if (header.count(key) == 0) fail(file, std::string("PCD header has no ") + key + " line");
+
+  const std::size_t num_fields = header["FIELDS"].size();
+  if (num_fields == 0 || header["SIZE"].size() != num_fields ||
+      header["TYPE"].size() != num_fields ||
+      (header.count("COUNT") != 0 && header["COUNT"].size() != num_fields))
+    fail(file, "PCD header: FIELDS, SIZE, TYPE and COUNT disagree");
+  unsigned long long point_bytes = 0;
+  for (std::size_t i = 0; i < num_fields; ++i) {
+    unsigned long long size = 0, count = 1;
+    const std::string& type = header["TYPE"][i];
+    if (!parseCount(header["SIZE"][i], size) ||
+        (size != 1 && size != 2 && size != 4 && size != 8) ||
+        (type != "I" && type != "U" && type != "F") ||
+        (header.count("COUNT") != 0 &&
+         (!parseCount(header["COUNT"][i], count) || count == 0 || count > 1024)))
+      fail(file, "PCD header: bad SIZE/TYPE/COUNT of field " + header["FIELDS"][i]);
+    point_bytes += size * count;
+  }
+  unsigned long long width = 0, height = 1, points = 0;
+  if (header["WIDTH"].size() != 1 || !parseCount(header["WIDTH"][0], width) ||
+      header["POINTS"].size() != 1 || !parseCount(header["POINTS"][0], points) ||
+      (header.count("HEIGHT") != 0 &&
+       (header["HEIGHT"].size() != 1 || !parseCount(header["HEIGHT"][0], height))) ||
+      height == 0 || points % height != 0 || points / height != width)  // no overflow
+    fail(file, "PCD header: WIDTH * HEIGHT must equal POINTS");
+  const std::vector<std::string>& data = header["DATA"];
+  if (data.size() != 1 ||
+      (data[0] != "ascii" && data[0] != "binary" && data[0] != "binary_compressed"))
+    fail(file, "PCD header: DATA must be ascii, binary or binary_compressed");
+  // PCL allocates POINTS * point size before reading the body: bound it by what the file can
+  // hold (ascii: at least 2 characters per point; LZF expands at most ~100x).
+  const std::uintmax_t file_bytes = std::filesystem::file_size(file);
+  const std::uintmax_t body_bytes = file_bytes > header_bytes ? file_bytes - header_bytes : 0;
+  if (points > (1ull << 32) || point_bytes > (1ull << 16))
+    fail(file, "PCD header: too many points or too large points");
+  const unsigned long long claimed = points * point_bytes;
+  if ((data[0] == "binary" && body_bytes < claimed) ||
+      (data[0] == "ascii" && body_bytes < 2 * points) ||
+      (data[0] == "binary_compressed" && claimed > 100 * body_bytes + 1024))
+    fail(file, "PCD file is too short for its POINTS");
+}
+
+}  // namespace socc::tools
