@@ -35,7 +35,7 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 "$build/fuzz/fuzz_seeds" "$work/seeds" || { echo "fuzz.sh: fuzz_seeds failed" >&2; exit 1; }
 artifacts="$build/fuzz-artifacts"
-mkdir -p "$artifacts"
+rm -rf "$artifacts" && mkdir -p "$artifacts"  # only this run's findings
 
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:allocator_may_return_null=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"

@@ -21,13 +21,30 @@ namespace {
 
 using socc::rpc::MapClient;
 
+// gRPC-style names, so scripts and people can tell e.g. a missing key (UNAUTHENTICATED) apart.
+std::string statusName(std::int8_t status) {
+  switch (status) {
+    case socc::reply_header_t::INVALID_ARGUMENT:
+      return "INVALID_ARGUMENT";
+    case socc::reply_header_t::NOT_FOUND:
+      return "NOT_FOUND";
+    case socc::reply_header_t::RESOURCE_EXHAUSTED:
+      return "RESOURCE_EXHAUSTED";
+    case socc::reply_header_t::INTERNAL:
+      return "INTERNAL";
+    case socc::reply_header_t::UNAUTHENTICATED:
+      return "UNAUTHENTICATED";
+    default:
+      return "status " + std::to_string(status);
+  }
+}
+
 template <typename Reply>
 bool report(const socc::rpc::Result<Reply>& result, const std::string& what) {
   if (result.ok()) return true;
   std::cerr << "socc-cli " << what << ": "
-            << (result.error.timed_out ? "TIMEOUT"
-                                       : "status " + std::to_string(result.error.status))
-            << ": " << result.error.message << '\n';
+            << (result.error.timed_out ? "TIMEOUT" : statusName(result.error.status)) << ": "
+            << result.error.message << '\n';
   return false;
 }
 
@@ -104,6 +121,8 @@ int main(int argc, char** argv) {
   app.add_option("--client-id", options.client_id, "client / robot id")->capture_default_str();
   app.add_option("--timeout-ms", timeout_ms, "per attempt")->capture_default_str();
   app.add_option("--attempts", options.max_attempts, "attempts per call")->capture_default_str();
+  app.add_option("--key-file", options.key_file,
+                 "shared key (mode 0600) to sign requests with, if map_server has --key-file");
 
   auto* stats = app.add_subcommand("stats", "print map statistics and robot states");
   std::string robot;
@@ -174,7 +193,7 @@ int main(int argc, char** argv) {
                 << " memory_bytes=" << s.memory_bytes << " version=" << s.map_version
                 << " integrations=" << s.integrations << " rate=" << s.integrations_per_s
                 << "/s requests=" << s.requests << " rejected=" << s.rejected_requests
-                << " robots=" << s.num_robots << '\n';
+                << " auth_failures=" << s.auth_failures << " robots=" << s.num_robots << '\n';
       for (const auto& state : s.robots) printPose(state);
     } else if (pose->parsed()) {
       const auto r = client.getRobotPose(robot);

@@ -8,9 +8,11 @@
 #include <filesystem>
 #include <iostream>
 #include <lcm/lcm-cpp.hpp>
+#include <memory>
 #include <optional>
 #include <string>
 
+#include "service/auth_gate.hpp"
 #include "service/map_service.hpp"
 #include "service/request_gate.hpp"
 #include "service/request_router.hpp"
@@ -31,6 +33,8 @@ struct Options {
   double snapshot_period = 60.0;
   std::string journal;
   std::string file_dir;
+  std::string key_file;
+  bool auth_queries = false;
   double status_period = 1.0;
   bool quiet = false;
   bool ignore_corrupt_snapshot = false;
@@ -64,6 +68,17 @@ void restoreState(socc::service::MapService& service, const Options& options) {
   }
 }
 
+// AllowAllGate without a key, else an AuthGate whose counters the service persists in its
+// snapshots (attached before any snapshot is restored). Throws on key file problems.
+std::unique_ptr<socc::service::RequestGate> makeGate(const socc::service::ServerConfig& config,
+                                                     socc::service::MapService& service) {
+  if (config.key_file.empty()) return std::make_unique<socc::service::AllowAllGate>();
+  auto gate = std::make_unique<socc::service::AuthGate>(
+      socc::auth::SharedKey::fromFile(config.key_file), config.auth_queries);
+  service.attachReplayGuard(gate->replayGuard());
+  return gate;
+}
+
 int run(const Options& options) {
   socc::service::ServerConfig config;
   try {
@@ -73,6 +88,12 @@ int run(const Options& options) {
     return 2;
   }
   if (!options.file_dir.empty()) config.file_dir = options.file_dir;
+  if (!options.key_file.empty()) config.key_file = options.key_file;
+  config.auth_queries = config.auth_queries || options.auth_queries;
+  if (config.auth_queries && config.key_file.empty()) {
+    std::cerr << "map_server: --auth-queries needs a key (--key-file or key_file: in --config)\n";
+    return 2;
+  }
   if (!options.journal.empty() && options.snapshot_dir.empty()) {
     std::cerr << "map_server: --journal needs --snapshot-dir (the journal restarts after each "
                  "snapshot)\n";
@@ -81,6 +102,13 @@ int run(const Options& options) {
   if (!options.snapshot_dir.empty()) fs::create_directories(options.snapshot_dir);
 
   socc::service::MapService service(config);
+  std::unique_ptr<socc::service::RequestGate> gate;
+  try {
+    gate = makeGate(config, service);
+  } catch (const std::exception& e) {
+    std::cerr << "map_server: " << e.what() << '\n';
+    return 2;
+  }
   try {
     restoreState(service, options);
   } catch (const std::exception& e) {
@@ -95,8 +123,7 @@ int run(const Options& options) {
               << " (multicast routed to lo? `ip route replace 224.0.0.0/4 dev lo`)\n";
     return 1;
   }
-  socc::service::AllowAllGate gate;
-  socc::service::RequestRouter router(lcm, service, gate, !options.quiet);
+  socc::service::RequestRouter router(lcm, service, *gate, !options.quiet);
 
   // SIGINT/SIGTERM are blocked and polled, so shutdown happens between two requests and the
   // final snapshot never races a handler.
@@ -112,6 +139,9 @@ int run(const Options& options) {
   const bool periodic_snapshots = !options.snapshot_dir.empty() && options.snapshot_period > 0;
   auto next_status = Clock::now();
   auto next_snapshot = Clock::now() + snapshot_period;
+  if (!options.quiet && !config.key_file.empty())
+    std::cerr << "map_server: requests must be signed (" << config.key_file.string() << "; "
+              << (config.auth_queries ? "all services" : "state-changing services") << ")\n";
   if (!options.quiet)
     std::cerr << "map_server: ready on " << options.lcm_url << " ("
               << service.map().stats().num_voxels << " voxels, " << service.robots().size()
@@ -168,6 +198,11 @@ int main(int argc, char** argv) {
                  "needs --snapshot-dir");
   app.add_option("--file-dir", options.file_dir,
                  "directory MAP_COMMAND paths are resolved in (overrides file_dir of --config)");
+  app.add_option("--key-file", options.key_file,
+                 "shared key (mode 0600, docs/security.md): INTEGRATE and MAP_COMMAND must then "
+                 "be signed (overrides key_file of --config)");
+  app.add_flag("--auth-queries", options.auth_queries,
+               "with a key, also require signed GET_CHUNK, GET_STATS, GET_ROBOT_POSE and RENDER");
   app.add_option("--status-period", options.status_period,
                  "seconds between map_stats_t on SOCC/STATUS (0 = off)")
       ->capture_default_str()

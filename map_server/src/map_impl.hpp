@@ -24,15 +24,11 @@ struct ScanScratch {
   std::vector<VoxelIndex> hit_voxels;
   std::vector<FrameAggregate> hits;  // parallel to hit_voxels
   std::vector<Eigen::Vector3d> ray_ends;
-  // Misses are applied in parallel by block owner (see scan_integrator.cpp). The part and
-  // owner counts are fixed, not the thread count, so the map never depends on scheduling.
-  static constexpr int kParts = 2;
-  std::vector<Block*> hit_blocks;  // parallel to hit_voxels
-  // misses[part]: ray voxels of a contiguous range of rays; each owner picks its blocks.
-  std::array<std::vector<VoxelIndex>, kParts> misses;
-  std::array<std::array<std::vector<VoxelIndex>, 2>, kParts> ray_tmp;  // current, previous
-  std::array<std::vector<BlockKey>, kParts> missing_blocks;  // found by part, created serially
-  std::array<std::vector<Block*>, kParts> touched;           // per owner
+  // Ray batches in flight in the traversal pipeline (small, so they stay in cache).
+  static constexpr std::size_t kRayBatches = 4;
+  std::array<std::vector<VoxelIndex>, kRayBatches> ray_voxels;
+  std::array<std::array<std::vector<VoxelIndex>, 2>, kRayBatches> ray_tmp;  // current, previous
+  std::vector<Block*> touched;
 };
 
 struct SemanticOccupancyMap::Impl {

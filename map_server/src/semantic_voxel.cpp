@@ -77,15 +77,4 @@ void SemanticVoxelBehaviour::onHits(float& log_odds, VoxelStats& stats,
   stats.has_semantics = true;
 }
 
-float SemanticVoxelBehaviour::missLogOdds(const VoxelStats* stats) const {
-  if (!semantics_ || stats == nullptr || !stats->has_semantics || stats->label == kUnlabeled)
-    return miss_;
-  return isPotentiallyMoving(stats->label) ? miss_moving_ : miss_static_;
-}
-
-bool SemanticVoxelBehaviour::onMiss(float& log_odds, const VoxelStats* stats) const {
-  log_odds = std::clamp(log_odds + missLogOdds(stats), min_, max_);
-  return stats != nullptr && !isOccupied(log_odds);
-}
-
 }  // namespace socc::map

@@ -9,6 +9,7 @@
 
 #include "socc/odom/local_map.hpp"
 #include "socc/odom/odometry.hpp"
+#include "socc/pose_conversion.hpp"
 #include "socc/progress_bar.hpp"
 
 namespace socc::odom {
@@ -46,15 +47,24 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
   std::optional<PendingIntegrate> pending;
   std::optional<std::int64_t> last_utime;
 
-  // Waits for the Integrate in flight, then logs its frame.
-  const auto finishPending = [&]() {
-    if (!pending) return;
+  // Waits for the Integrate in flight, logs its frame and returns the map version it produced
+  // (-1 when none was in flight).
+  const auto finishPending = [&]() -> std::int64_t {
+    if (!pending) return -1;
     auto [result, latency_ms] = pending->reply.get();
     if (!result.ok())
       throw std::runtime_error(callError("INTEGRATE", result.error, result.attempts));
     pending->stats.integrate_ms = latency_ms;
     log.add(pending->stats);
     pending.reset();
+    return result.reply->map_version;
+  };
+  const auto fetchChunk = [&](const Eigen::Vector3d& center) {
+    chunk_request_t request = rpc::sphereChunkRequest(center, config_.chunk_radius);
+    request.occupancy_threshold = static_cast<float>(config_.occupancy_threshold);
+    rpc::Result<chunk_reply_t> chunk = client_.getChunk(request);
+    if (!chunk.ok()) throw std::runtime_error(callError("GET_CHUNK", chunk.error, chunk.attempts));
+    return chunk;
   };
 
   while (!(options_.stop && options_.stop->load())) {
@@ -80,15 +90,24 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
     stats.points = static_cast<std::int64_t>(prepared.full.size());
     stats.downsampled_points = static_cast<std::int64_t>(prepared.downsampled.size());
 
-    finishPending();  // the server has applied the previous scan before we ask for the chunk
+    // The full range-filtered (deskewed) cloud goes to the map, not the downsampled one. It is
+    // in the sensor frame, so the request is built here, off the critical path (the server is
+    // still integrating the previous scan); only the estimated pose is filled in later.
+    integrate_request_t integrate = rpc::makeIntegrateRequest(
+        scan->seq, scan->utime, Eigen::Isometry3d::Identity(), prepared.full);
 
+    // GET_CHUNK goes out while the previous Integrate may still be unanswered: the server is
+    // single-threaded and handles requests in arrival order, so the chunk already holds the
+    // previous scan. If the Integrate reached the server after the GET_CHUNK (a retry after a
+    // lost datagram, or a worker thread slower to publish than preprocessing), the chunk's map
+    // version is older than the Integrate's and it is fetched again.
     const Clock::time_point fetch_start = Clock::now();
-    const Eigen::Isometry3d prediction = odometry.predictedPose();
-    chunk_request_t request =
-        rpc::sphereChunkRequest(prediction.translation(), config_.chunk_radius);
-    request.occupancy_threshold = static_cast<float>(config_.occupancy_threshold);
-    const rpc::Result<chunk_reply_t> chunk = client_.getChunk(request);
-    if (!chunk.ok()) throw std::runtime_error(callError("GET_CHUNK", chunk.error, chunk.attempts));
+    const Eigen::Vector3d center = odometry.predictedPose().translation();
+    rpc::Result<chunk_reply_t> chunk = fetchChunk(center);
+    if (chunk.reply->map_version < finishPending()) {
+      chunk = fetchChunk(center);
+      ++refetched_chunks_;
+    }
     const LocalMap map = LocalMap::fromChunk(*chunk.reply, config_.occupancy_threshold);
     stats.fetch_ms = msSince(fetch_start);
     stats.chunk_voxels = static_cast<std::int64_t>(map.size());
@@ -103,9 +122,7 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
     stats.iterations = estimate.registration.iterations;
     stats.sigma = estimate.sigma;
 
-    // The full range-filtered (deskewed) cloud goes to the map, not the downsampled one.
-    integrate_request_t integrate =
-        rpc::makeIntegrateRequest(scan->seq, scan->utime, estimate.pose, prepared.full);
+    integrate.sensor_pose = toLcm(estimate.pose);
     pending.emplace();
     pending->reply =
         std::async(std::launch::async, [this, request = std::move(integrate)]() mutable {

@@ -4,6 +4,7 @@
 
 #include "socc/odom/deskew.hpp"
 #include "socc/odom/preprocessing.hpp"
+#include "socc/odom/se3.hpp"
 
 namespace socc::odom {
 
@@ -50,11 +51,12 @@ FrameEstimate Odometry::registerFrame(const PreparedScan& scan, const LocalMap& 
   out.pose = prediction;
   if (map.size() >= static_cast<std::size_t>(std::max(config_.min_map_points, 1))) {
     out.registration = registerScan(scan.downsampled, map, prediction, out.sigma, params_);
-    out.pose = out.registration.pose;
+    out.pose = orthonormalized(out.registration.pose);
     out.registered = true;
-    threshold_.update(prediction.inverse() * out.pose);
+    if (has_motion_model_) threshold_.update(prediction.inverse() * out.pose);
   }
-  velocity_ = pose_.inverse() * out.pose;
+  has_motion_model_ = true;
+  velocity_ = orthonormalized(pose_.inverse() * out.pose);
   pose_ = out.pose;
   return out;
 }
@@ -62,6 +64,7 @@ FrameEstimate Odometry::registerFrame(const PreparedScan& scan, const LocalMap& 
 void Odometry::reset(const Eigen::Isometry3d& pose) {
   pose_ = pose;
   velocity_ = Eigen::Isometry3d::Identity();
+  has_motion_model_ = false;
   threshold_.reset();
 }
 

@@ -3,6 +3,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/Lie/SE.h>
 
+#include <Eigen/SVD>
 #include <cmath>
 
 namespace socc::odom {
@@ -53,7 +54,19 @@ Eigen::Isometry3d applyIncrement(const Vector6d& dx, const Eigen::Isometry3d& po
   delta.getHomogeneousMatrix(m);
   Eigen::Isometry3d d = Eigen::Isometry3d::Identity();
   d.matrix() = m.asEigen();
-  return d * pose;
+  return orthonormalized(d * pose);
+}
+
+Eigen::Isometry3d orthonormalized(const Eigen::Isometry3d& pose) {
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  // Polar decomposition: U V^T is the rotation nearest to the linear part (Frobenius norm).
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(pose.linear(),
+                                              Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d u = svd.matrixU();
+  if ((u * svd.matrixV().transpose()).determinant() < 0.0) u.col(2) *= -1.0;
+  out.linear() = u * svd.matrixV().transpose();
+  out.translation() = pose.translation();
+  return out;
 }
 
 }  // namespace socc::odom

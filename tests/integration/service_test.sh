@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Integration test of map_server + socc-cli as real processes over UDP multicast on loopback.
-# usage: service_test.sh basic|crash <map_server> <socc-cli>
+# usage: service_test.sh basic|crash|auth <map_server> <socc-cli>
 #   basic: integrate, duplicate, chunk, stats, pose, save/load, exports, render, clear
 #   crash: kill -9 (idle and mid-run), restart with snapshot + journal -> byte-equal chunks;
 #          corrupt snapshot refused unless --ignore-corrupt-snapshot
+#   auth:  server with --key-file: signed CLI served, unsigned/wrong key UNAUTHENTICATED and
+#          nothing changed, --auth-queries, key file readable by others refused (exit 2)
 set -euo pipefail
 mode=$1 server_bin=$2 cli_bin=$3
 
@@ -36,11 +38,12 @@ expect() { # expect <pattern> <command...>: command succeeds and prints pattern
   echo "ok: $* -> $(head -1 <<<"$out")"
 }
 
+probe_options=()  # socc-cli options of the start-up probe (a key when queries need one)
 start_server() {
   "$server_bin" --lcm-url "$url" --file-dir "$work" "$@" >"$work/server.log" 2>&1 &
   server_pid=$!
   for _ in $(seq 100); do
-    if cli --timeout-ms 100 --attempts 1 stats >/dev/null 2>&1; then return 0; fi
+    if cli "${probe_options[@]}" --timeout-ms 100 --attempts 1 stats >/dev/null 2>&1; then return 0; fi
     kill -0 "$server_pid" 2>/dev/null || fail "map_server exited during start-up"
     sleep 0.1
   done
@@ -130,6 +133,55 @@ crash() {
   start_server "${durable[@]}" --restore "$work/snaps/map.snap" --ignore-corrupt-snapshot
   expect "voxels=0 " cli stats
   ls "$work/snaps" | grep -q "corrupt-" || fail "corrupt snapshot was not set aside"
+}
+
+expect_refused() { # expect_refused <pattern> <command...>: command fails and prints pattern
+  local pattern=$1; shift
+  local out
+  if out=$("$@" 2>&1); then fail "'$*' succeeded: $out"; fi
+  grep -Eq -- "$pattern" <<<"$out" || fail "'$*' printed '$out', expected /$pattern/"
+  echo "ok: refused: $* -> $(head -1 <<<"$out")"
+}
+
+auth() {
+  local key=$work/map.key wrong=$work/wrong.key
+  new_key() { (umask 077 && head -c 32 /dev/urandom | od -An -tx1 | tr -d ' \n' >"$1"); }
+  new_key "$key"
+  new_key "$wrong"
+  start_server --quiet --key-file "$key"
+  expect "seq=1 applied" integrate robot1 1 --key-file "$key"
+  expect "seq=2 applied" integrate robot1 2 --key-file "$key"
+  local before; before=$(digest --sphere 0 0 0 30 --fields features stats free index)
+  expect_refused "UNAUTHENTICATED.*not signed" integrate robot1 3
+  expect_refused "UNAUTHENTICATED.*not signed" integrate robot2 1
+  expect_refused "UNAUTHENTICATED.*mac does not match" integrate robot1 3 --key-file "$wrong"
+  expect_refused "UNAUTHENTICATED" cli clear
+  expect_refused "UNAUTHENTICATED" cli save map.snap
+  [[ -e $work/map.snap ]] && fail "unsigned save wrote a file"
+  [[ $(digest --sphere 0 0 0 30 --fields features stats free index) == "$before" ]] ||
+    fail "map changed by refused requests"
+  expect "integrations=2 .*auth_failures=5 robots=1" cli stats
+  expect "map.snap voxels=[1-9]" cli --key-file "$key" save map.snap
+  expect "cleared" cli --key-file "$key" clear
+  expect "voxels=0 " cli stats
+  kill9_server
+
+  # --auth-queries: reads need the key too.
+  probe_options=(--key-file "$key")
+  start_server --quiet --key-file "$key" --auth-queries
+  expect_refused "UNAUTHENTICATED" cli stats
+  expect "voxels=0 " cli --key-file "$key" stats
+  kill9_server
+  probe_options=()
+
+  # A key that group or others can read is refused at start with a clear error and exit 2.
+  chmod 0644 "$key"
+  local rc=0
+  "$server_bin" --lcm-url "$url" --key-file "$key" --quiet >"$work/perm.log" 2>&1 || rc=$?
+  [[ $rc == 2 ]] || fail "map_server with a 0644 key file exited $rc: $(cat "$work/perm.log")"
+  grep -q "chmod" "$work/perm.log" || fail "no clear key file error: $(cat "$work/perm.log")"
+  echo "ok: 0644 key file refused (exit 2): $(head -1 "$work/perm.log")"
+  expect_refused "chmod" cli --key-file "$key" stats
 }
 
 "$mode"

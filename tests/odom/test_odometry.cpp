@@ -144,3 +144,18 @@ TEST(FrameLog, WritesCsvRowsAndMeans) {
   fs::remove(csv);
   EXPECT_THROW(FrameLog("/nonexistent/dir/frames.csv"), std::runtime_error);
 }
+
+TEST(Se3, IncrementsKeepThePoseARigidTransform) {
+  // Thousands of ICP-sized updates: round-off must not accumulate into a non-rotation (the
+  // server rejects poses whose quaternion is not unit length).
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  Vector6d dx;
+  dx << 0.9, 0.01, -0.002, 0.001, -0.0007, 0.0025;
+  for (int i = 0; i < 5000; ++i) pose = applyIncrement(dx, pose);
+  const Eigen::Matrix3d r = pose.linear();
+  EXPECT_LT((r.transpose() * r - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+  EXPECT_NEAR(r.determinant(), 1.0, 1e-12);
+  Eigen::Isometry3d skewed = pose;
+  skewed.linear() *= 1.01;
+  EXPECT_LT((orthonormalized(skewed).linear() - r).norm(), 1e-9);
+}

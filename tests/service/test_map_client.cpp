@@ -1,14 +1,20 @@
 // MapClient against an in-process server over UDP multicast on loopback (random port, so
 // concurrent test runs never see each other).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <fstream>
 #include <lcm/lcm-cpp.hpp>
+#include <memory>
+#include <mutex>
 #include <thread>
 
+#include "service/auth_gate.hpp"
 #include "service/request_router.hpp"
 #include "service_test_helpers.hpp"
+#include "socc/auth/message_auth.hpp"
 
 namespace socc::service {
 namespace {
@@ -24,8 +30,12 @@ std::string randomUrl() {
 // map_server's loop in a thread: the MapService is only touched by that thread.
 class InProcessServer {
  public:
-  explicit InProcessServer(const std::string& url)
-      : lcm_(url), service_(test::smallConfig()), router_(lcm_, service_, gate_, false) {
+  explicit InProcessServer(const std::string& url,
+                           std::unique_ptr<RequestGate> gate = std::make_unique<AllowAllGate>())
+      : lcm_(url),
+        service_(test::smallConfig()),
+        gate_(std::move(gate)),
+        router_(lcm_, service_, *gate_, false) {
     thread_ = std::thread([this] {
       while (!stop_) lcm_.handleTimeout(20);
     });
@@ -39,7 +49,7 @@ class InProcessServer {
  private:
   lcm::LCM lcm_;
   MapService service_;
-  AllowAllGate gate_;
+  std::unique_ptr<RequestGate> gate_;
   RequestRouter router_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
@@ -137,6 +147,120 @@ TEST(MapClient, OneThreadIntegratesWhileAnotherFetches) {
   const auto stats = client.getStats();
   ASSERT_TRUE(stats.ok());
   EXPECT_EQ(stats.reply->stats.integrations, 8);
+}
+
+// Signing ----------------------------------------------------------------------------------
+
+constexpr std::uint8_t kKeyByte = 0x3c;
+
+// A 0600 key file (hex) of 32 kKeyByte bytes in dir.
+std::string writeKeyFile(const test::TempDir& dir) {
+  const auto file = dir.path() / "map.key";
+  {
+    std::ofstream out(file);
+    for (int i = 0; i < 32; ++i) out << "3c";  // hex of kKeyByte
+  }
+  ::chmod(file.c_str(), 0600);
+  return file.string();
+}
+
+auth::SharedKey testKey() {
+  return auth::SharedKey::fromBytes(std::vector<std::uint8_t>(32, kKeyByte));
+}
+
+TEST(MapClientAuth, SignedClientIsServedUnsignedIsRefused) {
+  const std::string url = randomUrl();
+  test::TempDir dir;
+  InProcessServer server(url, std::make_unique<AuthGate>(testKey(), false));
+  ASSERT_TRUE(server.good());
+  rpc::ClientOptions options = clientOptions(url, "robot1");
+  options.key_file = writeKeyFile(dir);
+  rpc::MapClient client(options);
+  const auto applied = client.integrate(test::scan("robot1", 1));
+  ASSERT_TRUE(applied.ok()) << applied.error.message;
+  EXPECT_FALSE(applied.reply->duplicate);
+
+  rpc::MapClient anonymous(clientOptions(url, "robot2"));
+  const auto refused = anonymous.integrate(test::scan("robot2", 1));
+  ASSERT_FALSE(refused.ok());
+  EXPECT_FALSE(refused.error.timed_out);
+  EXPECT_EQ(refused.error.status, +reply_header_t::UNAUTHENTICATED);
+  const auto stats = anonymous.getStats();  // queries stay open without --auth-queries
+  ASSERT_TRUE(stats.ok());
+  EXPECT_EQ(stats.reply->stats.integrations, 1);
+  EXPECT_EQ(stats.reply->stats.auth_failures, 1);
+}
+
+TEST(MapClientAuth, KeyFileReadableByOthersIsRefused) {
+  test::TempDir dir;
+  rpc::ClientOptions options = clientOptions("memq://", "robot1");
+  options.key_file = writeKeyFile(dir);
+  ::chmod(options.key_file.c_str(), 0644);
+  EXPECT_THROW(rpc::MapClient{options}, std::runtime_error);
+}
+
+// Every attempt as published, seen by a raw listener standing in for an unresponsive server.
+class AttemptRecorder {
+ public:
+  explicit AttemptRecorder(const std::string& url) : lcm_(url) {
+    lcm_subscribe(lcm_.getUnderlyingLCM(), channels::request(channels::kIntegrate).c_str(),
+                  &AttemptRecorder::onRequest, this);
+    thread_ = std::thread([this] {
+      while (!stop_) lcm_.handleTimeout(10);
+    });
+  }
+  ~AttemptRecorder() {
+    stop_ = true;
+    thread_.join();
+  }
+  std::vector<std::vector<std::uint8_t>> attempts() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return attempts_;
+  }
+
+ private:
+  static void onRequest(const lcm_recv_buf_t* rbuf, const char* /*channel*/, void* self) {
+    auto* recorder = static_cast<AttemptRecorder*>(self);
+    const auto* data = static_cast<const std::uint8_t*>(rbuf->data);
+    const std::lock_guard<std::mutex> lock(recorder->mutex_);
+    recorder->attempts_.emplace_back(data, data + rbuf->data_size);
+  }
+
+  lcm::LCM lcm_;
+  std::mutex mutex_;
+  std::vector<std::vector<std::uint8_t>> attempts_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+TEST(MapClientAuth, EveryRetryIsResignedWithANewCounter) {
+  const std::string url = randomUrl();
+  test::TempDir dir;
+  AttemptRecorder recorder(url);
+  rpc::ClientOptions options = clientOptions(url, "robot1");
+  options.key_file = writeKeyFile(dir);
+  options.timeout = std::chrono::milliseconds(100);
+  options.max_attempts = 3;
+  rpc::MapClient client(options);
+  EXPECT_TRUE(client.integrate(test::scan("robot1", 7)).error.timed_out);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+
+  const auto attempts = recorder.attempts();
+  ASSERT_EQ(attempts.size(), 3u);
+  auth::Verifier verifier(testKey());  // the server's view: each attempt is fresh and genuine
+  std::optional<integrate_request_t> first;
+  for (const auto& bytes : attempts) {
+    integrate_request_t request;
+    ASSERT_EQ(request.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
+              static_cast<int>(bytes.size()));
+    const auth::AuthResult result =
+        verifier.verifyEncoded(request.header, bytes.data(), bytes.size());
+    EXPECT_TRUE(result.ok) << result.reason;
+    if (!first) first = request;
+    EXPECT_EQ(request.header.request_id, first->header.request_id);
+    EXPECT_EQ(request.seq, 7);
+  }
+  EXPECT_FALSE(verifier.verifyEncoded(first->header, attempts[0].data(), attempts[0].size()).ok);
 }
 
 }  // namespace

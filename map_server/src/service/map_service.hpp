@@ -13,6 +13,7 @@
 #include "journal.hpp"
 #include "robot_registry.hpp"
 #include "service_config.hpp"
+#include "socc/auth/replay_guard.hpp"
 #include "socc/chunk_reply_t.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/integrate_reply_t.hpp"
@@ -74,6 +75,10 @@ class MapService {
   void saveSnapshot(const std::filesystem::path& file) const;
   /// Applies journal entries not covered by the current state; returns how many were applied.
   std::int64_t replayJournal(const JournalContents& contents, bool show_progress);
+  /// Persists guard's per-client auth counters in every snapshot and restores them (keeping the
+  /// higher value) on load, so a restored server still refuses replays. guard must outlive
+  /// the service; attach it before openDurability.
+  void attachReplayGuard(auth::ReplayGuard& guard) { replay_guard_ = &guard; }
 
  private:
   Status applyIntegrate(const integrate_request_t& request, integrate_reply_t& reply);
@@ -87,6 +92,7 @@ class MapService {
   std::deque<std::chrono::steady_clock::time_point> recent_integrations_;  // rate window
   Durability durability_;
   std::unique_ptr<Journal> journal_;
+  auth::ReplayGuard* replay_guard_ = nullptr;  // not owned (the AuthGate's); null without a key
 };
 
 }  // namespace socc::service

@@ -12,6 +12,7 @@ void MapService::saveSnapshot(const std::filesystem::path& file) const {
   SnapshotMetadata metadata;
   metadata.robots = robots_.states();
   metadata.journal_sequence = integrations_;
+  if (replay_guard_ != nullptr) metadata.auth_counters = replay_guard_->counters();
   map_.save(file, encodeSnapshotMetadata(metadata));
 }
 
@@ -29,6 +30,7 @@ void MapService::loadSnapshot(const std::filesystem::path& file) {
   map_ = std::move(loaded);
   robots_.assign(metadata->robots);
   integrations_ = metadata->journal_sequence;
+  if (replay_guard_ != nullptr) replay_guard_->importCounters(metadata->auth_counters);
 }
 
 std::int64_t MapService::replayJournal(const JournalContents& contents, bool show_progress) {

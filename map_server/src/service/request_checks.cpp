@@ -1,6 +1,7 @@
 #include "request_checks.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "socc/pose_conversion.hpp"
@@ -86,10 +87,15 @@ Status checkRenderRequest(const render_request_t& request, double voxel_size,
   const double pixel = request.pixel_size > 0.0 ? request.pixel_size : voxel_size;
   const double pixels = std::ceil((request.box_max[0] - request.box_min[0]) / pixel) *
                         std::ceil((request.box_max[1] - request.box_min[1]) / pixel);
-  if (pixels > static_cast<double>(limits.max_render_pixels))
-    return Status::exhausted("image would have " + std::to_string(static_cast<long long>(pixels)) +
+  // !(pixels <= limit) also catches NaN/inf; the message formats the double because a cast of a
+  // huge value to an integer type would be undefined behaviour.
+  if (!(pixels <= static_cast<double>(limits.max_render_pixels))) {
+    char count[32];
+    std::snprintf(count, sizeof(count), "%.3g", pixels);
+    return Status::exhausted(std::string("image would have ") + count +
                              " pixels; the server limit is " +
                              std::to_string(limits.max_render_pixels));
+  }
   if (pixels < 1.0) return Status::invalid("render box is empty");
   return {};
 }

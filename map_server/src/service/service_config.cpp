@@ -40,7 +40,7 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
   ServerConfig config;
   if (root.IsNull()) return config;
   if (!root.IsMap()) throw std::runtime_error(file.string() + ": expected a YAML mapping");
-  rejectUnknownKeys(root, {"map_config", "file_dir", "limits"}, "");
+  rejectUnknownKeys(root, {"map_config", "file_dir", "key_file", "auth_queries", "limits"}, "");
 
   if (root["map_config"]) {
     std::filesystem::path map_file = root["map_config"].as<std::string>();
@@ -48,6 +48,17 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
     config.map = map::loadMapConfig(map_file);
   }
   if (root["file_dir"]) config.file_dir = root["file_dir"].as<std::string>();
+  if (root["key_file"]) {
+    config.key_file = root["key_file"].as<std::string>();
+    if (config.key_file.is_relative()) config.key_file = file.parent_path() / config.key_file;
+  }
+  if (root["auth_queries"]) {
+    try {
+      config.auth_queries = root["auth_queries"].as<bool>();
+    } catch (const YAML::Exception&) {
+      throw std::runtime_error("auth_queries: expected true or false");
+    }
+  }
   if (const YAML::Node limits = root["limits"]) {
     if (!limits.IsMap()) throw std::runtime_error("limits: expected a mapping");
     rejectUnknownKeys(limits,

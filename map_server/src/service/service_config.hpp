@@ -22,10 +22,14 @@ struct ServerConfig {
   // MAP_COMMAND paths (save/load/export) are resolved inside this directory, so a client
   // cannot make the server read or write arbitrary files.
   std::filesystem::path file_dir = ".";
+  // Shared key (docs/security.md); empty = requests are not authenticated.
+  std::filesystem::path key_file;
+  bool auth_queries = false;  // also require a MAC on read-only queries
 };
 
-/// Loads server.yaml: optional `map_config` (grid YAML, relative to this file), `file_dir` and
-/// `limits:` keys. Unknown keys or bad values throw std::runtime_error naming the key.
+/// Loads server.yaml: optional `map_config` and `key_file` (relative to this file), `file_dir`,
+/// `auth_queries` and `limits:` keys. Unknown keys or bad values throw std::runtime_error naming
+/// the key.
 ServerConfig loadServerConfig(const std::filesystem::path& file);
 
 }  // namespace socc::service

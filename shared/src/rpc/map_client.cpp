@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "socc/auth/message_auth.hpp"
 #include "socc/channels.hpp"
 #include "socc/lcm_url.hpp"
 #include "socc/pose_conversion.hpp"
@@ -40,10 +41,17 @@ std::optional<std::int64_t> peekRequestId(const lcm::ReceiveBuffer& rbuf) {
 }  // namespace
 
 struct MapClient::Impl {
-  explicit Impl(ClientOptions opts) : options(std::move(opts)), lcm(options.lcm_url) {}
+  explicit Impl(ClientOptions opts) : options(std::move(opts)), lcm(options.lcm_url) {
+    if (!options.key_file.empty()) key = auth::SharedKey::fromFile(options.key_file);
+  }
 
   ClientOptions options;
   lcm::LCM lcm;
+  std::optional<auth::SharedKey> key;  // set: every attempt is signed
+  // Held from taking a counter until the request is published: calls from several threads
+  // must reach the server in counter order, or the later-published one is refused as stale.
+  std::mutex send_mutex;
+  auth::AuthCounter auth_counter;
   std::mutex mutex;
   std::condition_variable arrived;
   // request_id -> reply bytes (empty until the reply arrives). Only ids in here are kept,
@@ -74,12 +82,20 @@ struct MapClient::Impl {
     while (!stop.load()) lcm.handleTimeout(50);
   }
 
+  // Call with send_mutex held. A fresh counter per attempt: the server refuses a reused one
+  // as a replay, so a retry cannot be the same bytes (request_id and seq stay the same).
   template <typename Request>
-  static std::string encodeAttempt(Request& request, std::vector<std::uint8_t>& bytes) {
+  std::string encodeAttempt(Request& request, std::vector<std::uint8_t>& bytes) {
     request.header.auth_counter = 0;
     request.header.mac_len = 0;
     request.header.mac.clear();
-    // TODO(auth): sign state-changing requests here (socc/auth, options.key_file).
+    if (key) {
+      try {
+        auth::sign(request, *key, auth_counter.next());
+      } catch (const std::exception& e) {
+        return e.what();
+      }
+    }
     bytes.resize(static_cast<std::size_t>(request.getEncodedSize()));
     if (request.encode(bytes.data(), 0, static_cast<int>(bytes.size())) < 0)
       return "request cannot be encoded";
@@ -104,13 +120,16 @@ struct MapClient::Impl {
       // The same request (request_id, seq) on every attempt: the server deduplicates Integrate
       // on (client, seq). Encoded per attempt because a signed request must be re-signed.
       std::vector<std::uint8_t> bytes;
+      std::unique_lock<std::mutex> send_lock(send_mutex);
       if (const std::string why = encodeAttempt(request, bytes); !why.empty()) {
+        send_lock.unlock();
         const std::lock_guard<std::mutex> relock(mutex);
         pending.erase(id);
         result.error = {reply_header_t::INVALID_ARGUMENT, why, false};
         return result;
       }
       lcm.publish(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
+      send_lock.unlock();
       lock.lock();
       if (arrived.wait_for(lock, options.timeout, [&] { return !pending[id].empty(); })) break;
     }
@@ -147,8 +166,6 @@ MapClient::MapClient(ClientOptions options) {
     throw std::runtime_error(why);
   if (const std::string why = checkClientId(options.client_id); !why.empty())
     throw std::runtime_error(why);
-  if (!options.key_file.empty())
-    throw std::runtime_error("request signing (--key) is not available in this build yet");
   impl_ = std::make_unique<Impl>(std::move(options));
   if (!impl_->lcm.good())
     throw std::runtime_error("cannot open LCM on " + impl_->options.lcm_url +

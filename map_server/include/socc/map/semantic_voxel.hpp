@@ -3,6 +3,7 @@
 // update it. This is the one place to change for a new mapping behaviour; the grid
 // container, the ray traversal and the scan integrator only call onHits() / onMiss().
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -82,6 +83,18 @@ class SemanticVoxelBehaviour {
   double alpha_;
   bool semantics_;
 };
+
+// Inline: called for every voxel a ray clears (the hot loop of integration).
+inline float SemanticVoxelBehaviour::missLogOdds(const VoxelStats* stats) const {
+  if (!semantics_ || stats == nullptr || !stats->has_semantics || stats->label == kUnlabeled)
+    return miss_;
+  return isPotentiallyMoving(stats->label) ? miss_moving_ : miss_static_;
+}
+
+inline bool SemanticVoxelBehaviour::onMiss(float& log_odds, const VoxelStats* stats) const {
+  log_odds = std::clamp(log_odds + missLogOdds(stats), min_, max_);
+  return stats != nullptr && !isOccupied(log_odds);
+}
 
 inline double logit(double p) {
   return std::log(p / (1.0 - p));

@@ -56,6 +56,9 @@ class Odometry {
   AdaptiveVoxelSize voxel_size_;
   Eigen::Isometry3d pose_;
   Eigen::Isometry3d velocity_ = Eigen::Isometry3d::Identity();  // relative motion per frame
+  // The first frame after a (re)start has no motion model: its correction measures the error of
+  // the given initial pose, not of the model, so it must not shrink the adaptive threshold.
+  bool has_motion_model_ = false;
 };
 
 }  // namespace socc::odom

@@ -14,4 +14,8 @@ Vector6d logSe3(const Eigen::Isometry3d& pose);
 /// exp(dx) * pose with dx = (translation, rotation) through mrpt::poses::Lie::SE<3>::exp.
 Eigen::Isometry3d applyIncrement(const Vector6d& dx, const Eigen::Isometry3d& pose);
 
+/// The nearest pure rigid transform. Isometry3d::inverse() assumes an exact rotation, so
+/// round-off left in a pose would otherwise grow frame by frame through the velocity model.
+Eigen::Isometry3d orthonormalized(const Eigen::Isometry3d& pose);
+
 }  // namespace socc::odom

@@ -2,7 +2,8 @@
 // Client side of the map service (gRPC-style request/response over LCM).
 // Each call publishes a request on SOCC/<SERVICE>/REQ and waits for the reply with the same
 // request_id on SOCC/<SERVICE>/REP/<client_id>; on timeout it retries the SAME request
-// (same request_id, and for Integrate the same seq, so the server applies it once).
+// (same request_id, and for Integrate the same seq, so the server applies it once). With a
+// key file every attempt is signed with a new auth counter (docs/security.md).
 #include <Eigen/Geometry>
 #include <chrono>
 #include <cstdint>
@@ -16,10 +17,10 @@
 #include "socc/integrate_request_t.hpp"
 #include "socc/map_command_reply_t.hpp"
 #include "socc/map_command_request_t.hpp"
+#include "socc/point_cloud.hpp"
 #include "socc/render_reply_t.hpp"
 #include "socc/render_request_t.hpp"
 #include "socc/robot_pose_reply_t.hpp"
-#include "socc/point_cloud.hpp"
 #include "socc/stats_reply_t.hpp"
 
 namespace socc::rpc {
@@ -29,7 +30,8 @@ struct ClientOptions {
   std::string client_id = "robot1";
   std::chrono::milliseconds timeout{2000};  // per attempt
   int max_attempts = 5;
-  std::string key_file;  // optional shared key: requests are signed (HMAC-SHA256)
+  // Optional shared key (mode 0600): every request is signed (HMAC-SHA256, docs/security.md).
+  std::string key_file;
 };
 
 /// Error of a call: transport (no reply after all attempts) or a non-OK status.
@@ -51,7 +53,8 @@ struct Result {
 
 class MapClient {
  public:
-  explicit MapClient(ClientOptions options);  // throws std::runtime_error on a bad URL
+  /// Throws std::runtime_error on a bad URL or client id, or an unusable key file.
+  explicit MapClient(ClientOptions options);
   ~MapClient();
   MapClient(const MapClient&) = delete;
   MapClient& operator=(const MapClient&) = delete;

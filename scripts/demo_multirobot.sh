@@ -1,0 +1,170 @@
+#!/usr/bin/env bash
+# Multi-robot demo: one map_server and N odom_client processes running AT THE SAME TIME on
+# consecutive segments of one socc-sim world (robot i: frames [i*F, i*F+F-1], initial pose = GT
+# pose of its first frame, so the map frame is the GT frame). Then each robot runs ALONE (fresh
+# server each) on the same segment, and the accuracy with N robots is compared with alone.
+# Writes: OUT/map_class.png (combined map, class colours), OUT/together/robotI/ and
+# OUT/alone/robotI/ (poses, frames.csv, eval.json, plots/), OUT/summary.md; prints the table
+# and PASS/FAIL per robot (PASS: ATE RMSE with N robots <= 1.1 x alone + 0.005 m).
+#
+# Usage: scripts/demo_multirobot.sh [--robots N] [--frames F] [--build DIR] [--out DIR]
+#                                   [--seed S] [--speed V] [--scene S]
+#   --robots N   number of robots (default 3)
+#   --frames F   frames per robot (default 25; the sequence has N*F frames; odom_client ends
+#                after ~28 frames with a non-unit quaternion error, see docs/multirobot.md)
+#   --build DIR  build directory with all binaries (default build/)
+#   --out DIR    output directory (default out/multirobot)
+#   --seed S     socc-sim world seed (default 1)
+#   --speed V    socc-sim speed [m/s] (default 9, the street's)
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+usage() { sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+
+robots=3 frames=25 build="$root/build" out="$root/out/multirobot" seed=1 scene=street speed=9
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --robots) robots="$2"; shift 2 ;;
+    --frames) frames="$2"; shift 2 ;;
+    --build) build="$2"; shift 2 ;;
+    --out) out="$2"; shift 2 ;;
+    --seed) seed="$2"; shift 2 ;;
+    --scene) scene="$2"; shift 2 ;;
+    --speed) speed="$2"; shift 2 ;;
+    -h|--help) usage 0 ;;
+    *) echo "demo_multirobot: unknown argument $1" >&2; usage 2 ;;
+  esac
+done
+[[ $robots =~ ^[1-9][0-9]*$ && $frames =~ ^[1-9][0-9]*$ && $frames -ge 3 ]] ||
+  { echo "demo_multirobot: --robots must be >= 1 and --frames >= 3" >&2; exit 2; }
+build="$(cd "$build" && pwd)"
+for bin in map_server/map_server odom_client/odom_client tools/socc-cli sim/socc-sim eval/socc-eval; do
+  [ -x "$build/$bin" ] || { echo "demo_multirobot: $build/$bin missing: run scripts/build.sh" >&2; exit 2; }
+done
+mkdir -p "$out"
+out="$(cd "$out" && pwd)"
+
+# Every process this script starts and has not waited for is killed on any exit.
+# shellcheck disable=SC2317  # called by the EXIT trap
+cleanup() {
+  local p
+  # The shell's own background jobs that have not been waited for yet (never a reaped pid).
+  for p in $(jobs -p); do kill "$p" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+}
+trap cleanup EXIT
+trap 'exit 130' INT TERM
+
+log() { echo "demo_multirobot: $*" >&2; }
+new_url() {  # private multicast port per server; ttl=0 keeps the traffic on this machine
+  echo "udpm://239.255.76.67:$((20000 + (RANDOM * 32768 + RANDOM) % 40000))?ttl=0&recv_buf_size=33554432"
+}
+cli() { "$build/tools/socc-cli" --lcm-url "$url" --client-id demo_mr "$@"; }
+server_pid=""
+start_server() {  # start_server LOG: a fresh map_server on a new port
+  url="$(new_url)"
+  "$build/map_server/map_server" --lcm-url "$url" --quiet >"$1" 2>&1 &
+  server_pid=$!
+  for _ in $(seq 50); do
+    cli --timeout-ms 200 --attempts 1 stats >/dev/null 2>&1 && return 0
+    kill -0 "$server_pid" 2>/dev/null || break
+    sleep 0.2
+  done
+  log "map_server did not answer"; cat "$1" >&2; exit 1
+}
+stop_server() { kill "$server_pid" 2>/dev/null || true; wait "$server_pid" 2>/dev/null || true; }
+
+# --- the world: one sequence with GT, cut into segments ------------------------------------
+total=$((robots * frames))
+seq_dir="$out/sim"
+log "socc-sim: $total frames ($scene, $speed m/s, seed $seed) -> $seq_dir"
+rm -rf "$seq_dir"
+"$build/sim/socc-sim" --out "$seq_dir" --scene "$scene" --frames "$total" --seed "$seed" \
+  --speed "$speed" --quiet >/dev/null
+
+first_of() { echo $(($1 * frames)); }
+# GT segment of robot i (poses in the map = GT frame) and its first pose as "x y z roll pitch yaw"
+# (R = Rz(yaw) Ry(pitch) Rx(roll), as odom_client --initial-pose).
+for ((i = 0; i < robots; i++)); do
+  mkdir -p "$out/gt"
+  sed -n "$(($(first_of "$i") + 1)),$(($(first_of "$i") + frames))p" "$seq_dir/poses.txt" >"$out/gt/robot$i.txt"
+done
+initial_pose() {
+  head -1 "$out/gt/robot$1.txt" | awk '{
+    printf "%.9f %.9f %.9f %.12f %.12f %.12f", $4, $8, $12,
+      atan2($10, $11), atan2(-$9, sqrt($10 * $10 + $11 * $11)), atan2($5, $1) }'
+}
+
+run_client() {  # run_client I OUTDIR: odom_client of robot I in the background; pid -> client_pid
+  local i=$1 dir=$2 first
+  first=$(first_of "$i")
+  mkdir -p "$dir"
+  "$build/odom_client/odom_client" --kitti "$seq_dir" --lcm-url "$url" --robot-id "robot$i" \
+    --first-frame "$first" --last-frame $((first + frames - 1)) --initial-pose "$(initial_pose "$i")" \
+    --out-dir "$dir" --quiet >"$dir/summary.txt" 2>"$dir/client.log" &
+  client_pid=$!
+}
+wait_client() {  # wait_client PID DIR
+  wait "$1" || { log "odom_client failed ($2):"; cat "$2/client.log" >&2; exit 1; }
+}
+evaluate() {  # evaluate I DIR
+  "$build/eval/socc-eval" --gt "$out/gt/robot$1.txt" --est "$2/poses_kitti.txt" --lengths 10,20,40 \
+    --json "$2/eval.json" --plot-dir "$2/plots" >"$2/eval.txt" 2>"$2/eval.log"
+}
+
+# --- N robots at the same time in one map --------------------------------------------------
+start_server "$out/server_together.log"
+log "$robots robots at the same time on $url"
+client_pids=()
+for ((i = 0; i < robots; i++)); do
+  run_client "$i" "$out/together/robot$i"
+  client_pids+=("$client_pid")
+done
+for ((i = 0; i < robots; i++)); do wait_client "${client_pids[$i]}" "$out/together/robot$i"; done
+cli stats >"$out/server_stats.txt"
+# Top-down map: bounding box of all trajectories + 40 m.
+box="$(cat "$out"/together/robot*/poses_kitti.txt | awk '{x=$4; y=$8;
+  if (NR==1||x<x0) x0=x; if (NR==1||x>x1) x1=x; if (NR==1||y<y0) y0=y; if (NR==1||y>y1) y1=y}
+  END {printf "%.1f %.1f -5 %.1f %.1f 30", x0-40, y0-40, x1+40, y1+40}')"
+# shellcheck disable=SC2086
+cli --attempts 3 --timeout-ms 10000 render --box $box --mode 0 --pixel-size 0.25 --out "$out/map_class.png" >/dev/null
+stop_server
+for ((i = 0; i < robots; i++)); do evaluate "$i" "$out/together/robot$i"; done
+
+# --- each robot alone, fresh server each ---------------------------------------------------
+for ((i = 0; i < robots; i++)); do
+  start_server "$out/server_alone$i.log"
+  log "robot$i alone on $url"
+  run_client "$i" "$out/alone/robot$i"
+  wait_client "$client_pid" "$out/alone/robot$i"
+  stop_server
+  evaluate "$i" "$out/alone/robot$i"
+done
+
+# --- summary ------------------------------------------------------------------------------
+status=0
+python3 - "$out" "$robots" "$frames" <<'PY' | tee "$out/summary.md" || status=1
+import json, re, sys
+out, robots, frames = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+def load(mode, i):
+    d = f"{out}/{mode}/robot{i}"
+    ev = json.load(open(f"{d}/eval.json"))
+    hz = re.search(r"rate: ([0-9.]+) Hz", open(f"{d}/summary.txt").read())
+    return ev, float(hz.group(1)) if hz else float("nan")
+print(f"| robot | frames | ATE RMSE N={robots} [m] | ATE RMSE alone [m] | RPE trans N={robots} [m] "
+      f"| RPE rot N={robots} [deg] | RPE trans alone [m] | Hz N={robots} | Hz alone | result |")
+print("|---|---|---|---|---|---|---|---|---|---|")
+failed = 0
+for i in range(robots):
+    (t, hz_t), (a, hz_a) = load("together", i), load("alone", i)
+    ate_t, ate_a = t["ate_m"]["rmse"], a["ate_m"]["rmse"]
+    ok = ate_t <= 1.1 * ate_a + 0.005
+    failed += not ok
+    print(f"| robot{i} | {i * frames}-{i * frames + frames - 1} ({t['frames']}) | {ate_t:.4f} | "
+          f"{ate_a:.4f} | {t['rpe_trans_m']['rmse']:.4f} | {t['rpe_rot_deg']['rmse']:.4f} | "
+          f"{a['rpe_trans_m']['rmse']:.4f} | {hz_t:.1f} | {hz_a:.1f} | {'PASS' if ok else 'FAIL'} |")
+print(f"\nPASS: ATE RMSE with {robots} robots <= 1.1 x alone + 0.005 m. "
+      f"{'all PASS' if not failed else f'{failed} FAIL'}")
+sys.exit(1 if failed else 0)
+PY
+log "map image: $out/map_class.png; per-robot plots: $out/{together,alone}/robot*/plots/"
+exit "$status"

@@ -1,0 +1,23 @@
+# Multi-robot and log-replay tests (included from tests/integration/CMakeLists.txt): real
+# map_server, odom_client, socc-cli, socc-to-lcmlog / socc-sim processes and lcm-logplayer over
+# UDP multicast on loopback (random port 50000-59999). See multirobot_test.sh --help.
+if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
+  set(_socc_mr_script ${CMAKE_CURRENT_LIST_DIR}/multirobot_test.sh)
+  set(_socc_mr_bins --server $<TARGET_FILE:map_server> --client $<TARGET_FILE:odom_client>
+                    --cli $<TARGET_FILE:socc-cli>)
+  if(TARGET socc-to-lcmlog)
+    # odom_client --live fed by lcm-logplayer == odom_client --kitti on frames 0-7 (skipped, exit
+    # code 77, when the shared data folder is absent).
+    add_test(NAME integration.multirobot_logplayer
+             COMMAND bash ${_socc_mr_script} logplayer ${_socc_mr_bins}
+                     --to-lcmlog $<TARGET_FILE:socc-to-lcmlog> --data ${SOCC_SHARED_DATA_DIR})
+    set_tests_properties(integration.multirobot_logplayer PROPERTIES
+      LABELS integration TIMEOUT 120 SKIP_RETURN_CODE 77)
+  endif()
+  if(TARGET socc-sim)
+    # 3 clients on three segments of a socc-sim sequence + 1 server; GET_STATS lists 3 robots.
+    add_test(NAME integration.multirobot_robots
+             COMMAND bash ${_socc_mr_script} robots ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
+    set_tests_properties(integration.multirobot_robots PROPERTIES LABELS integration TIMEOUT 120)
+  endif()
+endif()

@@ -1,0 +1,183 @@
+#!/usr/bin/env bash
+# Multi-robot / log-replay integration tests: real map_server, odom_client, socc-cli processes
+# and lcm-logplayer over UDP multicast on loopback (random group, port 50000-59999).
+#
+# Usage: multirobot_test.sh logplayer|robots --server BIN --client BIN --cli BIN
+#                           [--to-lcmlog BIN] [--sim BIN] [--data DIR]
+#   logplayer: socc-to-lcmlog converts frames 0-7 of DATA/kitti_00_first16 to a log,
+#              odom_client --live consumes it from lcm-logplayer; its poses must equal an offline
+#              odom_client --kitti run on the same frames (1 mm / 0.01 deg). Exit 77 (skip) when
+#              the data folder is absent.
+#   robots:    3 odom_client processes on three segments of a socc-sim sequence (distinct robot
+#              ids, GT initial poses) share one map_server at the same time; GET_STATS shows the
+#              3 robots with the right last seq; each client wrote its 8 poses.
+set -euo pipefail
+usage() { sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+
+case "${1:-}" in -h|--help) usage 0 ;; logplayer|robots) mode=$1; shift ;; *) usage 2 ;; esac
+server_bin="" client_bin="" cli_bin="" to_lcmlog_bin="" sim_bin="" data=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --server) server_bin=$2; shift 2 ;;
+    --client) client_bin=$2; shift 2 ;;
+    --cli) cli_bin=$2; shift 2 ;;
+    --to-lcmlog) to_lcmlog_bin=$2; shift 2 ;;
+    --sim) sim_bin=$2; shift 2 ;;
+    --data) data=$2; shift 2 ;;
+    -h|--help) usage 0 ;;
+    *) echo "multirobot_test: unknown argument $1" >&2; usage 2 ;;
+  esac
+done
+for b in "$server_bin" "$client_bin" "$cli_bin"; do
+  [[ -x $b ]] || { echo "FAIL: binary '$b' missing (--server/--client/--cli)"; exit 2; }
+done
+
+if ! ip route show 224.0.0.0/4 2>/dev/null | grep -q "dev lo"; then
+  echo "FAIL: multicast is not routed to loopback, so LCM udpm traffic cannot stay local."
+  echo "      Enable it with: sudo ip route replace 224.0.0.0/4 dev lo   (scripts/setup.sh does this)"
+  exit 1
+fi
+
+work=$(mktemp -d)
+keep_work=1
+# shellcheck disable=SC2317  # called by the EXIT trap
+cleanup() {
+  local p
+  # The shell's own background jobs that have not been waited for yet (never a reaped pid).
+  for p in $(jobs -p); do kill "$p" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+  if ((keep_work)); then echo "work dir kept: $work"; else rm -rf "$work"; fi
+}
+trap cleanup EXIT
+trap 'exit 130' INT TERM
+
+fail() { echo "FAIL: $*"; exit 1; }
+new_url() {  # random group and port (50000-59999) so concurrent runs never see each other
+  local seed=$(( ((RANDOM << 15) | RANDOM) ^ $$ ))
+  url="udpm://239.255.$((seed / 10000 % 250 + 1)).$((seed / 2500000 % 250 + 1)):$((50000 + seed % 10000))?ttl=0&recv_buf_size=67108864"
+}
+cli() { "$cli_bin" --lcm-url "$url" --client-id multirobot_test "$@"; }
+server_pid=""
+start_server() {  # start_server NAME: a fresh map_server on a new URL
+  new_url
+  echo "map_server ($1) on $url"
+  "$server_bin" --lcm-url "$url" --quiet --status-period 0 >"$work/server_$1.log" 2>&1 &
+  server_pid=$!
+  for _ in $(seq 100); do
+    cli --timeout-ms 100 --attempts 1 stats >/dev/null 2>&1 && return 0
+    kill -0 "$server_pid" 2>/dev/null || fail "map_server exited during start-up: $(cat "$work/server_$1.log")"
+    sleep 0.1
+  done
+  fail "map_server did not answer GET_STATS within 10 s"
+}
+stop_server() { kill "$server_pid" 2>/dev/null || true; wait "$server_pid" 2>/dev/null || true; }
+client_ok() {  # client_ok PID NAME: the client exited 0
+  wait "$1" || fail "odom_client $2 failed: $(tail -20 "$work/$2.log")"
+}
+
+# Largest translation [m] and rotation [deg] difference between two KITTI pose files (same count).
+pose_diff() {
+  paste -d' ' "$1" "$2" | awk '
+    { dt = sqrt(($4-$16)^2 + ($8-$20)^2 + ($12-$24)^2)
+      # rotation angle of Ra^T Rb from |Ra - Rb|_F = 2 sqrt(2) sin(angle / 2) (no acos near 1)
+      f = ($1-$13)^2 + ($2-$14)^2 + ($3-$15)^2 + ($5-$17)^2 + ($6-$18)^2 + ($7-$19)^2 \
+          + ($9-$21)^2 + ($10-$22)^2 + ($11-$23)^2
+      s = sqrt(f / 8); if (s > 1) s = 1
+      dr = 2 * atan2(s, sqrt(1 - s*s)) * 180 / 3.14159265358979
+      if (dt > mt) mt = dt; if (dr > mr) mr = dr }
+    END { printf "%.6f %.6f\n", mt, mr }'
+}
+
+logplayer() {
+  local seq="$data/kitti_00_first16"
+  if [[ -z $data || ! -d $seq/velodyne ]]; then
+    echo "SKIP: shared data folder absent ($seq): the log-replay test needs KITTI frames 0-7"
+    keep_work=0
+    exit 77
+  fi
+  [[ -x $to_lcmlog_bin ]] || fail "socc-to-lcmlog binary '$to_lcmlog_bin' missing (--to-lcmlog)"
+  command -v lcm-logplayer >/dev/null || fail "lcm-logplayer not installed (Debian package liblcm-bin)"
+  # Frames 0-7 as their own KITTI-layout directory (socc-to-lcmlog converts whole directories).
+  mkdir -p "$work/seq/velodyne" "$work/seq/labels"
+  for f in 000000 000001 000002 000003 000004 000005 000006 000007; do
+    ln -s "$(realpath "$seq/velodyne/$f.bin")" "$work/seq/velodyne/$f.bin"
+    if [[ -f $seq/labels/$f.label ]]; then
+      ln -s "$(realpath "$seq/labels/$f.label")" "$work/seq/labels/$f.label"
+    fi
+  done
+  "$to_lcmlog_bin" "$work/seq" -o "$work/scans.lcmlog" --robot-id live --quiet ||
+    fail "socc-to-lcmlog failed"
+
+  start_server offline
+  "$client_bin" --kitti "$seq" --last-frame 7 --lcm-url "$url" --robot-id offline \
+    --out-dir "$work/offline" --quiet >"$work/offline.log" 2>&1 &
+  client_ok "$!" offline
+  stop_server
+
+  start_server live  # a fresh, empty map, as for the offline run
+  "$client_bin" --live --idle-timeout 4 --lcm-url "$url" --robot-id live \
+    --out-dir "$work/live" --quiet >"$work/live.log" 2>&1 &
+  local live=$!
+  sleep 1  # let it subscribe to SOCC/SCAN/live
+  # Half speed (8 scans in 1.6 s); the client queues the scans it has not read yet.
+  lcm-logplayer -s 0.5 --lcm-url="$url" "$work/scans.lcmlog" >"$work/logplayer.log" 2>&1 ||
+    fail "lcm-logplayer failed: $(cat "$work/logplayer.log")"
+  client_ok "$live" live
+  cli stats | tee "$work/stats.txt" | sed 's/^/  stats: /'
+  grep -q "^live seq=7 " "$work/stats.txt" || fail "server does not hold seq 7 of robot live"
+
+  local n_off n_live
+  n_off=$(wc -l <"$work/offline/poses_kitti.txt")
+  n_live=$(wc -l <"$work/live/poses_kitti.txt")
+  [[ $n_off == 8 && $n_live == 8 ]] || fail "expected 8 poses each, offline $n_off, live $n_live"
+  local diff dt dr
+  diff=$(pose_diff "$work/offline/poses_kitti.txt" "$work/live/poses_kitti.txt")
+  read -r dt dr <<<"$diff"
+  echo "live vs offline poses: max difference $dt m, $dr deg"
+  if cmp -s "$work/offline/poses_kitti.txt" "$work/live/poses_kitti.txt"; then
+    echo "live and offline poses_kitti.txt are byte-identical"
+  fi
+  awk -v dt="$dt" -v dr="$dr" 'BEGIN { exit !(dt <= 0.001 && dr <= 0.01) }' ||
+    fail "live poses differ from the offline run by $dt m / $dr deg (limit 0.001 m / 0.01 deg)"
+}
+
+robots() {
+  [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
+  local frames=8 n=3
+  # 3 m/s: slower than the street's 9 m/s, so that a robot joining the map while moving stalls
+  # less often (docs/multirobot.md); this test is about the processes and the shared map.
+  "$sim_bin" --out "$work/sim" --frames $((n * frames)) --sensor vlp32 --speed 3 --seed 7 --quiet >/dev/null ||
+    fail "socc-sim failed"
+  start_server robots
+  local i first pose client_pids=()
+  for ((i = 0; i < n; i++)); do
+    first=$((i * frames))
+    # GT pose of the segment's first frame as "x y z roll pitch yaw" (R = Rz Ry Rx).
+    pose=$(sed -n "$((first + 1))p" "$work/sim/poses.txt" | awk '{
+      printf "%.9f %.9f %.9f %.12f %.12f %.12f", $4, $8, $12,
+        atan2($10, $11), atan2(-$9, sqrt($10 * $10 + $11 * $11)), atan2($5, $1) }')
+    "$client_bin" --kitti "$work/sim" --first-frame "$first" --last-frame $((first + frames - 1)) \
+      --initial-pose "$pose" --lcm-url "$url" --robot-id "robot$i" --out-dir "$work/robot$i" \
+      --quiet >"$work/robot$i.log" 2>&1 &
+    client_pids+=("$!")
+  done
+  for ((i = 0; i < n; i++)); do client_ok "${client_pids[$i]}" "robot$i"; done
+  cli stats | tee "$work/stats.txt" | sed 's/^/  stats: /'
+  grep -q " robots=$n$" "$work/stats.txt" || fail "GET_STATS does not list $n robots"
+  for ((i = 0; i < n; i++)); do
+    grep -q "^robot$i seq=$((i * frames + frames - 1)) integrations=$frames " "$work/stats.txt" ||
+      fail "robot$i: expected last seq $((i * frames + frames - 1)) and $frames integrations"
+    [[ $(wc -l <"$work/robot$i/poses_kitti.txt") == "$frames" ]] || fail "robot$i: expected $frames poses"
+    # Information only: how far the segment ends from its GT pose (all robots share the GT map
+    # frame). Not asserted: a robot whose first scan is registered against the others' map can
+    # stall at its start pose (odom_client issue, docs/multirobot.md), depending on timing.
+    local gt_last diff
+    gt_last=$(sed -n "$((i * frames + frames))p" "$work/sim/poses.txt")
+    diff=$(pose_diff <(echo "$gt_last") <(tail -1 "$work/robot$i/poses_kitti.txt"))
+    echo "robot$i: last pose ${diff% *} m / ${diff#* } deg from the GT"
+  done
+}
+
+"$mode"
+keep_work=0
+echo "PASS: multirobot $mode"
