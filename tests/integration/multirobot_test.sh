@@ -32,11 +32,9 @@ for b in "$server_bin" "$client_bin" "$cli_bin"; do
   [[ -x $b ]] || { echo "FAIL: binary '$b' missing (--server/--client/--cli)"; exit 2; }
 done
 
-if ! ip route show 224.0.0.0/4 2>/dev/null | grep -q "dev lo"; then
-  echo "FAIL: multicast is not routed to loopback, so LCM udpm traffic cannot stay local."
-  echo "      Enable it with: sudo ip route replace 224.0.0.0/4 dev lo   (scripts/setup.sh does this)"
-  exit 1
-fi
+# shellcheck source=../integration/test_env.sh
+source "$(dirname "$0")/test_env.sh"
+require_multicast_on_loopback
 
 work=$(mktemp -d)
 keep_work=1
@@ -52,10 +50,7 @@ trap cleanup EXIT
 trap 'exit 130' INT TERM
 
 fail() { echo "FAIL: $*"; exit 1; }
-new_url() {  # random group and port (50000-59999) so concurrent runs never see each other
-  local seed=$(( ((RANDOM << 15) | RANDOM) ^ $$ ))
-  url="udpm://239.255.$((seed / 10000 % 250 + 1)).$((seed / 2500000 % 250 + 1)):$((50000 + seed % 10000))?ttl=0&recv_buf_size=67108864"
-}
+new_url() { url=$(random_lcm_url 50000); }
 cli() { "$cli_bin" --lcm-url "$url" --client-id multirobot_test "$@"; }
 server_pid=""
 start_server() {  # start_server NAME: a fresh map_server on a new URL

@@ -9,11 +9,9 @@
 set -euo pipefail
 mode=$1 server_bin=$2 cli_bin=$3
 
-if ! ip route show 224.0.0.0/4 2>/dev/null | grep -q "dev lo"; then
-  echo "FAIL: multicast is not routed to loopback, so LCM udpm traffic cannot stay local."
-  echo "      Enable it with: sudo ip route replace 224.0.0.0/4 dev lo   (scripts/setup.sh does this)"
-  exit 1
-fi
+# shellcheck source=../integration/test_env.sh
+source "$(dirname "$0")/test_env.sh"
+require_multicast_on_loopback
 
 work=$(mktemp -d)
 server_pid=""
@@ -23,9 +21,7 @@ cleanup() {
 }
 trap cleanup EXIT
 
-# Random group and port (30000-39999) so concurrent runs never see each other's traffic.
-seed=$(( ((RANDOM << 15) | RANDOM) ^ $$ ))
-url="udpm://239.255.$((seed / 10000 % 250 + 1)).$((seed / 2500000 % 250 + 1)):$((30000 + seed % 10000))?ttl=0&recv_buf_size=67108864"
+url=$(random_lcm_url 30000)
 echo "LCM URL: $url   work dir: $work"
 
 fail() { echo "FAIL: $*"; [[ -f $work/server.log ]] && sed 's/^/  server: /' "$work/server.log"; exit 1; }
