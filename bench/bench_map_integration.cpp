@@ -71,9 +71,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   const socc::KittiSequence seq = socc::listKittiSequence(data);
-  const socc::Poses poses =
-      socc::cameraToLidarPoses(socc::readKittiPoses(fs::path(data) / "poses.txt"),
-                               socc::readKittiCalibTr(fs::path(data) / "calib.txt"));
+  const socc::Poses poses = socc::readKittiLidarPoses(data);
   const std::size_t n =
       std::min({static_cast<std::size_t>(frames), seq.scans.size(), poses.size()});
   std::vector<socc::LabeledCloud> clouds(n);

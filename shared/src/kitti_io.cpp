@@ -89,7 +89,9 @@ Points readXyzBin(const fs::path& file) {
   return points;
 }
 
-std::vector<float> readFloatBin(const fs::path& file) { return readArray<float>(file, 1); }
+std::vector<float> readFloatBin(const fs::path& file) {
+  return readArray<float>(file, 1);
+}
 
 std::vector<std::uint32_t> readSemanticKittiLabels(const fs::path& file) {
   return readArray<std::uint32_t>(file, 1);
@@ -199,9 +201,8 @@ void writeTumPoses(const fs::path& file, const Poses& poses, const std::vector<d
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const Eigen::Quaterniond q(poses[i].linear());
     const Eigen::Vector3d& t = poses[i].translation();
-    out << (i < stamps.size() ? stamps[i] : static_cast<double>(i)) << ' ' << t.x() << ' '
-        << t.y() << ' ' << t.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w()
-        << '\n';
+    out << (i < stamps.size() ? stamps[i] : static_cast<double>(i)) << ' ' << t.x() << ' ' << t.y()
+        << ' ' << t.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
   }
   if (!out) fail(file, "write error");
 }
@@ -228,6 +229,11 @@ Poses cameraToLidarPoses(const Poses& camera_poses, const Eigen::Isometry3d& tr)
   const Eigen::Isometry3d tr_inv = tr.inverse();
   for (const auto& p : camera_poses) out.push_back(tr_inv * p * tr);
   return out;
+}
+
+Poses readKittiLidarPoses(const fs::path& root) {
+  return cameraToLidarPoses(readKittiPoses(root / "poses.txt"),
+                            readKittiCalibTr(root / "calib.txt"));
 }
 
 }  // namespace socc

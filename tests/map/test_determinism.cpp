@@ -96,8 +96,7 @@ TEST(Determinism, KittiScansGiveIdenticalMapsWithOneOrTwoThreads) {
   if (!fs::exists(root)) GTEST_SKIP() << "shared data not found: " << root;
   const KittiSequence seq = listKittiSequence(root);
   ASSERT_GE(seq.scans.size(), 3u);
-  const Poses poses =
-      cameraToLidarPoses(readKittiPoses(root / "poses.txt"), readKittiCalibTr(root / "calib.txt"));
+  const Poses poses = readKittiLidarPoses(root);
   std::vector<Scan> scans;
   for (std::size_t frame = 0; frame < 3; ++frame) {
     Scan scan{poses[frame], {}};

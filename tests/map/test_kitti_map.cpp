@@ -18,8 +18,7 @@ TEST(KittiMap, RoadVoxelsArePlanarWithVerticalNormals) {
   if (!fs::exists(root)) GTEST_SKIP() << "shared data not found: " << root;
   const KittiSequence seq = listKittiSequence(root);
   ASSERT_GE(seq.scans.size(), 3u);
-  const Poses poses =
-      cameraToLidarPoses(readKittiPoses(root / "poses.txt"), readKittiCalibTr(root / "calib.txt"));
+  const Poses poses = readKittiLidarPoses(root);
   SemanticOccupancyMap map{MapConfig{}};
   for (int frame = 0; frame < 3; ++frame) {
     LabeledCloud cloud;

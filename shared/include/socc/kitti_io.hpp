@@ -53,5 +53,7 @@ KittiSequence listKittiSequence(const std::filesystem::path& root);
 
 /// KITTI GT is in the left-camera frame: T_lidar = Tr^-1 * T_cam * Tr.
 Poses cameraToLidarPoses(const Poses& camera_poses, const Eigen::Isometry3d& tr);
+/// root/poses.txt (KITTI GT, camera frame) in the LiDAR frame, using root/calib.txt's Tr.
+Poses readKittiLidarPoses(const std::filesystem::path& root);
 
 }  // namespace socc
