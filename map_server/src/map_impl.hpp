@@ -7,6 +7,7 @@
 #include <array>
 #include <vector>
 
+#include "socc/map/ray_footprint.hpp"
 #include "socc/map/semantic_occupancy_map.hpp"
 #include "socc/map/semantic_voxel.hpp"
 #include "socc/map/voxel_grid.hpp"
@@ -16,19 +17,36 @@ namespace socc::map {
 using Grid = VoxelGrid<VoxelStats>;
 using Block = Grid::Block;
 
+/// The hit voxels of one partition of the scan (voxels whose block hashes to it). Partitions
+/// own disjoint blocks, so they are aggregated and applied in parallel without locks.
+struct HitPartition {
+  tsl::robin_map<VoxelIndex, std::uint32_t, IndexHash> slot_of;
+  std::vector<VoxelIndex> voxels;
+  std::vector<FrameAggregate> frames;  // parallel to voxels
+  std::vector<Block*> blocks;          // parallel to voxels
+  std::vector<Block*> touched;         // blocks whose scan_mark this partition set
+};
+
 /// Per-scan working memory, kept between scans: reallocating (and page-faulting) megabytes
 /// per scan would cost more than the integration itself.
 struct ScanScratch {
-  tsl::robin_map<VoxelIndex, std::uint32_t, IndexHash> hit_of;
+  // Per point: map-frame position and voxel (hits), or max-range clipped end (misses only).
+  enum class PointKind : std::uint8_t { kSkipped, kHit, kClipped };
+  std::vector<PointKind> kind;
+  std::vector<Eigen::Vector3d> position;
+  std::vector<VoxelIndex> voxel;
+
+  // A fixed count (not the thread count), so results do not depend on the machine.
+  static constexpr std::size_t kHitPartitions = 4;
+  std::array<HitPartition, kHitPartitions> partitions;
+
   tsl::robin_map<VoxelIndex, std::uint32_t, IndexHash> clipped_of;
-  std::vector<VoxelIndex> hit_voxels;
-  std::vector<FrameAggregate> hits;  // parallel to hit_voxels
   std::vector<Eigen::Vector3d> ray_ends;
-  // Ray batches in flight in the traversal pipeline (small, so they stay in cache).
-  static constexpr std::size_t kRayBatches = 4;
-  std::array<std::vector<VoxelIndex>, kRayBatches> ray_voxels;
-  std::array<std::array<std::vector<VoxelIndex>, 2>, kRayBatches> ray_tmp;  // current, previous
-  std::vector<Block*> touched;
+  // Rays are split into this many fixed chunks, traversed in parallel into one footprint
+  // each, and merged in chunk order (deterministic block order).
+  static constexpr std::size_t kRayChunks = 4;
+  std::array<RayFootprint, kRayChunks> footprints;
+  std::vector<Block*> miss_blocks;  // grid block of each block of footprints[0]
 };
 
 struct SemanticOccupancyMap::Impl {

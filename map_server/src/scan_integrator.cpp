@@ -1,7 +1,14 @@
-// SemanticOccupancyMap::integrate: scan -> per-voxel frame aggregates -> hits, then
-// deduplicated rays -> misses. Hits are applied before misses and mark their voxels, so a
-// voxel hit by the scan is never missed by it, and every voxel is missed at most once.
-#include <tbb/parallel_pipeline.h>
+// SemanticOccupancyMap::integrate: scan -> per-voxel frame aggregates -> hits, then rays ->
+// footprint of crossed voxels -> misses. Hits are applied before misses and mark their
+// voxels, so a voxel hit by the scan is never missed by it, and every voxel crossed by any
+// number of rays is missed exactly once.
+//
+// Every parallel step works on fixed partitions (by point index, by block hash or by ray
+// chunk), never on "whatever each thread got", and grid blocks are created serially in a
+// fixed order: the map after a scan is the same bit for bit however many threads ran.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -12,94 +19,170 @@
 namespace socc::map {
 namespace {
 
-using Scratch = ScanScratch;
+using PointKind = ScanScratch::PointKind;
 
-/// Reduces the scan to one aggregate per hit voxel and one ray end per distinct endpoint
-/// voxel (hit voxel centres, then clipped max-range ends). Returns the points used.
-std::int32_t summarise(const Eigen::Isometry3d& pose, const LabeledCloud& cloud,
-                       const MapConfig& config, Scratch& s) {
-  s.hit_of.clear();
-  s.clipped_of.clear();
-  s.hit_voxels.clear();
-  s.hits.clear();
-  s.ray_ends.clear();
+std::size_t partitionOf(const VoxelIndex& v) {
+  return IndexHash{}(blockOf(v)) % ScanScratch::kHitPartitions;
+}
+
+/// Per point (parallel, each point independent): range gate, map-frame position, voxel.
+void classifyPoints(const Eigen::Isometry3d& pose, const LabeledCloud& cloud,
+                    const MapConfig& config, ScanScratch& s) {
+  const std::size_t n = cloud.size();
+  s.kind.resize(n);
+  s.position.resize(n);
+  s.voxel.resize(n);
   const double inv = 1.0 / config.voxel_size;
   const Eigen::Matrix3d r = pose.linear();
   const Eigen::Vector3d t = pose.translation();
-  std::vector<Eigen::Vector3d> clipped_ends;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const Eigen::Vector3d ps = cloud.points[i].cast<double>();
+                        const double d = ps.norm();
+                        PointKind kind = PointKind::kHit;
+                        Eigen::Vector3d pm;
+                        if (d < config.min_range || (d > config.max_range && !config.raycast)) {
+                          kind = PointKind::kSkipped;
+                        } else if (d > config.max_range) {
+                          kind = PointKind::kClipped;  // clears free space up to max range only
+                          pm = r * (ps * (config.max_range / d)) + t;
+                        } else {
+                          pm = r * ps + t;
+                        }
+                        s.kind[i] = kind;
+                        s.position[i] = pm;
+                        s.voxel[i] = voxelIndex(pm, inv);
+                      }
+                    });
+}
 
-  std::int32_t used = 0;
+/// Aggregates, in point order, the hit points whose voxel falls in partition p: the same
+/// per-voxel sums as one sequential pass, since a voxel lives in exactly one partition.
+void aggregatePartition(std::size_t p, const LabeledCloud& cloud, ScanScratch& s) {
+  HitPartition& part = s.partitions[p];
+  part.slot_of.clear();
+  part.voxels.clear();
+  part.frames.clear();
+  const bool labeled = cloud.hasLabels();
   VoxelIndex last(0, 0, 0);
   std::uint32_t last_slot = 0;
   bool have_last = false;  // consecutive points often share a voxel: skip the hash then
-  const bool labeled = cloud.hasLabels();
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const Eigen::Vector3d ps = cloud.points[i].cast<double>();
-    const double range = ps.norm();
-    if (range < config.min_range) continue;
-    if (range > config.max_range) {
-      if (!config.raycast) continue;
-      const Eigen::Vector3d end = r * (ps * (config.max_range / range)) + t;
-      if (s.clipped_of.try_emplace(voxelIndex(end, inv), 0).second) clipped_ends.push_back(end);
-      continue;
-    }
-    ++used;
-    const Eigen::Vector3d pm = r * ps + t;
-    const VoxelIndex v = voxelIndex(pm, inv);
+  for (std::size_t i = 0; i < s.kind.size(); ++i) {
+    if (s.kind[i] != PointKind::kHit) continue;
+    const VoxelIndex& v = s.voxel[i];
     if (!have_last || v != last) {
+      if (partitionOf(v) != p) continue;
       const auto [it, inserted] =
-          s.hit_of.try_emplace(v, static_cast<std::uint32_t>(s.hit_voxels.size()));
+          part.slot_of.try_emplace(v, static_cast<std::uint32_t>(part.voxels.size()));
       if (inserted) {
-        s.hit_voxels.push_back(v);
-        s.hits.emplace_back();
+        part.voxels.push_back(v);
+        part.frames.emplace_back();
       }
       last = v;
       last_slot = it->second;
       have_last = true;
     }
     if (labeled)
-      s.hits[last_slot].add(pm, cloud.labels[i]);
+      part.frames[last_slot].add(s.position[i], cloud.labels[i]);
     else
-      s.hits[last_slot].add(pm);
-  }
-  if (config.raycast) {
-    for (const VoxelIndex& v : s.hit_voxels)
-      s.ray_ends.push_back((v.cast<double>().array() + 0.5).matrix() * config.voxel_size);
-    s.ray_ends.insert(s.ray_ends.end(), clipped_ends.begin(), clipped_ends.end());
-  }
-  return used;
-}
-
-/// Traverses rays [begin, end) into out. Rays from one origin to neighbouring endpoints walk
-/// the same voxels until they diverge: each ray skips its common prefix with the previous ray
-/// (cheap, exact; remaining repeats are filtered by the scan marks when applying).
-void traverseBatch(const Eigen::Vector3d& origin, double voxel_size,
-                   const std::vector<Eigen::Vector3d>& ends, std::size_t begin, std::size_t end,
-                   std::array<std::vector<VoxelIndex>, 2>& tmp, std::vector<VoxelIndex>& out) {
-  out.clear();
-  std::vector<VoxelIndex>* ray = &tmp[0];
-  std::vector<VoxelIndex>* prev = &tmp[1];
-  prev->clear();
-  for (std::size_t i = begin; i < end; ++i) {
-    ray->clear();
-    traverseRay(origin, ends[i], voxel_size, *ray);
-    const std::size_t n = std::min(ray->size(), prev->size());
-    std::size_t common = 0;
-    while (common < n && (*ray)[common] == (*prev)[common]) ++common;
-    out.insert(out.end(), ray->begin() + static_cast<std::ptrdiff_t>(common), ray->end());
-    std::swap(ray, prev);
+      part.frames[last_slot].add(s.position[i]);
   }
 }
 
-/// Marks a voxel as updated by this scan; false when it already was.
-bool markOnce(Block& block, int local, std::vector<Block*>& touched) {
-  if (block.scan_mark[local]) return false;
-  block.scan_mark[local] = true;
-  if (!block.in_scan) {
-    block.in_scan = true;
-    touched.push_back(&block);
+/// Counts of one group of updates (summed over groups: integer sums are exact).
+struct Tally {
+  std::int64_t newly_observed = 0, occupied_delta = 0, freed = 0, touched = 0;
+  Tally& operator+=(const Tally& o) {
+    newly_observed += o.newly_observed;
+    occupied_delta += o.occupied_delta;
+    freed += o.freed;
+    touched += o.touched;
+    return *this;
   }
-  return true;
+};
+
+/// Applies partition p's hits to its (already created) blocks and marks the voxels.
+Tally applyHits(const SemanticVoxelBehaviour& behaviour, HitPartition& part) {
+  Tally tally;
+  part.touched.clear();
+  for (std::size_t i = 0; i < part.voxels.size(); ++i) {
+    Block& block = *part.blocks[i];
+    const int local = localOf(part.voxels[i]);
+    block.scan_mark[local] = true;
+    if (!block.in_scan) {
+      block.in_scan = true;
+      part.touched.push_back(&block);
+    }
+    const bool was_observed = block.observed[local];
+    const bool was_occupied = was_observed && behaviour.isOccupied(block.log_odds[local]);
+    behaviour.onHits(block.log_odds[local], block.acquireStats(local), part.frames[i]);
+    block.observed[local] = true;
+    tally.newly_observed += was_observed ? 0 : 1;
+    tally.occupied_delta +=
+        (behaviour.isOccupied(block.log_odds[local]) ? 1 : 0) - (was_occupied ? 1 : 0);
+    ++tally.touched;
+  }
+  return tally;
+}
+
+/// Applies one miss to every voxel of mask in block that the scan did not hit.
+void applyMisses(const SemanticVoxelBehaviour& behaviour, Block& block, const VoxelMask& mask,
+                 Tally& tally) {
+  for (std::size_t w = 0; w < mask.size(); ++w) {
+    for (std::uint64_t bits = mask[w]; bits != 0; bits &= bits - 1) {
+      const int local = static_cast<int>(w * 64) + __builtin_ctzll(bits);
+      if (block.scan_mark[local]) continue;  // hit by this scan: never also missed
+      const bool was_observed = block.observed[local];
+      const bool was_occupied = was_observed && behaviour.isOccupied(block.log_odds[local]);
+      if (behaviour.onMiss(block.log_odds[local], block.statsOf(local))) {
+        block.releaseStats(local);  // turned free: no ghost of what was here
+        ++tally.freed;
+      }
+      block.observed[local] = true;
+      tally.newly_observed += was_observed ? 0 : 1;
+      tally.occupied_delta -=
+          (was_occupied && !behaviour.isOccupied(block.log_odds[local])) ? 1 : 0;
+      ++tally.touched;
+    }
+  }
+}
+
+/// Ray ends: each hit voxel's centre (partition order), then each distinct max-range end.
+void collectRayEnds(double voxel_size, ScanScratch& s) {
+  s.ray_ends.clear();
+  for (const HitPartition& part : s.partitions)
+    for (const VoxelIndex& v : part.voxels)
+      s.ray_ends.push_back((v.cast<double>().array() + 0.5).matrix() * voxel_size);
+  s.clipped_of.clear();
+  for (std::size_t i = 0; i < s.kind.size(); ++i)
+    if (s.kind[i] == PointKind::kClipped && s.clipped_of.try_emplace(s.voxel[i], 0).second)
+      s.ray_ends.push_back(s.position[i]);
+}
+
+/// Traverses every ray (fixed chunks in parallel) and merges the footprints in chunk order.
+const RayFootprint& traverseRays(const Eigen::Vector3d& origin, double voxel_size, ScanScratch& s) {
+  constexpr std::size_t kChunks = ScanScratch::kRayChunks;
+  const std::size_t n = s.ray_ends.size();
+  tbb::parallel_for(std::size_t{0}, kChunks, [&](std::size_t c) {
+    const std::size_t begin = n * c / kChunks, end = n * (c + 1) / kChunks;
+    const double inv = 1.0 / voxel_size;
+    VoxelIndex lo = voxelIndex(origin, inv), hi = lo;
+    for (std::size_t i = begin; i < end; ++i) {
+      const VoxelIndex v = voxelIndex(s.ray_ends[i], inv);
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    RayFootprint& footprint = s.footprints[c];
+    footprint.reset(lo, hi);
+    RayFootprint::Marker mark(footprint);
+    for (std::size_t i = begin; i < end; ++i)
+      forEachVoxelOnRay(origin, s.ray_ends[i], voxel_size, mark);
+    footprint.finish();
+  });
+  RayFootprint& all = s.footprints[0];
+  for (std::size_t c = 1; c < kChunks; ++c) all.merge(s.footprints[c]);
+  return all;
 }
 
 }  // namespace
@@ -109,99 +192,66 @@ IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& senso
   if (const std::string err = validate(sensor_pose, cloud); !err.empty())
     throw std::invalid_argument(err);
   Impl& m = *impl_;
-  Scratch& s = m.scratch;
-  IntegrationResult result;
-  result.points_used = summarise(sensor_pose, cloud, m.config, s);
-
-  s.touched.clear();
-  Grid::Accessor access(m.grid);
+  ScanScratch& s = m.scratch;
   const SemanticVoxelBehaviour& behaviour = m.behaviour;
+  const double vs = m.config.voxel_size;
+  Grid::Accessor access(m.grid);
+  constexpr std::size_t kParts = ScanScratch::kHitPartitions;
+  IntegrationResult result;
+  Tally tally;
 
-  // Hits first.
-  for (std::size_t i = 0; i < s.hit_voxels.size(); ++i) {
-    const VoxelIndex& v = s.hit_voxels[i];
-    Block& block = access.block(blockOf(v));
-    const int local = localOf(v);
-    markOnce(block, local, s.touched);
-    const bool was_observed = block.observed[local];
-    const bool was_occupied = was_observed && behaviour.isOccupied(block.log_odds[local]);
-    behaviour.onHits(block.log_odds[local], block.acquireStats(local), s.hits[i]);
-    block.observed[local] = true;
-    m.num_observed += was_observed ? 0 : 1;
-    m.num_occupied +=
-        (behaviour.isOccupied(block.log_odds[local]) ? 1 : 0) - (was_occupied ? 1 : 0);
-  }
-  result.voxels_hit = static_cast<std::int32_t>(s.hit_voxels.size());
-  result.voxels_touched = result.voxels_hit;
+  m.arena.execute([&] {
+    classifyPoints(sensor_pose, cloud, m.config, s);
+    tbb::parallel_for(std::size_t{0}, kParts,
+                      [&](std::size_t p) { aggregatePartition(p, cloud, s); });
 
-  // Rays: a pipeline traverses batches of rays in parallel while the previous batches are
-  // applied serially and in order (the grid is not thread-safe; the result is deterministic).
-  if (!s.ray_ends.empty()) {
-    const Eigen::Vector3d origin = sensor_pose.translation();
-    const double vs = m.config.voxel_size;
-    constexpr std::size_t kRaysPerBatch = 64;
-    std::size_t next_ray = 0, next_batch = 0;
-    const auto applyMisses = [&](const std::vector<VoxelIndex>& voxels) {
-      BlockKey key = BlockKey::Zero();
-      Block* current = nullptr;
-      for (const VoxelIndex& v : voxels) {
-        const BlockKey k = blockOf(v);
-        if (current == nullptr || k != key) {  // inline fast path: same block as before
-          current = &access.block(k);
-          key = k;
-        }
-        Block& block = *current;
-        const int local = localOf(v);
-        if (!markOnce(block, local, s.touched)) continue;
-        const bool was_observed = block.observed[local];
-        const bool was_occupied = was_observed && behaviour.isOccupied(block.log_odds[local]);
-        if (behaviour.onMiss(block.log_odds[local], block.statsOf(local))) {
-          block.releaseStats(local);  // turned free: no ghost of what was here
-          ++result.voxels_freed;
-        }
-        block.observed[local] = true;
-        m.num_observed += was_observed ? 0 : 1;
-        m.num_occupied -= (was_occupied && !behaviour.isOccupied(block.log_odds[local])) ? 1 : 0;
-        ++result.voxels_touched;
-      }
-    };
-    struct Batch {
-      std::size_t begin, end;
-      std::vector<VoxelIndex>* voxels;
-      std::array<std::vector<VoxelIndex>, 2>* tmp;
-    };
-    m.arena.execute([&] {
-      tbb::parallel_pipeline(
-          ScanScratch::kRayBatches,
-          tbb::make_filter<void, Batch>(
-              tbb::filter_mode::serial_in_order,
-              [&](tbb::flow_control& fc) -> Batch {
-                if (next_ray >= s.ray_ends.size()) {
-                  fc.stop();
-                  return {};
-                }
-                // At most kRayBatches tokens live and the last stage runs in order, so the
-                // buffer reused here belongs to a batch that has been applied already.
-                const std::size_t slot = next_batch++ % ScanScratch::kRayBatches;
-                Batch b{next_ray, std::min(s.ray_ends.size(), next_ray + kRaysPerBatch),
-                        &s.ray_voxels[slot], &s.ray_tmp[slot]};
-                next_ray = b.end;
-                return b;
-              }) &
-              tbb::make_filter<Batch, Batch>(tbb::filter_mode::parallel,
-                                             [&](Batch b) {
-                                               traverseBatch(origin, vs, s.ray_ends, b.begin, b.end,
-                                                             *b.tmp, *b.voxels);
-                                               return b;
-                                             }) &
-              tbb::make_filter<Batch, void>(tbb::filter_mode::serial_in_order,
-                                            [&](Batch b) { applyMisses(*b.voxels); }));
-    });
-  }
-  for (Block* block : s.touched) {
-    block->scan_mark.reset();
-    block->in_scan = false;
-  }
+    // Blocks are created serially (the grid's hash map is not thread-safe), in a fixed order.
+    for (HitPartition& part : s.partitions) {
+      part.blocks.resize(part.voxels.size());
+      for (std::size_t i = 0; i < part.voxels.size(); ++i)
+        part.blocks[i] = &access.block(blockOf(part.voxels[i]));
+    }
+    // Hits first: they mark their voxels, which the misses below then skip.
+    tally = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, kParts, 1), Tally{},
+        [&](const tbb::blocked_range<std::size_t>& r, Tally t) {
+          for (std::size_t p = r.begin(); p != r.end(); ++p)
+            t += applyHits(behaviour, s.partitions[p]);
+          return t;
+        },
+        [](Tally x, const Tally& y) { return x += y; });
+    result.voxels_hit = static_cast<std::int32_t>(tally.touched);
+
+    if (m.config.raycast) {
+      collectRayEnds(vs, s);
+      const RayFootprint& footprint = traverseRays(sensor_pose.translation(), vs, s);
+      s.miss_blocks.resize(footprint.numBlocks());
+      for (std::size_t i = 0; i < footprint.numBlocks(); ++i)
+        s.miss_blocks[i] = &access.block(footprint.key(i));
+      // Misses in parallel by block: a voxel lives in one block and a miss's effect does not
+      // depend on the order of other voxels' misses.
+      tally += tbb::parallel_reduce(
+          tbb::blocked_range<std::size_t>(0, footprint.numBlocks(), 32), Tally{},
+          [&](const tbb::blocked_range<std::size_t>& r, Tally t) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i)
+              applyMisses(behaviour, *s.miss_blocks[i], footprint.mask(i), t);
+            return t;
+          },
+          [](Tally x, const Tally& y) { return x += y; });
+    }
+  });
+
+  for (HitPartition& part : s.partitions)
+    for (Block* block : part.touched) {
+      block->scan_mark.reset();
+      block->in_scan = false;
+    }
+  m.num_observed += tally.newly_observed;
+  m.num_occupied += tally.occupied_delta;
+  result.voxels_touched = static_cast<std::int32_t>(tally.touched);
+  result.voxels_freed = static_cast<std::int32_t>(tally.freed);
+  result.points_used =
+      static_cast<std::int32_t>(std::count(s.kind.begin(), s.kind.end(), PointKind::kHit));
   ++m.version;
   return result;
 }

@@ -4,6 +4,7 @@
 #include <random>
 #include <set>
 
+#include "socc/map/ray_footprint.hpp"
 #include "socc/map/ray_traversal.hpp"
 
 namespace socc::map {
@@ -75,6 +76,54 @@ TEST(RayTraversal, SinglePointAndNegativeCoordinates) {
   traverseRay(Eigen::Vector3d(0.25, 0.25, 0.25), Eigen::Vector3d(-2.25, 0.25, 0.25), 0.5, v);
   ASSERT_EQ(v.size(), 6u);
   EXPECT_EQ(v.back(), VoxelIndex(-5, 0, 0));
+}
+
+// The footprint is the set of voxels of all rays, whichever storage it picks: a dense box
+// (small extents) and the hash map (forced by a huge box) give the same blocks and masks, and
+// merging two halves gives the same as marking everything into one.
+TEST(RayFootprint, DenseAndHashedAgreeWithTraversal) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-30.0, 30.0);
+  const double vs = 0.5;
+  const Eigen::Vector3d origin(0.3, -0.2, 1.7);
+  std::vector<Eigen::Vector3d> ends(500);
+  for (auto& e : ends) e = Eigen::Vector3d(u(rng), u(rng), u(rng) * 0.2);
+
+  std::set<Key> expected;
+  for (const auto& e : ends)
+    forEachVoxelOnRay(origin, e, vs, [&](const VoxelIndex& v) { expected.insert(key(v)); });
+
+  const auto voxelsOf = [](const RayFootprint& f) {
+    std::set<Key> out;
+    for (std::size_t b = 0; b < f.numBlocks(); ++b)
+      for (int local = 0; local < kBlockVoxels; ++local)
+        if ((f.mask(b)[static_cast<std::size_t>(local / 64)] >> (local % 64)) & 1u)
+          out.insert(key(voxelOf(f.key(b), local)));
+    return out;
+  };
+  const VoxelIndex lo(-70, -70, -20), hi(70, 70, 20);
+  const VoxelIndex huge(1 << 20, 1 << 20, 1 << 20);
+  const auto mark = [&](RayFootprint& f, std::size_t begin, std::size_t end) {
+    RayFootprint::Marker marker(f);
+    for (std::size_t i = begin; i < end; ++i) forEachVoxelOnRay(origin, ends[i], vs, marker);
+    f.finish();
+  };
+  RayFootprint dense, hashed, first_half, second_half;
+  dense.reset(lo, hi);
+  mark(dense, 0, ends.size());
+  hashed.reset(-huge, huge);
+  mark(hashed, 0, ends.size());
+  first_half.reset(lo, hi);
+  mark(first_half, 0, ends.size() / 2);
+  second_half.reset(-huge, huge);
+  mark(second_half, ends.size() / 2, ends.size());
+  first_half.merge(second_half);
+
+  EXPECT_EQ(voxelsOf(dense), expected);
+  EXPECT_EQ(voxelsOf(hashed), expected);
+  EXPECT_EQ(voxelsOf(first_half), expected);
+  EXPECT_EQ(dense.numBlocks(), hashed.numBlocks());
+  EXPECT_EQ(first_half.numBlocks(), dense.numBlocks());  // merge does not duplicate blocks
 }
 
 }  // namespace
