@@ -80,6 +80,17 @@ std::unique_ptr<socc::service::RequestGate> makeGate(const socc::service::Server
 }
 
 int run(const Options& options) {
+  // SIGINT/SIGTERM are blocked and polled, so shutdown happens between two requests and the
+  // final snapshot never races a handler. Blocked first thing: threads inherit the mask, and the
+  // integrator's TBB workers are created by the first integration, i.e. by a journal replay in
+  // restoreState(); a worker that did not block them took SIGTERM and killed the process without
+  // the final snapshot. A signal during the restore is handled once it has finished.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
   socc::service::ServerConfig config;
   try {
     if (!options.config_file.empty()) config = socc::service::loadServerConfig(options.config_file);
@@ -124,14 +135,6 @@ int run(const Options& options) {
     return 1;
   }
   socc::service::RequestRouter router(lcm, service, *gate, !options.quiet);
-
-  // SIGINT/SIGTERM are blocked and polled, so shutdown happens between two requests and the
-  // final snapshot never races a handler.
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
   const timespec no_wait{0, 0};
 
   const auto status_period = std::chrono::duration<double>(options.status_period);

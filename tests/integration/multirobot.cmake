@@ -1,6 +1,7 @@
-# Multi-robot and log-replay tests (included from tests/integration/CMakeLists.txt): real
-# map_server, odom_client, socc-cli, socc-to-lcmlog / socc-sim processes and lcm-logplayer over
-# UDP multicast on loopback (random port 50000-59999). See multirobot_test.sh --help.
+# Multi-robot, log-replay and server-restart tests (included from
+# tests/integration/CMakeLists.txt): real map_server, odom_client, socc-cli, socc-to-lcmlog /
+# socc-sim processes and lcm-logplayer over UDP multicast on loopback (random port 50000-59999).
+# See multirobot_test.sh --help.
 if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
   set(_socc_mr_script ${CMAKE_CURRENT_LIST_DIR}/multirobot_test.sh)
   set(_socc_mr_bins --server $<TARGET_FILE:map_server> --client $<TARGET_FILE:odom_client>
@@ -19,5 +20,11 @@ if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
     add_test(NAME integration.multirobot_robots
              COMMAND bash ${_socc_mr_script} robots ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
     set_tests_properties(integration.multirobot_robots PROPERTIES LABELS integration TIMEOUT 120)
+    # odom_client survives a kill -9 + --restore of map_server mid-run: exit 0, every scan
+    # integrated exactly once, same map and poses as an undisturbed run.
+    add_test(NAME integration.odom_server_restart
+             COMMAND bash ${_socc_mr_script} server_restart ${_socc_mr_bins}
+                     --sim $<TARGET_FILE:socc-sim>)
+    set_tests_properties(integration.odom_server_restart PROPERTIES LABELS integration TIMEOUT 180)
   endif()
 endif()

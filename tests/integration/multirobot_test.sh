@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Multi-robot / log-replay integration tests: real map_server, odom_client, socc-cli processes
-# and lcm-logplayer over UDP multicast on loopback (random group, port 50000-59999).
+# Multi-robot, log-replay and server-restart integration tests: real map_server, odom_client,
+# socc-cli processes and lcm-logplayer over UDP multicast on loopback (random group, port
+# 50000-59999).
 #
-# Usage: multirobot_test.sh logplayer|robots --server BIN --client BIN --cli BIN
+# Usage: multirobot_test.sh logplayer|robots|server_restart --server BIN --client BIN --cli BIN
 #                           [--to-lcmlog BIN] [--sim BIN] [--data DIR]
 #   logplayer: socc-to-lcmlog converts frames 0-7 of DATA/kitti_00_first16 to a log,
 #              odom_client --live consumes it from lcm-logplayer; its poses must equal an offline
@@ -11,10 +12,20 @@
 #   robots:    3 odom_client processes on three segments of a socc-sim sequence (distinct robot
 #              ids, GT initial poses) share one map_server at the same time; GET_STATS shows the
 #              3 robots with the right last seq; each client wrote its 8 poses.
+#   server_restart: odom_client on 48 socc-sim frames against a map_server with snapshot +
+#              journal, killed with -9 mid-run and restarted with --restore 1 s later while the
+#              client retries the same seq. The client exits 0; the restarted server holds
+#              seq 47 and 48 integrations (each scan applied exactly once) and the same map
+#              (chunk digest) as an undisturbed reference run; the poses equal the reference
+#              run's (max element difference 1e-6); the restarted server stops cleanly (exit 0).
 set -euo pipefail
-usage() { sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
-case "${1:-}" in -h|--help) usage 0 ;; logplayer|robots) mode=$1; shift ;; *) usage 2 ;; esac
+case "${1:-}" in
+  -h|--help) usage 0 ;;
+  logplayer|robots|server_restart) mode=$1; shift ;;
+  *) usage 2 ;;
+esac
 server_bin="" client_bin="" cli_bin="" to_lcmlog_bin="" sim_bin="" data=""
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -53,14 +64,18 @@ fail() { echo "FAIL: $*"; exit 1; }
 new_url() { url=$(random_lcm_url 50000); }
 cli() { "$cli_bin" --lcm-url "$url" --client-id multirobot_test "$@"; }
 server_pid=""
-start_server() {  # start_server NAME: a fresh map_server on a new URL
+start_server() {  # start_server NAME [map_server options]: a fresh map_server on a new URL
   new_url
-  echo "map_server ($1) on $url"
-  "$server_bin" --lcm-url "$url" --quiet --status-period 0 >"$work/server_$1.log" 2>&1 &
+  launch_server "$@"
+}
+launch_server() {  # launch_server NAME [map_server options]: map_server on the current URL
+  local name=$1; shift
+  echo "map_server ($name) on $url"
+  "$server_bin" --lcm-url "$url" --quiet --status-period 0 "$@" >"$work/server_$name.log" 2>&1 &
   server_pid=$!
   for _ in $(seq 100); do
     cli --timeout-ms 100 --attempts 1 stats >/dev/null 2>&1 && return 0
-    kill -0 "$server_pid" 2>/dev/null || fail "map_server exited during start-up: $(cat "$work/server_$1.log")"
+    kill -0 "$server_pid" 2>/dev/null || fail "map_server exited during start-up: $(cat "$work/server_$name.log")"
     sleep 0.1
   done
   fail "map_server did not answer GET_STATS within 10 s"
@@ -171,6 +186,84 @@ robots() {
     diff=$(pose_diff <(echo "$gt_last") <(tail -1 "$work/robot$i/poses_kitti.txt"))
     echo "robot$i: last pose ${diff% *} m / ${diff#* } deg from the GT"
   done
+}
+
+server_restart() {
+  [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
+  local frames=48 kill_at=12
+  "$sim_bin" --out "$work/sim" --frames $frames --sensor vlp32 --speed 3 --seed 7 --quiet >/dev/null ||
+    fail "socc-sim failed"
+  # 30 attempts of 1 s per request: the client keeps resending the same request (same seq) far
+  # longer than the outage (1 s + restore). Both runs use it, so only the fault differs.
+  printf 'timeout_ms: 1000\nmax_attempts: 30\n' >"$work/retry.yaml"
+  map_digest() {  # SHA-256 of every voxel of the map (150 m around the start; range is 100 m)
+    cli chunk --sphere 0 0 0 150 --fields features stats free index --digest | sed -n 's/^digest=//p'
+  }
+  start_client() {  # start_client NAME: odom_client on all frames in the background
+    "$client_bin" --kitti "$work/sim" --config "$work/retry.yaml" --lcm-url "$url" --robot-id car \
+      --out-dir "$work/$1" --quiet >"$work/$1.log" 2>&1 &
+  }
+
+  start_server reference --snapshot-dir "$work/state_ref" --journal "$work/state_ref/journal.lcmlog"
+  start_client reference
+  client_ok "$!" reference
+  local ref_digest; ref_digest=$(map_digest)
+  [[ -n $ref_digest ]] || fail "reference chunk query failed"
+  stop_server
+
+  local durable=(--snapshot-dir "$work/state" --journal "$work/state/journal.lcmlog")
+  start_server fault "${durable[@]}"
+  start_client fault
+  local client=$! n=0 m
+  while ((n < kill_at)); do
+    if ! kill -0 "$client" 2>/dev/null; then
+      client_ok "$client" fault
+      fail "odom_client finished before the server was killed ($n integrations seen)"
+    fi
+    sleep 0.05
+    m=$(cli --timeout-ms 300 --attempts 1 stats 2>/dev/null |
+        sed -n '1s/.* integrations=\([0-9]*\) .*/\1/p') || true
+    n=${m:-$n}
+  done
+  kill -0 "$client" 2>/dev/null || fail "odom_client finished before the server was killed"
+  kill -9 "$server_pid"
+  wait "$server_pid" 2>/dev/null || true
+  echo "killed map_server with -9 after >= $n of $frames integrations; odom_client is retrying"
+  sleep 1
+  launch_server restarted "${durable[@]}" --restore "$work/state/map.snap"
+  client_ok "$client" fault
+
+  cli stats | tee "$work/stats.txt" | sed 's/^/  stats: /'
+  grep -q " integrations=$frames .* robots=1$" "$work/stats.txt" ||
+    fail "the restarted server does not count $frames integrations of 1 robot"
+  grep -q "^car seq=$((frames - 1)) integrations=$frames " "$work/stats.txt" ||
+    fail "car: expected last seq $((frames - 1)) and $frames integrations (each scan exactly once)"
+  [[ $(map_digest) == "$ref_digest" ]] || fail "map after the restart differs from the reference run"
+  echo "map after the restart: chunk digest equals the reference run's"
+  # The client must have waited through the outage: one frame's fetch or integrate took >= 1 s.
+  local stall
+  stall=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+    { s = $col["fetch_ms"] > $col["integrate_ms"] ? $col["fetch_ms"] : $col["integrate_ms"]
+      if (s > m) m = s } END { printf "%.0f\n", m }' "$work/fault/frames.csv")
+  echo "longest wait of the client for a reply: $stall ms"
+  ((stall >= 1000)) || fail "no request of the client spanned the outage (longest wait $stall ms)"
+
+  local ref=$work/reference/poses_kitti.txt out=$work/fault/poses_kitti.txt diff
+  [[ $(wc -l <"$ref") == "$frames" && $(wc -l <"$out") == "$frames" ]] ||
+    fail "expected $frames poses in both runs"
+  diff=$(paste -d' ' "$ref" "$out" | awk '{ for (i = 1; i <= 12; i++) {
+      d = $i - $(i + 12); if (d < 0) d = -d; if (d > m) m = d } } END { printf "%g\n", m }')
+  echo "poses vs the reference run: max element difference $diff"
+  if cmp -s "$ref" "$out"; then echo "poses_kitti.txt is byte-identical to the reference run's"; fi
+  awk -v d="$diff" 'BEGIN { exit !(d < 1e-6) }' || fail "poses differ from the reference run by $diff"
+
+  # SIGTERM: the restored server (TBB workers started by the journal replay) exits cleanly,
+  # writing its final snapshot.
+  kill "$server_pid"
+  local rc=0
+  wait "$server_pid" || rc=$?
+  ((rc == 0)) ||
+    fail "the restarted map_server exited $rc on SIGTERM: $(cat "$work/server_restarted.log")"
 }
 
 "$mode"
