@@ -3,13 +3,15 @@
 #include "socc/map/semantic_occupancy_map.hpp"
 #include "socc/rpc/safe_decode.hpp"
 #include "socc/scan_t.hpp"
+#include "socc/wire_arrays.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size > (64u << 20)) return 0;
   const auto scan = socc::rpc::safeDecode<socc::scan_t>(data, static_cast<int>(size));
   if (!scan) return 0;
+  if (!socc::wire::checkArrays(*scan).empty()) __builtin_trap();  // decode() guarantees it
   socc::LabeledCloud cloud;
-  for (const auto& p : scan->xyz) cloud.points.emplace_back(p[0], p[1], p[2]);
+  cloud.points = socc::wire::pointsFromRows(scan->xyz);
   cloud.labels = scan->label;
   cloud.times = scan->time;
   socc::map::MapConfig config;

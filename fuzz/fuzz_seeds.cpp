@@ -66,8 +66,11 @@ void requestSeeds(SeedWriter& w) {
   in.seq = 1;
   in.scan_utime = in.header.utime;
   in.sensor_pose.quaternion[0] = 1.0;
+  in.xyz.resize(3);  // by axis: xyz[0] = x of every point
   for (int i = 0; i < 12; ++i) {
-    in.xyz.push_back({static_cast<float>(i) - 6.f, 3.f, 0.5f});
+    in.xyz[0].push_back(static_cast<float>(i) - 6.f);
+    in.xyz[1].push_back(3.f);
+    in.xyz[2].push_back(0.5f);
     in.label.push_back(static_cast<std::uint8_t>(i % 20));
     in.time.push_back(0.008f * static_cast<float>(i));
   }

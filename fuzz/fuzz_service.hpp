@@ -48,12 +48,15 @@ inline service::MapService populatedService() {
   r.header.client_id = "seed";
   r.seq = 1;
   r.sensor_pose.quaternion[0] = 1.0;
+  r.xyz.resize(3);  // by axis: xyz[0] = x of every point
   for (int i = 0; i < 64; ++i) {
     const float a = static_cast<float>(i) * 0.098f;
-    r.xyz.push_back({8.f * std::cos(a), 8.f * std::sin(a), static_cast<float>(i % 3) - 1.f});
+    r.xyz[0].push_back(8.f * std::cos(a));
+    r.xyz[1].push_back(8.f * std::sin(a));
+    r.xyz[2].push_back(static_cast<float>(i % 3) - 1.f);
     r.label.push_back(static_cast<std::uint8_t>(i % 20));
   }
-  r.num_points = static_cast<std::int32_t>(r.xyz.size());
+  r.num_points = static_cast<std::int32_t>(r.label.size());
   r.num_labels = r.num_points;
   svc.integrate(r);
   return svc;

@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "socc/large_message_heap.hpp"
 #include "socc/lcm_url.hpp"
 #include "socc/progress_bar.hpp"
 #include "socc/rpc/map_client.hpp"
@@ -150,6 +151,7 @@ LoadReport buildReport(const Options& o, const socc::tools::ScanSet& scans,
 }  // namespace
 
 int main(int argc, char** argv) {
+  socc::keepHeapForLargeMessages();
   CLI::App app{
       "socc-loadtest: N simulated robots integrate KITTI-size scans and fetch chunks at a fixed "
       "rate against map_server; prints throughput, latency percentiles and lost integrations"};

@@ -29,20 +29,36 @@ void checkQuery(const ChunkQuery& q) {
   if (q.limit < 0) throw std::invalid_argument("chunk query: limit must be >= 0");
 }
 
+// Rows of chunk_reply_t's structure-of-arrays fields ([component][voxel]): as many rows as
+// decode() yields, emptied but keeping their capacity for the next query into the same reply.
+template <typename T>
+void resetRows(std::vector<std::vector<T>>& rows, std::size_t n) {
+  rows.resize(n);
+  for (auto& row : rows) row.clear();
+}
+
+template <typename T>
+void push3(std::vector<std::vector<T>>& rows, typename std::vector<T>::value_type x,
+           typename std::vector<T>::value_type y, typename std::vector<T>::value_type z) {
+  rows[0].push_back(x);
+  rows[1].push_back(y);
+  rows[2].push_back(z);
+}
+
 void appendOccupied(chunk_reply_t& out, const VoxelIndex& v, const Eigen::Vector3d& centre,
                     float log_odds, const VoxelStats* stats, std::int32_t fields) {
-  if (fields & chunk_request_t::FIELD_INDEX) out.index.push_back({v.x(), v.y(), v.z()});
+  if (fields & chunk_request_t::FIELD_INDEX) push3(out.index, v.x(), v.y(), v.z());
   const VoxelStats empty;
   const VoxelStats& s = stats != nullptr ? *stats : empty;
+  const Eigen::Vector3f centref = centre.cast<float>();
   if (fields & chunk_request_t::FIELD_FEATURES) {
     if (stats != nullptr)
-      out.first_point.push_back({s.first_point[0], s.first_point[1], s.first_point[2]});
+      push3(out.first_point, s.first_point[0], s.first_point[1], s.first_point[2]);
     else  // occupied without statistics (only below the map's threshold): use the centre
-      out.first_point.push_back({static_cast<float>(centre.x()), static_cast<float>(centre.y()),
-                                 static_cast<float>(centre.z())});
+      push3(out.first_point, centref.x(), centref.y(), centref.z());
     const VoxelFeatures f = computeFeatures(s);
     const auto q = [](double c) { return static_cast<std::int16_t>(std::lround(c * 32767.0)); };
-    out.normal.push_back({q(f.normal.x()), q(f.normal.y()), q(f.normal.z())});
+    push3(out.normal, q(f.normal.x()), q(f.normal.y()), q(f.normal.z()));
     out.planarity.push_back(static_cast<float>(f.planarity));
     out.occupancy.push_back(toByte(probability(log_odds)));
     out.label.push_back(s.label);
@@ -50,19 +66,15 @@ void appendOccupied(chunk_reply_t& out, const VoxelIndex& v, const Eigen::Vector
   }
   if (fields & chunk_request_t::FIELD_STATS) {
     if (stats != nullptr)
-      out.mean.push_back({s.mean[0], s.mean[1], s.mean[2]});
+      push3(out.mean, s.mean[0], s.mean[1], s.mean[2]);
     else
-      out.mean.push_back({static_cast<float>(centre.x()), static_cast<float>(centre.y()),
-                          static_cast<float>(centre.z())});
+      push3(out.mean, centref.x(), centref.y(), centref.z());
     const Eigen::Matrix3d c = s.covariance();
-    out.covariance.push_back({static_cast<float>(c(0, 0)), static_cast<float>(c(0, 1)),
-                              static_cast<float>(c(0, 2)), static_cast<float>(c(1, 1)),
-                              static_cast<float>(c(1, 2)), static_cast<float>(c(2, 2))});
+    const double upper[6] = {c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2), c(2, 2)};
+    for (int k = 0; k < 6; ++k) out.covariance[k].push_back(static_cast<float>(upper[k]));
     out.count.push_back(static_cast<std::int32_t>(s.count));
     out.log_odds.push_back(log_odds);
-    std::vector<float> probs(kNumClasses);
-    for (int k = 0; k < kNumClasses; ++k) probs[k] = s.prob(k);
-    out.class_prob.push_back(std::move(probs));
+    for (int k = 0; k < kNumClasses; ++k) out.class_prob[k].push_back(s.prob(k));
   }
 }
 
@@ -93,19 +105,19 @@ void SemanticOccupancyMap::queryChunk(const ChunkQuery& query, chunk_reply_t& ou
   out.map_version = m.version;
   out.fields = fields;
   out.truncated = false;
-  out.index.clear();
-  out.first_point.clear();
-  out.normal.clear();
+  resetRows(out.index, 3);
+  resetRows(out.first_point, 3);
+  resetRows(out.normal, 3);
   out.planarity.clear();
   out.occupancy.clear();
   out.label.clear();
   out.label_prob.clear();
-  out.mean.clear();
-  out.covariance.clear();
+  resetRows(out.mean, 3);
+  resetRows(out.covariance, 6);
   out.count.clear();
   out.log_odds.clear();
-  out.class_prob.clear();
-  out.free_index.clear();
+  resetRows(out.class_prob, (fields & chunk_request_t::FIELD_STATS) ? kNumClasses : 0);
+  resetRows(out.free_index, 3);
 
   std::size_t occupied = 0;
   for (const BlockKey& key : m.grid.blocksIn(box.blockLo(), box.blockHi())) {
@@ -125,20 +137,21 @@ void SemanticOccupancyMap::queryChunk(const ChunkQuery& query, chunk_reply_t& ou
         ++occupied;
         appendOccupied(out, v, c, l, block.statsOf(local), fields);
       } else if (fields & chunk_request_t::FIELD_FREE) {
-        if (out.free_index.size() == limit) {
+        if (out.free_index[0].size() == limit) {
           out.truncated = true;
           continue;
         }
-        out.free_index.push_back({v.x(), v.y(), v.z()});
+        push3(out.free_index, v.x(), v.y(), v.z());
       }
     }
   }
   out.num_voxels = static_cast<std::int32_t>(occupied);
-  out.n_index = static_cast<std::int32_t>(out.index.size());
+  out.n_index = static_cast<std::int32_t>(out.index[0].size());
   out.n_features = static_cast<std::int32_t>(out.occupancy.size());
   out.n_stats = static_cast<std::int32_t>(out.count.size());
   out.num_classes = out.n_stats > 0 ? kNumClasses : 0;
-  out.n_free = static_cast<std::int32_t>(out.free_index.size());
+  if (out.n_stats == 0) out.class_prob.clear();  // decode() yields num_classes rows
+  out.n_free = static_cast<std::int32_t>(out.free_index[0].size());
 }
 
 }  // namespace socc::map

@@ -18,6 +18,7 @@
 #include "service/request_router.hpp"
 #include "service/service_config.hpp"
 #include "socc/channels.hpp"
+#include "socc/large_message_heap.hpp"
 #include "socc/lcm_url.hpp"
 
 namespace {
@@ -53,6 +54,7 @@ void restoreState(socc::service::MapService& service, const Options& options) {
   if (!options.snapshot_dir.empty())
     durability.snapshot_file = fs::path(options.snapshot_dir) / "map.snap";
   if (!options.journal.empty()) durability.journal_file = options.journal;
+  durability.show_progress = !options.quiet;
   std::optional<fs::path> restore;
   if (!options.restore.empty()) restore = options.restore;
   try {
@@ -177,6 +179,7 @@ int run(const Options& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  socc::keepHeapForLargeMessages();
   CLI::App app{
       "map_server: the shared semantic occupancy grid, served over LCM.\n"
       "Services on SOCC/<SERVICE>/REQ (INTEGRATE, GET_CHUNK, GET_STATS, GET_ROBOT_POSE,\n"

@@ -41,7 +41,7 @@ void classifyPoints(const Eigen::Isometry3d& pose, const LabeledCloud& cloud,
                         const Eigen::Vector3d ps = cloud.points[i].cast<double>();
                         const double d = ps.norm();
                         PointKind kind = PointKind::kHit;
-                        Eigen::Vector3d pm;
+                        Eigen::Vector3d pm = Eigen::Vector3d::Zero();
                         if (d < config.min_range || (d > config.max_range && !config.raycast)) {
                           kind = PointKind::kSkipped;
                         } else if (d > config.max_range) {

@@ -8,6 +8,7 @@
 
 #include "socc/channels.hpp"
 #include "socc/kitti_io.hpp"
+#include "socc/large_message_heap.hpp"
 #include "socc/lcm_url.hpp"
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/odom_runner.hpp"
@@ -50,6 +51,7 @@ void writeOutputs(const fs::path& out_dir, const Trajectory& t) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  socc::keepHeapForLargeMessages();
   CLI::App app{
       "odom_client: SOCC-ICP LiDAR odometry against the shared semantic occupancy map.\n"
       "Per scan: range filter, deskew, semantic adaptive downsampling, GET_CHUNK around the\n"

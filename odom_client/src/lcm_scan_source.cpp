@@ -9,14 +9,14 @@
 #include "socc/lcm_url.hpp"
 #include "socc/odom/scan_source.hpp"
 #include "socc/scan_t.hpp"
+#include "socc/wire_arrays.hpp"
 
 namespace socc::odom {
 namespace {
 
 // Empty when the message is self-consistent, otherwise why it is rejected.
 std::string checkScan(const scan_t& m) {
-  if (m.num_points < 0 || m.xyz.size() != static_cast<std::size_t>(m.num_points))
-    return "num_points does not match xyz";
+  if (std::string why = wire::checkArrays(m); !why.empty()) return why;
   if (m.num_labels != 0 && m.num_labels != m.num_points)
     return "num_labels is neither 0 nor num_points";
   if (m.num_times != 0 && m.num_times != m.num_points)
@@ -69,8 +69,7 @@ class LcmScanSource final : public ScanSource {
     scan.utime = m->utime;
     scan.seq = m->seq;
     scan.name = channel + "#" + std::to_string(m->seq);
-    scan.cloud.points.reserve(m->xyz.size());
-    for (const auto& p : m->xyz) scan.cloud.points.emplace_back(p[0], p[1], p[2]);
+    scan.cloud.points = wire::pointsFromRows(m->xyz);
     scan.cloud.labels.assign(m->label.begin(), m->label.end());
     scan.cloud.times = m->time;
     queue_.push_back(std::move(scan));

@@ -8,6 +8,7 @@
 
 #include "socc/chunk_request_t.hpp"
 #include "socc/labels.hpp"
+#include "socc/wire_arrays.hpp"
 
 namespace socc::odom {
 namespace {
@@ -95,23 +96,24 @@ LocalMap LocalMap::fromChunk(const chunk_reply_t& chunk, double occupancy_thresh
   if (!(chunk.fields & chunk_request_t::FIELD_FEATURES) || chunk.n_features != n)
     malformed("FIELD_FEATURES missing or n_features (" + std::to_string(chunk.n_features) +
               ") != num_voxels (" + std::to_string(n) + ")");
-  const auto sized = [n](std::size_t s) { return s == static_cast<std::size_t>(n); };
-  if (!sized(chunk.first_point.size()) || !sized(chunk.normal.size()) ||
-      !sized(chunk.planarity.size()) || !sized(chunk.occupancy.size()) ||
-      !sized(chunk.label.size()) || !sized(chunk.label_prob.size()))
-    malformed("feature array sizes differ from num_voxels");
+  if (const std::string why = wire::checkArrays(chunk); !why.empty()) malformed(why);
 
+  // Rows of the structure-of-arrays fields ([axis][voxel]), read in one pass.
+  const float* px = chunk.first_point[0].data();
+  const float* py = chunk.first_point[1].data();
+  const float* pz = chunk.first_point[2].data();
+  const std::int16_t* nx = chunk.normal[0].data();
+  const std::int16_t* ny = chunk.normal[1].data();
+  const std::int16_t* nz = chunk.normal[2].data();
   std::vector<MapVoxel> voxels;
   voxels.reserve(static_cast<std::size_t>(n));
   for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
     MapVoxel v;
     v.occupancy = chunk.occupancy[i] / 255.f;
     if (v.occupancy + 1e-6f < occupancy_threshold) continue;
-    const auto& p = chunk.first_point[i];
-    v.point = Eigen::Vector3d(p[0], p[1], p[2]);
+    v.point = Eigen::Vector3d(px[i], py[i], pz[i]);
     if (!v.point.allFinite()) malformed("non-finite first point at voxel " + std::to_string(i));
-    const auto& q = chunk.normal[i];
-    v.normal = Eigen::Vector3d(q[0], q[1], q[2]) / 32767.0;
+    v.normal = Eigen::Vector3d(nx[i], ny[i], nz[i]) / 32767.0;
     const double norm = v.normal.norm();
     v.normal = norm > 0.5 ? Eigen::Vector3d(v.normal / norm) : Eigen::Vector3d::Zero();
     v.planarity = std::isfinite(chunk.planarity[i]) ? chunk.planarity[i] : -1.f;

@@ -22,6 +22,7 @@
 #include "socc/odom/voxel_downsampling.hpp"
 #include "socc/rpc/map_client.hpp"
 #include "socc/scan_t.hpp"
+#include "socc/wire_arrays.hpp"
 
 namespace fs = std::filesystem;
 using namespace socc::odom;
@@ -228,7 +229,7 @@ TEST_F(OdomEndToEnd, LiveScansOverLcm) {
     m.robot_id = "live";
     m.seq = k;
     m.num_points = static_cast<int>(points.size());
-    for (const auto& p : points) m.xyz.push_back({p.x(), p.y(), p.z()});
+    socc::wire::pointsToRows(points, m.xyz);
     lcm.publish(socc::channels::scan("live"), &m);
     if (k == 1) {  // malformed: a label count that matches nothing
       m.num_labels = 3;

@@ -5,12 +5,14 @@
 #include <random>
 
 #include "socc/chunk_request_t.hpp"
+#include "socc/wire_arrays.hpp"
 #include "test_helpers.hpp"
 
 namespace socc::map {
 namespace {
 
 using test::query;
+using wire::column;
 constexpr std::int32_t kAll =
     chunk_request_t::FIELD_FEATURES | chunk_request_t::FIELD_STATS | chunk_request_t::FIELD_INDEX;
 
@@ -41,7 +43,7 @@ class ChunkQueryTest : public ::testing::Test {
     full_ = query(map_, all);
     EXPECT_EQ(full_.num_voxels, map_.stats().num_voxels);
     for (int i = 0; i < full_.num_voxels; ++i)
-      voxels_[{full_.index[i][0], full_.index[i][1], full_.index[i][2]}] = {
+      voxels_[{full_.index[0][i], full_.index[1][i], full_.index[2][i]}] = {
           full_.occupancy[i] / 255.0, static_cast<std::size_t>(i)};
   }
 
@@ -68,25 +70,27 @@ class ChunkQueryTest : public ::testing::Test {
     ASSERT_EQ(r.n_features, (q.fields & chunk_request_t::FIELD_FEATURES) ? r.num_voxels : 0);
     ASSERT_EQ(r.n_stats, (q.fields & chunk_request_t::FIELD_STATS) ? r.num_voxels : 0);
     ASSERT_EQ(r.n_free, (q.fields & chunk_request_t::FIELD_FREE) ? static_cast<int>(n_free) : 0);
+    ASSERT_EQ(wire::checkArrays(r), "") << "every row has its count: encode() trusts them";
     EXPECT_FALSE(r.truncated);
     for (int i = 0; i < r.num_voxels; ++i) {
-      const Index idx{r.index[i][0], r.index[i][1], r.index[i][2]};
+      const Index idx{r.index[0][i], r.index[1][i], r.index[2][i]};
       ASSERT_TRUE(expected.count(idx) && expected[idx]);
       const std::size_t row = voxels_.at(idx).row;
       if (q.fields & chunk_request_t::FIELD_STATS) {
         EXPECT_EQ(r.count[i], full_.count[row]);
         EXPECT_EQ(r.log_odds[i], full_.log_odds[row]);
-        EXPECT_EQ(r.class_prob[i], full_.class_prob[row]);
-        EXPECT_EQ(r.mean[i], full_.mean[row]);
+        EXPECT_EQ(column(r.class_prob, i), column(full_.class_prob, row));
+        EXPECT_EQ(column(r.mean, i), column(full_.mean, row));
+        EXPECT_EQ(column(r.covariance, i), column(full_.covariance, row));
       }
       if (q.fields & chunk_request_t::FIELD_FEATURES) {
-        EXPECT_EQ(r.first_point[i], full_.first_point[row]);
+        EXPECT_EQ(column(r.first_point, i), column(full_.first_point, row));
         EXPECT_EQ(r.label[i], full_.label[row]);
-        EXPECT_EQ(r.normal[i], full_.normal[row]);
+        EXPECT_EQ(column(r.normal, i), column(full_.normal, row));
       }
     }
     for (int i = 0; i < r.n_free; ++i) {
-      const Index idx{r.free_index[i][0], r.free_index[i][1], r.free_index[i][2]};
+      const Index idx{r.free_index[0][i], r.free_index[1][i], r.free_index[2][i]};
       ASSERT_TRUE(expected.count(idx) && !expected[idx]);
     }
   }
@@ -144,7 +148,7 @@ TEST_F(ChunkQueryTest, LimitTruncates) {
   EXPECT_FALSE(all.truncated);
   EXPECT_GT(all.num_voxels, 10);
   // The limited answer is a prefix of the full one (deterministic order).
-  for (int i = 0; i < 10; ++i) EXPECT_EQ(r.index[i], all.index[i]);
+  for (int i = 0; i < 10; ++i) EXPECT_EQ(column(r.index, i), column(all.index, i));
 }
 
 TEST_F(ChunkQueryTest, NoStatsMeansNoClasses) {

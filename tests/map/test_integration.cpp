@@ -102,7 +102,7 @@ TEST(Integration, MovingObjectLeavesNoGhost) {
                           chunk_request_t::FIELD_FEATURES | chunk_request_t::FIELD_STATS));
   ASSERT_GT(back.num_voxels, 0);
   for (int i = 0; i < back.num_voxels; ++i) {
-    EXPECT_NEAR(back.first_point[i][0], 10.3f, 1e-5);
+    EXPECT_NEAR(back.first_point[0][i], 10.3f, 1e-5);
     EXPECT_EQ(back.count[i] % 6, 0);  // only the 6 new scans' points
   }
 }

@@ -44,7 +44,7 @@ TEST(KittiMap, RoadVoxelsArePlanarWithVerticalNormals) {
     if (r.planarity[i] < 0.0f) continue;
     ++with_features;
     planar += r.planarity[i] < 0.1f;
-    vertical += std::abs(r.normal[i][2]) > 0.9 * 32767;
+    vertical += std::abs(r.normal[2][i]) > 0.9 * 32767;
   }
   EXPECT_GT(road, 200);
   ASSERT_GT(with_features, 100);

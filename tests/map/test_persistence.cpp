@@ -153,8 +153,8 @@ TEST(Export, OctomapBinaryHasTheOccupiedVoxels) {
   EXPECT_GE(occupied_leaves, 1);  // binary trees prune: count the occupied voxels by lookup
   const chunk_reply_t r = everything(map);
   for (int i = 0; i < r.num_voxels; ++i) {
-    const octomap::point3d p((r.index[i][0] + 0.5f) * 0.4f, (r.index[i][1] + 0.5f) * 0.4f,
-                             (r.index[i][2] + 0.5f) * 0.4f);
+    const octomap::point3d p((r.index[0][i] + 0.5f) * 0.4f, (r.index[1][i] + 0.5f) * 0.4f,
+                             (r.index[2][i] + 0.5f) * 0.4f);
     const octomap::OcTreeNode* node = tree.search(p);
     ASSERT_NE(node, nullptr);
     EXPECT_TRUE(tree.isNodeOccupied(node));

@@ -18,9 +18,13 @@ socc::chunk_reply_t makeChunk(const std::vector<Eigen::Vector3f>& points, std::u
   c.n_stats = 0;
   c.num_classes = 0;
   c.n_free = 0;
+  c.first_point.resize(3);  // by axis: first_point[0] = x of every voxel
+  c.normal.resize(3);
   for (const auto& p : points) {
-    c.first_point.push_back({p.x(), p.y(), p.z()});
-    c.normal.push_back({0, 0, 32767});
+    for (int a = 0; a < 3; ++a) {
+      c.first_point[a].push_back(p[a]);
+      c.normal[a].push_back(a == 2 ? 32767 : 0);
+    }
     c.planarity.push_back(0.01f);
     c.occupancy.push_back(occupancy);
     c.label.push_back(socc::kRoad);
@@ -56,7 +60,13 @@ TEST(LocalMap, RejectsMalformedChunks) {
   bad.planarity.pop_back();
   EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
   bad = chunk;
-  bad.first_point[0][1] = std::numeric_limits<float>::quiet_NaN();
+  bad.first_point[1][0] = std::numeric_limits<float>::quiet_NaN();  // y of voxel 0
+  EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
+  bad = chunk;
+  bad.normal[2].pop_back();  // a row shorter than n_features
+  EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
+  bad = chunk;
+  bad.first_point.pop_back();  // a missing row
   EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
   bad = chunk;
   bad.label[1] = 42;

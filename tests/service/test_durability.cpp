@@ -6,6 +6,7 @@
 #include "service/journal.hpp"
 #include "service/snapshot_metadata.hpp"
 #include "service_test_helpers.hpp"
+#include "socc/rpc/safe_decode.hpp"
 
 namespace socc::service {
 namespace {
@@ -118,6 +119,36 @@ TEST(Durability, JournalThatDoesNotContinueTheSnapshotIsRefused) {
   MapService without_snapshot(test::smallConfig(files.dir.path()));
   EXPECT_THROW(without_snapshot.openDurability(files.durability(), std::nullopt),
                std::runtime_error);
+}
+
+TEST(Durability, JournalKeepsTheReceivedBytes) {
+  // The router passes the bytes it decoded; they are journaled as they are (no re-encode).
+  Files files;
+  std::vector<std::uint8_t> content;
+  std::vector<std::vector<std::uint8_t>> sent;
+  {
+    MapService live(test::smallConfig(files.dir.path()));
+    live.openDurability(files.durability(), std::nullopt);
+    for (int seq = 1; seq <= 2; ++seq) {
+      sent.push_back(test::encode(scan("robot1", seq, 0.5 * seq)));
+      const auto request = rpc::safeDecode<integrate_request_t>(
+          sent.back().data(), static_cast<int>(sent.back().size()));
+      ASSERT_TRUE(request);
+      ASSERT_FALSE(live.integrate(*request, sent.back().data(), sent.back().size()).duplicate);
+    }
+    live.integrate(scan("robot2", 1, -1.0));  // in-process: re-encoded
+    content = test::content(live.getChunk(test::everything()));
+  }
+  const JournalContents journal = Journal::read(files.dir.path() / "journal.lcmlog");
+  ASSERT_EQ(journal.requests.size(), 3u);
+  EXPECT_EQ(journal.requests[0], sent[0]);
+  EXPECT_EQ(journal.requests[1], sent[1]);
+  EXPECT_EQ(journal.requests[2], test::encode(scan("robot2", 1, -1.0)));
+
+  MapService restored(test::smallConfig(files.dir.path()));
+  restored.openDurability(files.durability(), files.dir.path() / "map.snap");
+  EXPECT_EQ(restored.integrations(), 3);
+  EXPECT_EQ(test::content(restored.getChunk(test::everything())), content);
 }
 
 TEST(Durability, ClearAndLoadRestartTheJournal) {

@@ -36,6 +36,23 @@ TEST(MapServiceHandlers, IntegrateAppliesOnceAndAcknowledgesRetries) {
   EXPECT_EQ(service.integrations(), 3);
 }
 
+TEST(MapServiceHandlers, IntegrateWithInconsistentRowsIsInvalid) {
+  // Only possible in-process (decode() always yields full rows); toCloud() and the journal's
+  // encode() would read past a short row.
+  MapService service(test::smallConfig());
+  auto request = scan("robot1", 1);
+  request.xyz[2].pop_back();
+  EXPECT_EQ(service.integrate(request).header.status, +reply_header_t::INVALID_ARGUMENT);
+  request = scan("robot1", 1);
+  request.xyz.pop_back();
+  EXPECT_EQ(service.integrate(request).header.status, +reply_header_t::INVALID_ARGUMENT);
+  request = scan("robot1", 1);
+  request.header.mac_len = 32;  // no mac bytes behind it
+  EXPECT_EQ(service.integrate(request).header.status, +reply_header_t::INVALID_ARGUMENT);
+  EXPECT_EQ(service.integrations(), 0);
+  EXPECT_EQ(service.integrate(scan("robot1", 1)).header.status, +reply_header_t::OK);
+}
+
 TEST(MapServiceHandlers, ChunkShapesLimitsAndTruncation) {
   ServerConfig config = test::smallConfig();
   config.limits.max_chunk_voxels = 50;

@@ -144,13 +144,13 @@ std::vector<Case> cases() {
        },
        +R::INVALID_ARGUMENT},
       {"NaN point", kInt,
-       [nan] { return test::encode(modified([&](auto& r) { r.xyz[3][1] = nan; })); },
+       [nan] { return test::encode(modified([&](auto& r) { r.xyz[1][3] = nan; })); },
        +R::INVALID_ARGUMENT},
       {"inf point", kInt,
-       [inf] { return test::encode(modified([&](auto& r) { r.xyz[0][2] = -inf; })); },
+       [inf] { return test::encode(modified([&](auto& r) { r.xyz[2][0] = -inf; })); },
        +R::INVALID_ARGUMENT},
       {"absurd point", kInt,
-       [] { return test::encode(modified([](auto& r) { r.xyz[5][0] = 3e9f; })); },
+       [] { return test::encode(modified([](auto& r) { r.xyz[0][5] = 3e9f; })); },
        +R::INVALID_ARGUMENT},
       {"NaN pose", kInt,
        [] {
@@ -187,7 +187,7 @@ std::vector<Case> cases() {
       {"too many points", kInt,
        [] {
          return test::encode(modified([](auto& r) {
-           r.xyz.resize(6000, {1.0f, 2.0f, 0.0f});
+           for (int axis = 0; axis < 3; ++axis) r.xyz[axis].resize(6000, 1.0f + axis);
            r.label.resize(6000, 0);
            r.num_points = r.num_labels = 6000;
          }));

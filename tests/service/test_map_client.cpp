@@ -84,6 +84,23 @@ TEST(MapClient, TimesOutWithoutServer) {
   EXPECT_EQ(result.attempts, 2);
 }
 
+TEST(MapClient, RequestWithInconsistentArraysIsNotSent) {
+  // encode() would read past the short row; the client refuses before encoding or signing.
+  rpc::ClientOptions options = clientOptions(randomUrl(), "robot1");
+  options.timeout = std::chrono::milliseconds(50);
+  rpc::MapClient client(options);
+  auto request = test::scan("robot1", 1);
+  request.xyz[1].pop_back();
+  const auto result = client.integrate(request);
+  EXPECT_FALSE(result.ok());
+  EXPECT_FALSE(result.error.timed_out);
+  EXPECT_EQ(result.error.status, +reply_header_t::INVALID_ARGUMENT);
+  EXPECT_EQ(result.attempts, 0);
+  request = test::scan("robot1", 1);
+  request.time.resize(3);  // num_times is 0
+  EXPECT_EQ(client.integrate(request).error.status, +reply_header_t::INVALID_ARGUMENT);
+}
+
 TEST(MapClient, AllServicesOverUdp) {
   const std::string url = randomUrl();
   InProcessServer server(url);

@@ -80,7 +80,9 @@ TEST(ScanLog, KittiFirst16) {
     }
   }
   ASSERT_GT(events[0].scan.num_points, 0);
-  EXPECT_FLOAT_EQ(events[0].scan.xyz[0][0], readKittiBin(dir.scans[0])[0].x());
+  const Points first = readKittiBin(dir.scans[0]);
+  EXPECT_FLOAT_EQ(events[0].scan.xyz[0][0], first[0].x());
+  EXPECT_FLOAT_EQ(events[0].scan.xyz[2].back(), first.back().z());
   for (const std::uint8_t c : events[0].scan.label) EXPECT_LT(c, kNumClasses);
 }
 
@@ -106,7 +108,7 @@ TEST_F(TinyScanLog, LabelsPointTimesAndTimesTxt) {
     ASSERT_EQ(s.num_times, s.num_points);
     EXPECT_FLOAT_EQ(s.time[0], 0.05f);
     EXPECT_FLOAT_EQ(s.intensity[0], 0.25f);
-    EXPECT_FLOAT_EQ(s.xyz[1][0], static_cast<float>(5 + i) + 1.f);
+    EXPECT_FLOAT_EQ(s.xyz[0][1], static_cast<float>(5 + i) + 1.f);  // x of point 1
   }
 }
 
@@ -135,7 +137,7 @@ TEST_F(TinyScanLog, PcdDirectory) {
   ASSERT_EQ(events.size(), 2u);
   const scan_t& a = events[0].scan;
   ASSERT_EQ(a.num_points, 2) << "the NaN point is dropped";
-  EXPECT_FLOAT_EQ(a.xyz[1][2], 6.f);
+  EXPECT_FLOAT_EQ(a.xyz[2][1], 6.f);  // z of point 1
   ASSERT_EQ(a.num_intensities, 2);
   EXPECT_FLOAT_EQ(a.intensity[1], 0.75f);
   ASSERT_EQ(a.num_labels, 2);

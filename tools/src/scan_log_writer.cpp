@@ -6,6 +6,7 @@
 
 #include "socc/channels.hpp"
 #include "socc/progress_bar.hpp"
+#include "socc/wire_arrays.hpp"
 
 namespace socc::tools {
 namespace fs = std::filesystem;
@@ -39,8 +40,7 @@ scan_t toScanMessage(const ScanFrame& frame, const std::string& robot_id, std::i
   msg.robot_id = robot_id;
   msg.seq = seq;
   msg.num_points = static_cast<std::int32_t>(c.size());
-  msg.xyz.reserve(c.size());
-  for (const auto& p : c.points) msg.xyz.push_back({p.x(), p.y(), p.z()});
+  wire::pointsToRows(c.points, msg.xyz);
   msg.num_intensities = static_cast<std::int32_t>(frame.intensity.size());
   msg.intensity = frame.intensity;
   msg.num_labels = static_cast<std::int32_t>(c.labels.size());
@@ -73,7 +73,7 @@ ScanLogSummary writeScanLog(const ScanDirectory& dir, const fs::path& out,
       event.datalen = static_cast<std::int32_t>(buf.size());
       event.data = buf.data();
       if (log.writeEvent(&event) != 0) throw std::runtime_error(out.string() + ": write error");
-      summary.points += msg.xyz.size();
+      summary.points += static_cast<std::size_t>(msg.num_points);
       bar.tick(std::to_string(msg.num_points) + " points");
     }
   } catch (...) {

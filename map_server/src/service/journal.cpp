@@ -65,9 +65,9 @@ void Journal::restart(std::int64_t base_sequence) {
   entries_ = 0;
 }
 
-void Journal::append(const std::vector<std::uint8_t>& encoded_request) {
-  writeEvent(*log_, channels::request(channels::kIntegrate), encoded_request.data(),
-             static_cast<int>(encoded_request.size()), file_);
+void Journal::append(const std::uint8_t* encoded_request, std::size_t size) {
+  writeEvent(*log_, channels::request(channels::kIntegrate), encoded_request,
+             static_cast<int>(size), file_);
   ++entries_;
 }
 

@@ -3,6 +3,7 @@
 // lcm-logger compatible) whose first event records the snapshot sequence it continues from,
 // followed by one event per accepted request (the encoded integrate_request_t). Entry i has
 // the global sequence base + i + 1, so replay after a snapshot skips what it already covers.
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -29,7 +30,7 @@ class Journal {
 
   /// Appends one encoded request and flushes it to the OS, so it survives kill -9.
   /// Throws std::runtime_error on I/O errors.
-  void append(const std::vector<std::uint8_t>& encoded_request);
+  void append(const std::uint8_t* encoded_request, std::size_t size);
   /// Drops all entries: the journal now continues after base_sequence (after a snapshot).
   void restart(std::int64_t base_sequence);
 

@@ -4,6 +4,7 @@
 
 #include "request_checks.hpp"
 #include "socc/pose_conversion.hpp"
+#include "socc/wire_arrays.hpp"
 
 namespace socc::service {
 namespace {
@@ -18,8 +19,7 @@ std::int64_t nowMicros() {
 
 LabeledCloud toCloud(const integrate_request_t& request) {
   LabeledCloud cloud;
-  cloud.points.reserve(request.xyz.size());
-  for (const auto& p : request.xyz) cloud.points.emplace_back(p[0], p[1], p[2]);
+  cloud.points = wire::pointsFromRows(request.xyz);
   cloud.labels = request.label;
   cloud.times = request.time;
   return cloud;
@@ -29,15 +29,17 @@ LabeledCloud toCloud(const integrate_request_t& request) {
 
 MapService::MapService(const ServerConfig& config) : config_(config), map_(config.map) {}
 
-integrate_reply_t MapService::integrate(const integrate_request_t& request) {
+integrate_reply_t MapService::integrate(const integrate_request_t& request,
+                                        const std::uint8_t* received, std::size_t received_size) {
   integrate_reply_t reply{};
   reply.seq = request.seq;
-  setStatus(reply, applyIntegrate(request, reply));
+  setStatus(reply, applyIntegrate(request, reply, received, received_size));
   reply.map_version = map_.version();
   return reply;
 }
 
-Status MapService::applyIntegrate(const integrate_request_t& request, integrate_reply_t& reply) {
+Status MapService::applyIntegrate(const integrate_request_t& request, integrate_reply_t& reply,
+                                  const std::uint8_t* received, std::size_t received_size) {
   if (Status s = checkIntegrateRequest(request, map_.config()); !s.ok()) return s;
   const std::string& robot_id = request.header.client_id;
   // A retry (same seq) or an old message (lower seq) was applied before: acknowledge only.
@@ -55,10 +57,17 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
 
   // Write-ahead: journal first, so an acknowledged Integrate is never lost by a crash.
   if (journal_) {
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(request.getEncodedSize()));
-    request.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    // The received bytes as they are: no re-encode of a 1.6 MB scan, and the journal holds
+    // exactly what the client sent (and signed).
+    std::vector<std::uint8_t> encoded;
+    if (received == nullptr) {
+      encoded.resize(static_cast<std::size_t>(request.getEncodedSize()));
+      request.encode(encoded.data(), 0, static_cast<int>(encoded.size()));
+      received = encoded.data();
+      received_size = encoded.size();
+    }
     try {
-      journal_->append(bytes);
+      journal_->append(received, received_size);
     } catch (const std::exception& e) {
       return Status::internal(std::string("not applied: ") + e.what());
     }

@@ -4,6 +4,7 @@
 // unit-tested directly. Owns the one grid, the robot states and the durability state.
 // Not thread-safe: the router calls it from its single LCM thread.
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <filesystem>
@@ -44,13 +45,18 @@ struct RequestCounters {
 struct Durability {
   std::optional<std::filesystem::path> snapshot_file;
   std::optional<std::filesystem::path> journal_file;
+  bool show_progress = true;  // progress bar while replaying the journal (off with --quiet)
 };
 
 class MapService {
  public:
   explicit MapService(const ServerConfig& config);
 
-  integrate_reply_t integrate(const integrate_request_t& request);
+  /// received/received_size: the bytes request was decoded from (all of them), journaled as
+  /// they are; without them (in-process callers) the request is re-encoded for the journal.
+  integrate_reply_t integrate(const integrate_request_t& request,
+                              const std::uint8_t* received = nullptr,
+                              std::size_t received_size = 0);
   chunk_reply_t getChunk(const chunk_request_t& request) const;
   stats_reply_t getStats(const stats_request_t& request, const RequestCounters& counters) const;
   robot_pose_reply_t getRobotPose(const robot_pose_request_t& request) const;
@@ -81,7 +87,8 @@ class MapService {
   void attachReplayGuard(auth::ReplayGuard& guard) { replay_guard_ = &guard; }
 
  private:
-  Status applyIntegrate(const integrate_request_t& request, integrate_reply_t& reply);
+  Status applyIntegrate(const integrate_request_t& request, integrate_reply_t& reply,
+                        const std::uint8_t* received = nullptr, std::size_t received_size = 0);
   Status runCommand(const map_command_request_t& request, map_command_reply_t& reply);
   double integrationsPerSecond() const;
 

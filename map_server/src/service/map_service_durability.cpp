@@ -66,7 +66,7 @@ void MapService::openDurability(const Durability& durability,
     throw std::runtime_error("a journal needs a snapshot file to checkpoint into");
   if (restore_snapshot) loadSnapshot(*restore_snapshot);
   if (durability.journal_file && std::filesystem::exists(*durability.journal_file))
-    replayJournal(Journal::read(*durability.journal_file), true);
+    replayJournal(Journal::read(*durability.journal_file), durability.show_progress);
   durability_ = durability;
   if (durability_.journal_file) {
     // Checkpoint right away: the snapshot now holds the replayed state and the journal starts

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "socc/pose_conversion.hpp"
+#include "socc/wire_arrays.hpp"
 
 namespace socc::service {
 namespace {
@@ -35,22 +36,19 @@ Status checkThreshold(float threshold) {
 
 Status checkIntegrateRequest(const integrate_request_t& request, const map::MapConfig& config) {
   if (request.seq < 0) return Status::invalid("seq must be >= 0");
-  if (request.num_points < 0 || static_cast<std::size_t>(request.num_points) != request.xyz.size())
-    return Status::invalid("num_points does not match the point array");
+  // Always true after decode(); a request built in-process (tests, fuzzing) may lie, and
+  // toCloud() and the journal's encode() rely on it.
+  if (std::string why = wire::checkArrays(request.header); !why.empty())
+    return Status::invalid(why);
+  if (std::string why = wire::checkArrays(request); !why.empty()) return Status::invalid(why);
   if (static_cast<std::size_t>(request.num_points) > config.max_points_per_scan)
     return Status::exhausted("scan has " + std::to_string(request.num_points) +
                              " points; the server accepts at most " +
                              std::to_string(config.max_points_per_scan));
-  for (const auto& p : request.xyz)
-    if (p.size() != 3) return Status::invalid("every point needs 3 coordinates");
   if (request.num_labels != 0 && request.num_labels != request.num_points)
     return Status::invalid("num_labels must be 0 or num_points");
-  if (static_cast<std::size_t>(request.num_labels) != request.label.size())
-    return Status::invalid("num_labels does not match the label array");
   if (request.num_times != 0 && request.num_times != request.num_points)
     return Status::invalid("num_times must be 0 or num_points");
-  if (static_cast<std::size_t>(request.num_times) != request.time.size())
-    return Status::invalid("num_times does not match the time array");
   if (const std::string why = checkPose(request.sensor_pose, config.max_abs_coordinate);
       !why.empty())
     return Status::invalid("sensor_pose: " + why);

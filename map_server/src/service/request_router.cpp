@@ -125,8 +125,9 @@ void RequestRouter::serve(const lcm::ReceiveBuffer& rbuf, std::string_view servi
 
 void RequestRouter::dispatch(std::string_view service, const lcm::ReceiveBuffer& rbuf) {
   if (service == channels::kIntegrate)
-    serve<integrate_request_t>(rbuf, service, true, [this](const integrate_request_t& r) {
-      return service_.integrate(r);
+    // serve() decodes with safeDecode, which uses all of rbuf: these are r's bytes exactly.
+    serve<integrate_request_t>(rbuf, service, true, [this, &rbuf](const integrate_request_t& r) {
+      return service_.integrate(r, static_cast<const std::uint8_t*>(rbuf.data), rbuf.data_size);
     });
   else if (service == channels::kGetChunk)
     serve<chunk_request_t>(rbuf, service, false,

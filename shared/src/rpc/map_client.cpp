@@ -18,6 +18,7 @@
 #include "socc/rpc/client_id.hpp"
 #include "socc/rpc/safe_decode.hpp"
 #include "socc/stats_request_t.hpp"
+#include "socc/wire_arrays.hpp"
 
 namespace socc::rpc {
 namespace {
@@ -192,6 +193,12 @@ const ClientOptions& MapClient::options() const {
 }
 
 Result<integrate_reply_t> MapClient::integrate(integrate_request_t request) {
+  // encode() trusts the counts: rows of the wrong length would be read out of bounds.
+  if (const std::string why = wire::checkArrays(request); !why.empty()) {
+    Result<integrate_reply_t> refused;
+    refused.error = {reply_header_t::INVALID_ARGUMENT, why, false};
+    return refused;
+  }
   return impl_->call<integrate_reply_t>(channels::kIntegrate, request);
 }
 Result<chunk_reply_t> MapClient::getChunk(chunk_request_t request) {
@@ -233,8 +240,7 @@ integrate_request_t makeIntegrateRequest(std::int64_t seq, std::int64_t scan_uti
   request.scan_utime = scan_utime;
   request.sensor_pose = toLcm(sensor_pose);
   request.num_points = static_cast<std::int32_t>(cloud.size());
-  request.xyz.reserve(cloud.size());
-  for (const auto& p : cloud.points) request.xyz.push_back({p.x(), p.y(), p.z()});
+  wire::pointsToRows(cloud.points, request.xyz);
   request.num_labels = static_cast<std::int32_t>(cloud.labels.size());
   request.label.assign(cloud.labels.begin(), cloud.labels.end());
   request.num_times = static_cast<std::int32_t>(cloud.times.size());
