@@ -10,12 +10,12 @@
 # Usage: scripts/demo_multirobot.sh [--robots N] [--frames F] [--build DIR] [--out DIR]
 #                                   [--seed S] [--speed V] [--scene S]
 #   --robots N   number of robots (default 3)
-#   --frames F   frames per robot (default 25; the sequence has N*F frames; odom_client ends
-#                after ~28 frames with a non-unit quaternion error, see docs/multirobot.md)
+#   --frames F   frames per robot (default 25; the sequence has N*F frames)
 #   --build DIR  build directory with all binaries (default build/)
 #   --out DIR    output directory (default out/multirobot)
 #   --seed S     socc-sim world seed (default 1)
 #   --speed V    socc-sim speed [m/s] (default 9, the street's)
+#   --scene S    socc-sim scene (default street; indoor has no moving objects)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 usage() { sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
