@@ -12,5 +12,19 @@ endif()
 
 # Third-party headers are included as SYSTEM so their warnings do not break -Werror.
 function(socc_target_warnings target)
-  target_compile_options(${target} PRIVATE -Wshadow=local -Wnon-virtual-dtor)
+  # -Wshadow=local is GCC's (clang, used by scripts/fuzz.sh, warns that it is unknown).
+  target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-Wshadow=local> -Wnon-virtual-dtor)
 endfunction()
+
+# Optional linker for -fuse-ld= (CI uses lld, Debian package lld: links several times faster
+# than the default bfd). Empty: the compiler's default linker.
+set(SOCC_LINKER "" CACHE STRING "Linker passed as -fuse-ld= (e.g. lld or gold); empty: default")
+if(SOCC_LINKER)
+  include(CheckLinkerFlag)
+  check_linker_flag(CXX "-fuse-ld=${SOCC_LINKER}" SOCC_LINKER_WORKS_${SOCC_LINKER})
+  if(SOCC_LINKER_WORKS_${SOCC_LINKER})
+    add_link_options(-fuse-ld=${SOCC_LINKER})
+  else()
+    message(WARNING "SOCC_LINKER=${SOCC_LINKER}: -fuse-ld=${SOCC_LINKER} does not work; default linker")
+  endif()
+endif()
