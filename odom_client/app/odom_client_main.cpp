@@ -80,7 +80,8 @@ int main(int argc, char** argv) {
                  "YAML parameters (odom_client/config/default.yaml documents each)");
   app.add_option("--out-dir", out_dir, "write poses_kitti.txt, poses_tum.txt and frames.csv here");
   app.add_option("--initial-pose", initial_pose,
-                 "pose of the first scan in the map frame: \"x y z roll pitch yaw\" [m, rad]");
+                 "pose of the first scan in the map frame: \"x y z roll pitch yaw\" [m, rad]; "
+                 "taken as exact unless refine_initial_pose is set in --config");
   app.add_option("--first-frame", first, "first frame index of a directory input")
       ->capture_default_str();
   app.add_option("--last-frame", last, "last frame index (inclusive); -1 = all")
@@ -117,12 +118,16 @@ int main(int argc, char** argv) {
     RunOptions options;
     options.progress = !quiet;
     options.stop = &g_stop;
-    if (!initial_pose.empty()) options.initial_pose = parsePose(initial_pose);
+    if (!initial_pose.empty()) {
+      options.initial_pose = parsePose(initial_pose);
+      options.initial_pose_known = true;
+    }
     if (resume) {
       const auto reply = client.getRobotPose(robot_id);
       if (reply.ok()) {
         const socc::robot_state_t& state = reply.reply->state;
         options.initial_pose = socc::fromLcm(state.last_pose);
+        options.initial_pose_known = false;  // the pose of the last scan, not of the next one
         options.skip_until_seq = state.last_seq;
         first = std::max<std::int64_t>(first, state.last_seq + 1);
         std::cerr << "odom_client: resuming " << robot_id << " after seq " << state.last_seq

@@ -31,6 +31,8 @@ const std::map<std::string, Field>& fields() {
       {"use_semantics", &OdomConfig::use_semantics},
       {"initial_threshold", &OdomConfig::initial_threshold},
       {"min_motion", &OdomConfig::min_motion},
+      {"refine_threshold", &OdomConfig::refine_threshold},
+      {"refine_initial_pose", &OdomConfig::refine_initial_pose},
       {"chunk_radius", &OdomConfig::chunk_radius},
       {"occupancy_threshold", &OdomConfig::occupancy_threshold},
       {"min_map_points", &OdomConfig::min_map_points},
@@ -123,6 +125,8 @@ std::string validate(const OdomConfig& c) {
     if (!std::isfinite(a) || a < 0.0 || a > 10.0) return "alpha_* must be within [0, 10]";
   if (!finite_pos(c.initial_threshold)) return "initial_threshold must be > 0";
   if (!std::isfinite(c.min_motion) || c.min_motion < 0.0) return "min_motion must be >= 0";
+  if (!std::isfinite(c.refine_threshold) || c.refine_threshold < 0.0)
+    return "refine_threshold must be >= 0";
   if (!finite_pos(c.chunk_radius)) return "chunk_radius must be > 0";
   if (!unit(c.occupancy_threshold)) return "occupancy_threshold must be within [0, 1]";
   if (c.min_map_points < 0) return "min_map_points must be >= 0";

@@ -41,7 +41,7 @@ OdomRunner::OdomRunner(const OdomConfig& config, rpc::MapClient& client, RunOpti
     : config_(config), client_(client), options_(options) {}
 
 void OdomRunner::run(ScanSource& source, FrameLog& log) {
-  Odometry odometry(config_, options_.initial_pose);
+  Odometry odometry(config_, options_.initial_pose, options_.initial_pose_known);
   ProgressBar bar("odom_client", source.remaining(), options_.progress);
   const Clock::time_point run_start = Clock::now();
   std::optional<PendingIntegrate> pending;

@@ -166,7 +166,8 @@ TEST_F(OdomEndToEnd, ResumeContinuesAfterTheServersLastSeq) {
 TEST_F(OdomEndToEnd, TwoRobotsShareOneMap) {
   // Robot b starts at frame 8 with its initial pose from the KITTI GT (LiDAR frame, relative to
   // frame 0 = the map frame of robot a). The GT is a constant-velocity fill here (about 0.5 m off
-  // at frame 8, see data README): b must register onto a's map from that rough guess.
+  // at frame 8, see data README): b must register onto a's map from that rough guess, so it
+  // asks for refine_initial_pose (by default a given initial pose is taken as exact).
   const socc::Poses cam = socc::readKittiPoses(kData / "poses.txt");
   const Eigen::Isometry3d tr = socc::readKittiCalibTr(kData / "calib.txt");
   const socc::Poses gt = socc::cameraToLidarPoses(cam, tr);
@@ -185,7 +186,11 @@ TEST_F(OdomEndToEnd, TwoRobotsShareOneMap) {
       if (a.ok() && a.reply->state.last_seq >= 1) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
-    rc_b = runClient("b", out_b, {"--first-frame", "8", "--initial-pose", pose.str()});
+    const fs::path config = work_ / "refine_initial_pose.yaml";
+    std::ofstream(config) << "refine_initial_pose: true\n";
+    rc_b = runClient(
+        "b", out_b,
+        {"--first-frame", "8", "--initial-pose", pose.str(), "--config", config.string()});
     ta.join();
   }
   ASSERT_EQ(rc_a, 0);

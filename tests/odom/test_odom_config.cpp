@@ -72,6 +72,8 @@ TEST(OdomConfig, RejectsUnknownKeysWrongTypesAndBadValues) {
   expectError("max_rang: 80\n", "unknown key 'max_rang'");
   expectError("max_range: far\n", "max_range");
   expectError("w_lower: 2\n", "w_lower");
+  expectError("refine_threshold: -0.1\n", "refine_threshold");
+  expectError("refine_initial_pose: maybe\n", "refine_initial_pose");
   expectError("min_range: 50\nmax_range: 10\n", "max_range");
   expectError("[1, 2]\n", "map");
   expectError("a: [\n", "YAML");

@@ -12,6 +12,8 @@ class AdaptiveThreshold {
 
   /// sigma [m]; correspondences are searched within 3 sigma, the robust kernel uses sigma / 3.
   double sigma() const;
+  /// False until a motion-model error has been measured (sigma is still initial_threshold).
+  bool calibrated() const { return samples_ > 0; }
   /// Feeds the correction prediction^-1 * estimate of the last frame.
   void update(const Eigen::Isometry3d& correction);
   void reset();

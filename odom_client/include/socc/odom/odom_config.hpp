@@ -31,6 +31,10 @@ struct OdomConfig {
   // KISS-ICP adaptive threshold.
   double initial_threshold = 2.0;  // [m] sigma before any motion was observed
   double min_motion = 0.1;         // [m] corrections below this do not update sigma
+  double refine_threshold = 0.25;  // [m] coarse-to-fine floor while sigma is initial; 0 = off
+
+  // Joining a map: register the first scan even at a given (--initial-pose) pose.
+  bool refine_initial_pose = false;
 
   // Map chunk around the predicted pose.
   double chunk_radius = 125.0;       // [m]

@@ -21,6 +21,7 @@ namespace socc::odom {
 
 struct RunOptions {
   Eigen::Isometry3d initial_pose = Eigen::Isometry3d::Identity();  // map frame, first scan
+  bool initial_pose_known = false;   // given by the user (--initial-pose): see Odometry
   std::int64_t skip_until_seq = -1;  // scans with seq <= this were integrated before (--resume)
   bool progress = true;
   const std::atomic<bool>* stop = nullptr;  // set (e.g. by SIGINT) to end after the current frame

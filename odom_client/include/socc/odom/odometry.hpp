@@ -29,7 +29,10 @@ struct FrameEstimate {
 
 class Odometry {
  public:
-  Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_pose);
+  /// initial_pose_known: the first scan's pose is given (e.g. --initial-pose in a shared map):
+  /// that scan is integrated at it without registration, unless config.refine_initial_pose.
+  Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_pose,
+           bool initial_pose_known = false);
 
   /// frame_period: time since the previous scan [s] (the deskew's velocity reference).
   /// Throws std::invalid_argument when the cloud is inconsistent (see checkCloud).
@@ -49,6 +52,9 @@ class Odometry {
   double sigma() const { return threshold_.sigma(); }
 
  private:
+  // Coarse-to-fine passes after the first registration while the threshold is uncalibrated.
+  void refine(const PreparedScan& scan, const LocalMap& map, FrameEstimate& out) const;
+
   OdomConfig config_;
   std::array<double, kNumClasses> class_factor_;
   RegistrationParams params_;
@@ -59,6 +65,10 @@ class Odometry {
   // The first frame after a (re)start has no motion model: its correction measures the error of
   // the given initial pose, not of the model, so it must not shrink the adaptive threshold.
   bool has_motion_model_ = false;
+  // A robot joining a shared map often sees its surroundings only as a few far-away scans of
+  // other robots; registering against those can move an exact given pose by decimetres, and the
+  // first scan integrated there would carry that error into everyone's map.
+  bool keep_first_pose_ = false;
 };
 
 }  // namespace socc::odom
