@@ -5,7 +5,8 @@
 # server each) on the same segment, and the accuracy with N robots is compared with alone.
 # Writes: OUT/map_class.png (combined map, class colours), OUT/together/robotI/ and
 # OUT/alone/robotI/ (poses, frames.csv, eval.json, plots/), OUT/summary.md; prints the table
-# and PASS/FAIL per robot (PASS: ATE RMSE with N robots <= 1.1 x alone + 0.005 m).
+# and PASS/FAIL per robot (PASS: ATE RMSE with N robots <= 1.1 x alone + 1 mm, the spread
+# between runs with N robots).
 #
 # Usage: scripts/demo_multirobot.sh [--robots N] [--frames F] [--build DIR] [--out DIR]
 #                                   [--seed S] [--speed V] [--scene S]
@@ -18,7 +19,7 @@
 #   --scene S    socc-sim scene (default street; indoor has no moving objects)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 robots=3 frames=25 build="$root/build" out="$root/out/multirobot" seed=1 scene=street speed=9
 while [ $# -gt 0 ]; do
@@ -157,12 +158,12 @@ failed = 0
 for i in range(robots):
     (t, hz_t), (a, hz_a) = load("together", i), load("alone", i)
     ate_t, ate_a = t["ate_m"]["rmse"], a["ate_m"]["rmse"]
-    ok = ate_t <= 1.1 * ate_a + 0.005
+    ok = ate_t <= 1.1 * ate_a + 0.001  # 1 mm: spread between runs with N robots
     failed += not ok
     print(f"| robot{i} | {i * frames}-{i * frames + frames - 1} ({t['frames']}) | {ate_t:.4f} | "
           f"{ate_a:.4f} | {t['rpe_trans_m']['rmse']:.4f} | {t['rpe_rot_deg']['rmse']:.4f} | "
           f"{a['rpe_trans_m']['rmse']:.4f} | {hz_t:.1f} | {hz_a:.1f} | {'PASS' if ok else 'FAIL'} |")
-print(f"\nPASS: ATE RMSE with {robots} robots <= 1.1 x alone + 0.005 m. "
+print(f"\nPASS: ATE RMSE with {robots} robots <= 1.1 x alone + 1 mm (run-to-run spread). "
       f"{'all PASS' if not failed else f'{failed} FAIL'}")
 sys.exit(1 if failed else 0)
 PY
