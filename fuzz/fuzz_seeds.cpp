@@ -103,6 +103,9 @@ void requestSeeds(SeedWriter& w) {
   pose.header = header("GET_ROBOT_POSE");
   pose.robot_id = "seed";
   w.message("fuzz_robot_pose_request", "known", pose);
+  pose.max_history = 100;
+  pose.history_from_seq = 2;
+  w.message("fuzz_robot_pose_request", "history", pose);
 
   socc::map_command_request_t cmd{};
   cmd.header = header("MAP_COMMAND");

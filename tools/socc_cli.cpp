@@ -15,6 +15,7 @@
 #include "socc/channels.hpp"
 #include "socc/kitti_io.hpp"
 #include "socc/labels.hpp"
+#include "socc/pose_conversion.hpp"
 #include "socc/rpc/map_client.hpp"
 
 namespace {
@@ -97,6 +98,26 @@ std::int32_t parseFields(const std::vector<std::string>& names) {
   return fields;
 }
 
+// Pages through a robot's pose history (GET_ROBOT_POSE with max_history) until it is complete.
+bool fetchHistory(MapClient& client, const std::string& robot, socc::Poses& poses,
+                  std::vector<double>& stamps) {
+  std::int64_t from_seq = 0;
+  for (;;) {
+    const auto r = client.getRobotPose(robot, 10000, from_seq);
+    if (!report(r, "pose --history")) return false;
+    const socc::pose_history_t& h = r.reply->history;
+    for (std::int32_t i = 0; i < h.num_poses; ++i) {
+      socc::pose3d_t p{};
+      for (int c = 0; c < 3; ++c) p.translation[c] = h.translation[c][i];
+      for (int c = 0; c < 4; ++c) p.quaternion[c] = h.quaternion[c][i];
+      poses.push_back(socc::fromLcm(p));
+      stamps.push_back(static_cast<double>(h.scan_utime[i]) * 1e-6);
+    }
+    if (!r.reply->history_truncated || h.num_poses == 0) return true;
+    from_seq = h.seq.back() + 1;
+  }
+}
+
 void printPose(const socc::robot_state_t& s) {
   const auto& t = s.last_pose.translation;
   const auto& q = s.last_pose.quaternion;
@@ -128,6 +149,12 @@ int main(int argc, char** argv) {
   std::string robot;
   auto* pose = app.add_subcommand("pose", "print the last pose the server holds for a robot");
   pose->add_option("robot", robot, "robot id")->required();
+  std::string history_kitti, history_tum;
+  pose->add_option("--history", history_kitti,
+                   "also fetch the robot's whole pose history (one pose per applied INTEGRATE, "
+                   "seq order) and write it here as KITTI poses (3x4 per line)");
+  pose->add_option("--history-tum", history_tum,
+                   "the same as TUM (scan time [s] tx ty tz qx qy qz qw)");
   std::string path;
   auto* save = app.add_subcommand("save", "save a snapshot (path on the server)");
   save->add_option("path", path)->required();
@@ -199,6 +226,14 @@ int main(int argc, char** argv) {
       const auto r = client.getRobotPose(robot);
       if (!report(r, "pose")) return 1;
       printPose(r.reply->state);
+      if (!history_kitti.empty() || !history_tum.empty()) {
+        socc::Poses poses;
+        std::vector<double> stamps;
+        if (!fetchHistory(client, robot, poses, stamps)) return 1;
+        if (!history_kitti.empty()) socc::writeKittiPoses(history_kitti, poses);
+        if (!history_tum.empty()) socc::writeTumPoses(history_tum, poses, stamps);
+        std::cout << "history: " << poses.size() << " poses\n";
+      }
     } else if (save->parsed() || load->parsed() || exp->parsed() || clear->parsed()) {
       socc::map_command_request_t request{};
       request.path = path;

@@ -11,7 +11,8 @@
 #              the data folder is absent.
 #   robots:    3 odom_client processes on three segments of a socc-sim sequence (distinct robot
 #              ids, GT initial poses) share one map_server at the same time; GET_STATS shows the
-#              3 robots with the right last seq; each client wrote its 8 poses; then each
+#              3 robots with the right last seq; each client wrote its 8 poses, and the
+#              server's pose history of each robot (socc-cli pose --history) equals them; then each
 #              robot alone on a fresh server: its RMS position error vs the GT with 3 robots is
 #              at most 1.1 x alone + 5 mm.
 #   server_restart: odom_client on 48 socc-sim frames against a map_server with snapshot +
@@ -19,9 +20,10 @@
 #              client retries the same seq. The client exits 0; the restarted server holds
 #              seq 47 and 48 integrations (each scan applied exactly once) and the same map
 #              (chunk digest) as an undisturbed reference run; the poses equal the reference
-#              run's (max element difference 1e-6); the restarted server stops cleanly (exit 0).
+#              run's (max element difference 1e-6) and the server's pose history of the robot;
+#              the restarted server stops cleanly (exit 0).
 set -euo pipefail
-usage() { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 case "${1:-}" in
   -h|--help) usage 0 ;;
@@ -85,6 +87,20 @@ launch_server() {  # launch_server NAME [map_server options]: map_server on the 
 stop_server() { kill "$server_pid" 2>/dev/null || true; wait "$server_pid" 2>/dev/null || true; }
 client_ok() {  # client_ok PID NAME: the client exited 0
   wait "$1" || fail "odom_client $2 failed: $(tail -20 "$work/$2.log")"
+}
+
+# check_history ROBOT POSES: the pose history the server holds for ROBOT (socc-cli pose --history)
+# is the client's trajectory POSES: one pose per frame, in order.
+check_history() {
+  cli pose "$1" --history "$work/history_$1.txt" >/dev/null || fail "$1: GET_ROBOT_POSE history failed"
+  [[ $(wc -l <"$work/history_$1.txt") == $(wc -l <"$2") ]] ||
+    fail "$1: the server's history has $(wc -l <"$work/history_$1.txt") poses, the client wrote $(wc -l <"$2")"
+  local diff dt dr
+  diff=$(pose_diff "$2" "$work/history_$1.txt")
+  read -r dt dr <<<"$diff"
+  awk -v dt="$dt" -v dr="$dr" 'BEGIN { exit !(dt <= 1e-6 && dr <= 1e-4) }' ||
+    fail "$1: the server's pose history differs from the client's poses by $dt m / $dr deg"
+  echo "$1: the server's pose history equals the client's $(wc -l <"$2") poses"
 }
 
 # Largest translation [m] and rotation [deg] difference between two KITTI pose files (same count).
@@ -189,6 +205,7 @@ robots() {
     grep -q "^robot$i seq=$((i * frames + frames - 1)) integrations=$frames " "$work/stats.txt" ||
       fail "robot$i: expected last seq $((i * frames + frames - 1)) and $frames integrations"
     [[ $(wc -l <"$work/robot$i/poses_kitti.txt") == "$frames" ]] || fail "robot$i: expected $frames poses"
+    check_history "robot$i" "$work/robot$i/poses_kitti.txt"
   done
   stop_server
 
@@ -276,6 +293,7 @@ server_restart() {
   echo "poses vs the reference run: max element difference $diff"
   if cmp -s "$ref" "$out"; then echo "poses_kitti.txt is byte-identical to the reference run's"; fi
   awk -v d="$diff" 'BEGIN { exit !(d < 1e-6) }' || fail "poses differ from the reference run by $diff"
+  check_history car "$out"  # restored from the snapshot + journal, then continued
 
   # SIGTERM: the restored server (TBB workers started by the journal replay) exits cleanly,
   # writing its final snapshot.

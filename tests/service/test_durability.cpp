@@ -179,8 +179,33 @@ TEST(Durability, MetadataRoundTripAndGarbage) {
   EXPECT_EQ(decoded->journal_sequence, 42);
   ASSERT_EQ(decoded->robots.size(), 1u);
   EXPECT_EQ(decoded->robots[0].last_seq, 7);
+  EXPECT_TRUE(decoded->histories.empty());
   EXPECT_FALSE(decodeSnapshotMetadata("not an lcm message"));
   EXPECT_TRUE(decodeSnapshotMetadata(""));
+
+  // With pose histories (and auth counters after them).
+  pose_history_t h{};
+  h.robot_id = "r";
+  h.num_poses = 2;
+  h.seq = {6, 7};
+  h.scan_utime = {600, 700};
+  h.translation.assign(3, {1.0, 2.0});
+  h.quaternion.assign(4, {0.5, 0.5});
+  metadata.histories.push_back(h);
+  metadata.auth_counters["client"] = 3;
+  const std::string blob = encodeSnapshotMetadata(metadata);
+  const auto full = decodeSnapshotMetadata(blob);
+  ASSERT_TRUE(full);
+  ASSERT_EQ(full->histories.size(), 1u);
+  EXPECT_EQ(full->histories[0].seq, h.seq);
+  EXPECT_EQ(full->histories[0].translation[2], h.translation[2]);
+  EXPECT_EQ(full->auth_counters.at("client"), 3);
+  // Damaged: every truncation of the binary part is refused, never misread.
+  const std::size_t binary = blob.find("\nSOCC-AUTH-COUNTERS");
+  for (std::size_t n = 1; n < binary; n += 7) {
+    const auto cut = decodeSnapshotMetadata(blob.substr(0, n) + blob.substr(binary));
+    EXPECT_TRUE(!cut || cut->histories.empty()) << n;
+  }
 }
 
 }  // namespace

@@ -130,8 +130,53 @@ TEST(MapServiceHandlers, StatsAndRobotPoses) {
   EXPECT_EQ(pose.state.last_seq, 3);
   EXPECT_EQ(pose.state.last_scan_utime, 300000);
   EXPECT_DOUBLE_EQ(pose.state.last_pose.translation[0], 1.5);
+  EXPECT_EQ(pose.history.num_poses, 0) << "no history unless asked for";
   ask.robot_id = "nobody";
   EXPECT_EQ(service.getRobotPose(ask).header.status, +reply_header_t::NOT_FOUND);
+}
+
+TEST(MapServiceHandlers, PoseHistoryInSeqOrderPagedAndSaved) {
+  test::TempDir dir;
+  MapService service(test::smallConfig(dir.path()));
+  for (const int seq : {2, 4, 5, 9}) service.integrate(scan("robot1", seq, 0.5 * seq));
+  service.integrate(scan("robot1", 4, 99.0));  // a duplicate: not in the history
+  service.integrate(scan("robot2", 1, -1.0));
+  robot_pose_request_t ask{};
+  ask.robot_id = "robot1";
+  ask.max_history = 100;
+  robot_pose_reply_t reply = service.getRobotPose(ask);
+  ASSERT_EQ(reply.header.status, +reply_header_t::OK);
+  EXPECT_EQ(reply.history.robot_id, "robot1");
+  EXPECT_EQ(reply.history.seq, (std::vector<std::int64_t>{2, 4, 5, 9}));
+  EXPECT_EQ(reply.history.scan_utime[3], 900000);
+  EXPECT_DOUBLE_EQ(reply.history.translation[0][1], 2.0);
+  EXPECT_DOUBLE_EQ(reply.history.quaternion[0][1], 1.0);
+  EXPECT_FALSE(reply.history_truncated);
+
+  ask.max_history = 2;  // a page: seq >= 3, two poses, more follow
+  ask.history_from_seq = 3;
+  reply = service.getRobotPose(ask);
+  EXPECT_EQ(reply.history.seq, (std::vector<std::int64_t>{4, 5}));
+  EXPECT_TRUE(reply.history_truncated);
+  ask.max_history = -1;
+  EXPECT_EQ(service.getRobotPose(ask).header.status, +reply_header_t::INVALID_ARGUMENT);
+
+  // A snapshot keeps the histories; a cleared server has none.
+  map_command_request_t command{};
+  command.command = map_command_request_t::SAVE;
+  command.path = "history.snap";
+  ASSERT_EQ(service.command(command).header.status, +reply_header_t::OK);
+  command.command = map_command_request_t::CLEAR;
+  ASSERT_EQ(service.command(command).header.status, +reply_header_t::OK);
+  ask.max_history = 100;
+  ask.history_from_seq = 0;
+  EXPECT_EQ(service.getRobotPose(ask).header.status, +reply_header_t::NOT_FOUND);
+  command.command = map_command_request_t::LOAD;
+  ASSERT_EQ(service.command(command).header.status, +reply_header_t::OK);
+  reply = service.getRobotPose(ask);
+  EXPECT_EQ(reply.history.seq, (std::vector<std::int64_t>{2, 4, 5, 9}));
+  service.integrate(scan("robot1", 10, 5.0));
+  EXPECT_EQ(service.getRobotPose(ask).history.num_poses, 5);
 }
 
 TEST(MapServiceHandlers, CommandsSaveLoadExportClear) {

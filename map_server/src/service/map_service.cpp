@@ -1,5 +1,6 @@
 #include "map_service.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "request_checks.hpp"
@@ -136,6 +137,20 @@ robot_pose_reply_t MapService::getRobotPose(const robot_pose_request_t& request)
     return reply;
   }
   reply.state = *state;
+  if (request.max_history < 0) {
+    setStatus(reply, Status::invalid("max_history must be >= 0"));
+    return reply;
+  }
+  if (request.max_history > 0) {
+    // 10000 poses (~0.6 MB) per reply keep a whole day's history from becoming one huge message.
+    constexpr std::size_t kMaxHistoryPerReply = 10000;
+    const std::size_t max_poses =
+        std::min(static_cast<std::size_t>(request.max_history), kMaxHistoryPerReply);
+    bool truncated = false;
+    reply.history =
+        robots_.history(request.robot_id, request.history_from_seq, max_poses, &truncated);
+    reply.history_truncated = truncated;
+  }
   return reply;
 }
 

@@ -11,6 +11,7 @@ namespace socc::service {
 void MapService::saveSnapshot(const std::filesystem::path& file) const {
   SnapshotMetadata metadata;
   metadata.robots = robots_.states();
+  metadata.histories = robots_.histories();
   metadata.journal_sequence = integrations_;
   if (replay_guard_ != nullptr) metadata.auth_counters = replay_guard_->counters();
   map_.save(file, encodeSnapshotMetadata(metadata));
@@ -28,7 +29,7 @@ void MapService::loadSnapshot(const std::filesystem::path& file) {
         " differs from the server's " + std::to_string(map_.config().voxel_size));
   // Commit only after everything was read and checked: a bad file changes nothing.
   map_ = std::move(loaded);
-  robots_.assign(metadata->robots);
+  robots_.assign(metadata->robots, metadata->histories);
   integrations_ = metadata->journal_sequence;
   if (replay_guard_ != nullptr) replay_guard_->importCounters(metadata->auth_counters);
 }

@@ -1,41 +1,107 @@
 #include "robot_registry.hpp"
 
+#include <algorithm>
+
+#include "socc/wire_arrays.hpp"
+
 namespace socc::service {
+namespace {
+
+void append(pose_history_t& h, std::int64_t seq, std::int64_t scan_utime, const pose3d_t& pose) {
+  h.translation.resize(3);  // rows by component (docs/lcm.md "Array layout")
+  h.quaternion.resize(4);
+  h.seq.push_back(seq);
+  h.scan_utime.push_back(scan_utime);
+  for (int i = 0; i < 3; ++i) h.translation[i].push_back(pose.translation[i]);
+  for (int i = 0; i < 4; ++i) h.quaternion[i].push_back(pose.quaternion[i]);
+  ++h.num_poses;
+}
+
+// A history is consistent when every array has num_poses entries (decoded snapshots are).
+bool consistent(const pose_history_t& h) {
+  return wire::hasCount(h.seq, h.num_poses) && wire::hasCount(h.scan_utime, h.num_poses) &&
+         wire::hasRows(h.translation, 3, h.num_poses) &&
+         wire::hasRows(h.quaternion, 4, h.num_poses);
+}
+
+}  // namespace
 
 bool RobotRegistry::isDuplicate(const std::string& robot_id, std::int64_t seq) const {
   const auto it = robots_.find(robot_id);
-  return it != robots_.end() && seq <= it->second.last_seq;
+  return it != robots_.end() && seq <= it->second.state.last_seq;
 }
 
 void RobotRegistry::recordIntegration(const std::string& robot_id, std::int64_t seq,
                                       std::int64_t scan_utime, const pose3d_t& pose) {
   auto [it, inserted] = robots_.try_emplace(robot_id);
-  robot_state_t& state = it->second;
+  Robot& robot = it->second;
   if (inserted) {
-    state.robot_id = robot_id;
-    state.integrations = 0;
+    robot.state.robot_id = robot_id;
+    robot.state.integrations = 0;
+    robot.history.robot_id = robot_id;
+    robot.history.num_poses = 0;
   }
-  state.last_seq = seq;
-  state.last_scan_utime = scan_utime;
-  state.last_pose = pose;
-  ++state.integrations;
+  robot.state.last_seq = seq;
+  robot.state.last_scan_utime = scan_utime;
+  robot.state.last_pose = pose;
+  ++robot.state.integrations;
+  append(robot.history, seq, scan_utime, pose);
 }
 
 const robot_state_t* RobotRegistry::find(const std::string& robot_id) const {
   const auto it = robots_.find(robot_id);
-  return it == robots_.end() ? nullptr : &it->second;
+  return it == robots_.end() ? nullptr : &it->second.state;
 }
 
 std::vector<robot_state_t> RobotRegistry::states() const {
   std::vector<robot_state_t> out;
   out.reserve(robots_.size());
-  for (const auto& [id, state] : robots_) out.push_back(state);
+  for (const auto& [id, robot] : robots_) out.push_back(robot.state);
   return out;
 }
 
-void RobotRegistry::assign(const std::vector<robot_state_t>& states) {
+pose_history_t RobotRegistry::history(const std::string& robot_id, std::int64_t from_seq,
+                                      std::size_t max_poses, bool* truncated) const {
+  pose_history_t out{};
+  out.robot_id = robot_id;
+  if (truncated != nullptr) *truncated = false;
+  const auto it = robots_.find(robot_id);
+  if (it == robots_.end()) return out;
+  const pose_history_t& h = it->second.history;
+  // Seqs only grow (duplicates are refused), so the history is sorted by seq.
+  const auto first = static_cast<std::size_t>(
+      std::lower_bound(h.seq.begin(), h.seq.end(), from_seq) - h.seq.begin());
+  const std::size_t last = std::min(h.seq.size(), first + max_poses);
+  if (truncated != nullptr) *truncated = last < h.seq.size();
+  for (std::size_t i = first; i < last; ++i) {
+    pose3d_t pose{};
+    for (int c = 0; c < 3; ++c) pose.translation[c] = h.translation[c][i];
+    for (int c = 0; c < 4; ++c) pose.quaternion[c] = h.quaternion[c][i];
+    append(out, h.seq[i], h.scan_utime[i], pose);
+  }
+  return out;
+}
+
+std::vector<pose_history_t> RobotRegistry::histories() const {
+  std::vector<pose_history_t> out;
+  out.reserve(robots_.size());
+  for (const auto& [id, robot] : robots_) out.push_back(robot.history);
+  return out;
+}
+
+void RobotRegistry::assign(const std::vector<robot_state_t>& states,
+                           const std::vector<pose_history_t>& histories) {
   robots_.clear();
-  for (const auto& state : states) robots_[state.robot_id] = state;
+  for (const auto& state : states) {
+    Robot& robot = robots_[state.robot_id];
+    robot.state = state;
+    robot.history.robot_id = state.robot_id;
+    robot.history.num_poses = 0;
+  }
+  for (const auto& h : histories) {
+    const auto it = robots_.find(h.robot_id);
+    if (it != robots_.end() && consistent(h)) it->second.history = h;
+  }
 }
 
 }  // namespace socc::service

@@ -1,11 +1,12 @@
 #pragma once
-// What the server remembers per robot: last applied seq (for idempotent Integrate) and last
-// pose (so a restarted client can resume).
+// What the server remembers per robot: last applied seq (for idempotent Integrate), last pose
+// (so a restarted client can resume) and the pose history (every applied Integrate's pose).
 #include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "socc/pose_history_t.hpp"
 #include "socc/robot_state_t.hpp"
 
 namespace socc::service {
@@ -21,11 +22,22 @@ class RobotRegistry {
                          const pose3d_t& pose);
   const robot_state_t* find(const std::string& robot_id) const;
   std::vector<robot_state_t> states() const;  // ordered by robot id
-  void assign(const std::vector<robot_state_t>& states);
+  /// Up to max_poses entries of the robot's history with seq >= from_seq (seq order); truncated
+  /// is set when more follow. Empty for an unknown robot.
+  pose_history_t history(const std::string& robot_id, std::int64_t from_seq, std::size_t max_poses,
+                         bool* truncated) const;
+  std::vector<pose_history_t> histories() const;  // ordered by robot id
+  /// Replaces everything; histories may be empty (snapshots written before pose histories).
+  void assign(const std::vector<robot_state_t>& states,
+              const std::vector<pose_history_t>& histories);
   void clear() { robots_.clear(); }
 
  private:
-  std::map<std::string, robot_state_t> robots_;  // ordered: deterministic snapshots and stats
+  struct Robot {
+    robot_state_t state;
+    pose_history_t history;
+  };
+  std::map<std::string, Robot> robots_;  // ordered: deterministic snapshots and stats
 };
 
 }  // namespace socc::service

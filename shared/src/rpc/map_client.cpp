@@ -208,9 +208,13 @@ Result<stats_reply_t> MapClient::getStats() {
   stats_request_t request;
   return impl_->call<stats_reply_t>(channels::kGetStats, request);
 }
-Result<robot_pose_reply_t> MapClient::getRobotPose(const std::string& robot_id) {
-  robot_pose_request_t request;
+Result<robot_pose_reply_t> MapClient::getRobotPose(const std::string& robot_id,
+                                                   std::int32_t max_history,
+                                                   std::int64_t history_from_seq) {
+  robot_pose_request_t request{};
   request.robot_id = robot_id;
+  request.max_history = max_history;
+  request.history_from_seq = history_from_seq;
   return impl_->call<robot_pose_reply_t>(channels::kGetRobotPose, request);
 }
 Result<map_command_reply_t> MapClient::command(map_command_request_t request) {

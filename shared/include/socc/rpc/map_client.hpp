@@ -65,7 +65,10 @@ class MapClient {
   Result<integrate_reply_t> integrate(integrate_request_t request);
   Result<chunk_reply_t> getChunk(chunk_request_t request);
   Result<stats_reply_t> getStats();
-  Result<robot_pose_reply_t> getRobotPose(const std::string& robot_id);
+  /// max_history > 0 also asks for up to that many history poses with seq >= history_from_seq
+  /// (the server sends at most 10000 per reply and sets history_truncated when more follow).
+  Result<robot_pose_reply_t> getRobotPose(const std::string& robot_id, std::int32_t max_history = 0,
+                                          std::int64_t history_from_seq = 0);
   Result<map_command_reply_t> command(map_command_request_t request);
   Result<render_reply_t> render(render_request_t request);
 
