@@ -16,10 +16,17 @@ if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
       LABELS integration TIMEOUT 120 SKIP_RETURN_CODE 77)
   endif()
   if(TARGET socc-sim)
-    # 3 clients on three segments of a socc-sim sequence + 1 server; GET_STATS lists 3 robots.
+    # 3 clients on three segments of a socc-sim sequence + 1 server; GET_STATS lists 3 robots,
+    # pose histories, accuracy with 3 robots vs alone.
     add_test(NAME integration.multirobot_robots
              COMMAND bash ${_socc_mr_script} robots ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
     set_tests_properties(integration.multirobot_robots PROPERTIES LABELS integration TIMEOUT 120)
+    # One of the 3 clients is killed with -9 mid-run and resumes from the server-held pose.
+    add_test(NAME integration.multirobot_client_restart
+             COMMAND bash ${_socc_mr_script} client_restart ${_socc_mr_bins}
+                     --sim $<TARGET_FILE:socc-sim>)
+    set_tests_properties(integration.multirobot_client_restart PROPERTIES
+      LABELS integration TIMEOUT 120)
     # odom_client survives a kill -9 + --restore of map_server mid-run: exit 0, every scan
     # integrated exactly once, same map and poses as an undisturbed run.
     add_test(NAME integration.odom_server_restart

@@ -3,7 +3,7 @@
 # socc-cli processes and lcm-logplayer over UDP multicast on loopback (random group, port
 # 50000-59999).
 #
-# Usage: multirobot_test.sh logplayer|robots|server_restart --server BIN --client BIN --cli BIN
+# Usage: multirobot_test.sh logplayer|robots|client_restart|server_restart --server BIN --client BIN --cli BIN
 #                           [--to-lcmlog BIN] [--sim BIN] [--data DIR]
 #   logplayer: socc-to-lcmlog converts frames 0-7 of DATA/kitti_00_first16 to a log,
 #              odom_client --live consumes it from lcm-logplayer; its poses must equal an offline
@@ -15,6 +15,10 @@
 #              server's pose history of each robot (socc-cli pose --history) equals them; then each
 #              robot alone on a fresh server: its RMS position error vs the GT with 3 robots is
 #              at most 1.1 x alone + 5 mm.
+#   client_restart: the same 3 robots; robot1 is killed with -9 once the server applied one of
+#              its scans and restarted with --resume while the others run: it resumes after the
+#              seq the server holds, every scan is applied once (8 integrations), the server's
+#              pose history ends with the resumed client's poses and stays within 5 cm of the GT.
 #   server_restart: odom_client on 48 socc-sim frames against a map_server with snapshot +
 #              journal, killed with -9 mid-run and restarted with --restore 1 s later while the
 #              client retries the same seq. The client exits 0; the restarted server holds
@@ -23,11 +27,11 @@
 #              run's (max element difference 1e-6) and the server's pose history of the robot;
 #              the restarted server stops cleanly (exit 0).
 set -euo pipefail
-usage() { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 case "${1:-}" in
   -h|--help) usage 0 ;;
-  logplayer|robots|server_restart) mode=$1; shift ;;
+  logplayer|robots|client_restart|server_restart) mode=$1; shift ;;
   *) usage 2 ;;
 esac
 server_bin="" client_bin="" cli_bin="" to_lcmlog_bin="" sim_bin="" data=""
@@ -169,29 +173,35 @@ logplayer() {
     fail "live poses differ from the offline run by $dt m / $dr deg (limit 0.001 m / 0.01 deg)"
 }
 
-robots() {
-  [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
-  local frames=8 n=3
+# Robot I of the 3-robot tests drives frames [I*8, I*8+7] of $work/sim from its GT start pose.
+robot_frames=8
+make_robot_world() {
   # The street at its 9 m/s with an HDL-64 (the demo's world): a VLP-32 starting at 3 m/s
   # underestimates its first motions alone (sparse rings), which would hide what is compared.
-  "$sim_bin" --out "$work/sim" --frames $((n * frames)) --seed 7 --quiet >/dev/null ||
+  "$sim_bin" --out "$work/sim" --frames $((3 * robot_frames)) --seed 7 --quiet >/dev/null ||
     fail "socc-sim failed"
-  run_robot() {  # run_robot I DIR: odom_client of robot I on its segment, in the background
-    local first=$(($1 * frames)) pose
-    # GT pose of the segment's first frame as "x y z roll pitch yaw" (R = Rz Ry Rx).
-    pose=$(sed -n "$((first + 1))p" "$work/sim/poses.txt" | awk '{
-      printf "%.9f %.9f %.9f %.12f %.12f %.12f", $4, $8, $12,
-        atan2($10, $11), atan2(-$9, sqrt($10 * $10 + $11 * $11)), atan2($5, $1) }')
-    "$client_bin" --kitti "$work/sim" --first-frame "$first" --last-frame $((first + frames - 1)) \
-      --initial-pose "$pose" --lcm-url "$url" --robot-id "robot$1" --out-dir "$2" \
-      --quiet >"$2.log" 2>&1 &
-  }
-  rms_error() {  # rms_error I DIR: RMS distance [m] of robot I's positions to the GT (map frame)
-    sed -n "$(($1 * frames + 1)),$(($1 * frames + frames))p" "$work/sim/poses.txt" |
-      paste -d' ' - "$2/poses_kitti.txt" | awk '{
-        s += ($4 - $16)^2 + ($8 - $20)^2 + ($12 - $24)^2 } END { printf "%.4f", sqrt(s / NR) }'
-  }
+}
+run_robot() {  # run_robot I DIR [odom_client options]: robot I on its segment, in the background
+  local i=$1 dir=$2 first=$(($1 * robot_frames)) pose
+  shift 2
+  # GT pose of the segment's first frame as "x y z roll pitch yaw" (R = Rz Ry Rx).
+  pose=$(sed -n "$((first + 1))p" "$work/sim/poses.txt" | awk '{
+    printf "%.9f %.9f %.9f %.12f %.12f %.12f", $4, $8, $12,
+      atan2($10, $11), atan2(-$9, sqrt($10 * $10 + $11 * $11)), atan2($5, $1) }')
+  "$client_bin" --kitti "$work/sim" --first-frame "$first" --last-frame $((first + robot_frames - 1)) \
+    --initial-pose "$pose" --lcm-url "$url" --robot-id "robot$i" --out-dir "$dir" \
+    --quiet "$@" >"$dir.log" 2>&1 &
+}
+rms_error() {  # rms_error I POSES: RMS distance [m] of robot I's positions to the GT (map frame)
+  sed -n "$(($1 * robot_frames + 1)),$(($1 * robot_frames + robot_frames))p" "$work/sim/poses.txt" |
+    paste -d' ' - "$2" | awk '{
+      s += ($4 - $16)^2 + ($8 - $20)^2 + ($12 - $24)^2 } END { printf "%.4f", sqrt(s / NR) }'
+}
 
+robots() {
+  [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
+  local frames=$robot_frames n=3
+  make_robot_world
   start_server robots
   local i client_pids=()
   for ((i = 0; i < n; i++)); do
@@ -217,12 +227,61 @@ robots() {
     run_robot "$i" "$work/alone$i"
     client_ok "$!" "alone$i"
     stop_server
-    together=$(rms_error "$i" "$work/robot$i")
-    alone=$(rms_error "$i" "$work/alone$i")
+    together=$(rms_error "$i" "$work/robot$i/poses_kitti.txt")
+    alone=$(rms_error "$i" "$work/alone$i/poses_kitti.txt")
     echo "robot$i: RMS position error vs GT $together m with $n robots, $alone m alone"
     awk -v t="$together" -v a="$alone" 'BEGIN { exit !(t <= 1.1 * a + 0.005) }' ||
       fail "robot$i: $together m with $n robots vs $alone m alone (limit 1.1 x alone + 5 mm)"
   done
+}
+
+client_restart() {
+  [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
+  local frames=$robot_frames
+  make_robot_world
+  start_server client_restart
+  run_robot 0 "$work/robot0"
+  local pid0=$!
+  run_robot 2 "$work/robot2"
+  local pid2=$!
+  run_robot 1 "$work/robot1_part1"
+  local pid1=$! applied=0 m
+  while ((applied < 1)); do  # robot1 crashes once the server has applied a scan of it
+    kill -0 "$pid1" 2>/dev/null || fail "robot1 ended before it could be killed: $(tail -5 "$work/robot1_part1.log")"
+    m=$(cli --timeout-ms 300 --attempts 1 pose robot1 2>/dev/null | sed -n 's/.* integrations=\([0-9]*\) .*/\1/p') || true
+    applied=${m:-0}
+  done
+  kill -9 "$pid1" 2>/dev/null || fail "robot1 ended before it could be killed"
+  wait "$pid1" 2>/dev/null || true
+  local held
+  held=$(cli pose robot1 | sed -n 's/.* seq=\([0-9]*\) .*/\1/p')
+  echo "killed robot1 (-9) after seq $held; restarting it with --resume while robot0 and robot2 run"
+  run_robot 1 "$work/robot1_part2" --resume
+  client_ok "$!" robot1_part2
+  client_ok "$pid0" robot0
+  client_ok "$pid2" robot2
+  grep -q "resuming robot1 after seq $held" "$work/robot1_part2.log" ||
+    fail "the restarted client did not resume from the server's seq $held: $(cat "$work/robot1_part2.log")"
+
+  cli stats | tee "$work/stats.txt" | sed 's/^/  stats: /'
+  grep -q "^robot1 seq=$((2 * frames - 1)) integrations=$frames " "$work/stats.txt" ||
+    fail "robot1: expected last seq $((2 * frames - 1)) and $frames integrations (each scan once)"
+  # The whole trajectory as the server holds it: the crashed run's poses, then the resumed ones.
+  cli pose robot1 --history "$work/robot1_history.txt" >/dev/null || fail "pose history of robot1"
+  local resumed
+  resumed=$(wc -l <"$work/robot1_part2/poses_kitti.txt")
+  ((resumed == frames - 1 - held + frames)) ||
+    fail "the resumed client wrote $resumed poses, expected frames $((held + 1))-$((2 * frames - 1))"
+  local diff dt dr
+  diff=$(pose_diff <(tail -n "$resumed" "$work/robot1_history.txt") "$work/robot1_part2/poses_kitti.txt")
+  read -r dt dr <<<"$diff"
+  awk -v dt="$dt" -v dr="$dr" 'BEGIN { exit !(dt <= 1e-6 && dr <= 1e-4) }' ||
+    fail "the server's history differs from the resumed client's poses by $dt m / $dr deg"
+  # Resumed from the held pose (not from the origin): the whole trajectory stays on the GT.
+  local err
+  err=$(rms_error 1 "$work/robot1_history.txt")
+  echo "robot1 (killed and resumed): RMS position error vs GT $err m over $frames frames"
+  awk -v e="$err" 'BEGIN { exit !(e <= 0.05) }' || fail "robot1's trajectory is $err m from the GT (limit 0.05 m)"
 }
 
 server_restart() {
