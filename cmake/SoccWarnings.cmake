@@ -3,6 +3,11 @@ add_compile_options(-Wall -Wextra -Wpedantic -Wno-unused-parameter)
 if(SOCC_WERROR)
   add_compile_options(-Werror)
 endif()
+if(CMAKE_UNITY_BUILD AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  # A unity build #includes the sources: GCC then reports types of one file's anonymous namespace
+  # used by classes with linkage (gtest fixtures, pimpl members) that are fine per file.
+  add_compile_options(-Wno-subobject-linkage)
+endif()
 if(SOCC_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
     # LCM's own lcm-cpp-impl.hpp casts handler objects in a way the vptr check rejects.

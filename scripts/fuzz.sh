@@ -26,13 +26,15 @@ command -v clang++ >/dev/null || { echo "fuzz.sh: clang++ not found (apt-get ins
 # The libraries under test get coverage instrumentation too (fuzzer-no-link); only the
 # harnesses link libFuzzer's main. -O1 with line tables only (-g1), as libFuzzer's docs suggest:
 # about half the compile time of -O2 -g, same instrumentation, crash stacks keep file:line.
-# A new build directory uses Ninja and lld when installed (scripts/packages.txt).
+# A new build directory uses Ninja and lld when installed (scripts/packages.txt); a unity build
+# (as run_tests.sh) compiles the libraries 8 sources at a time.
 mkdir -p "$build"
 extra=()
 if [ ! -f "$build/CMakeCache.txt" ] && command -v ninja >/dev/null; then extra+=(-G Ninja); fi
 if command -v ld.lld >/dev/null; then extra+=(-DSOCC_LINKER=lld); fi
 CC=clang CXX=clang++ cmake "${extra[@]}" -S "$root" -B "$build" -DSOCC_FUZZ=ON -DSOCC_SANITIZE=ON \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSOCC_BUILD_TESTS=OFF -DSOCC_BUILD_BENCH=OFF \
+  -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=8 \
   -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" -DCMAKE_C_FLAGS="-fsanitize=fuzzer-no-link" \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
   >"$build/configure.log" 2>&1 || { cat "$build/configure.log"; echo "fuzz.sh: configure failed" >&2; exit 1; }

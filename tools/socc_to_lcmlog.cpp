@@ -1,7 +1,6 @@
 // socc-to-lcmlog: converts a KITTI-layout directory or a directory of PCD files into an LCM
 // log of socc::scan_t messages, to be replayed with lcm-logplayer (see docs/lcm.md).
 #include <CLI/CLI.hpp>
-#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -10,16 +9,7 @@
 #include "socc/rpc/client_id.hpp"
 #include "socc/tools/scan_directory.hpp"
 #include "socc/tools/scan_log_writer.hpp"
-
-namespace {
-
-std::int64_t nowMicros() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
+#include "socc/wall_clock.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -32,7 +22,7 @@ int main(int argc, char** argv) {
   std::string input;
   std::string output;
   socc::tools::ScanLogOptions options;
-  options.start_utime = nowMicros();
+  options.start_utime = socc::nowMicros();
   bool quiet = false;
   app.add_option("input", input, "KITTI sequence directory or directory of .pcd files")
       ->required()

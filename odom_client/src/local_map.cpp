@@ -13,21 +13,6 @@
 namespace socc::odom {
 namespace {
 
-// nanoflann dataset adaptor over the first-inserted points.
-struct PointsAdaptor {
-  const std::vector<MapVoxel>* voxels;
-  std::size_t kdtree_get_point_count() const { return voxels->size(); }
-  double kdtree_get_pt(std::uint32_t i, std::size_t dim) const { return (*voxels)[i].point[dim]; }
-  template <typename Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-
-using KdTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
-                                        PointsAdaptor, 3, std::uint32_t>;
-
 // Result set keeping only the nearest point closer than a bound; the bound prunes the search.
 class NearestWithin {
  public:
@@ -59,6 +44,21 @@ class NearestWithin {
 }  // namespace
 
 struct LocalMap::Impl {
+  // nanoflann dataset adaptor over the first-inserted points.
+  struct PointsAdaptor {
+    const std::vector<MapVoxel>* voxels;
+    std::size_t kdtree_get_point_count() const { return voxels->size(); }
+    double kdtree_get_pt(std::uint32_t i, std::size_t dim) const { return (*voxels)[i].point[dim]; }
+    template <typename Box>
+    bool kdtree_get_bbox(Box&) const {
+      return false;
+    }
+  };
+
+  using KdTree =
+      nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
+                                          PointsAdaptor, 3, std::uint32_t>;
+
   explicit Impl(std::vector<MapVoxel> v)
       : voxels(std::move(v)),
         adaptor{&voxels},

@@ -36,12 +36,6 @@ struct Systems {
   }
 };
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
 void accumulate(const Eigen::Vector3d& p, const MapVoxel& v, const Correspondence& c,
                 Systems& out) {
   if (c.planar) {

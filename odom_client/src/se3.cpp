@@ -7,13 +7,14 @@
 #include <cmath>
 
 namespace socc::odom {
-namespace {
 
 Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
   m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
   return m;
 }
+
+namespace {
 
 // Left Jacobian of SO(3): maps the translational part of a twist to the translation of exp.
 Eigen::Matrix3d leftJacobian(const Eigen::Vector3d& omega) {

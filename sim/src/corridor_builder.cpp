@@ -9,10 +9,10 @@
 namespace socc::sim {
 
 namespace {
-constexpr double kHalfWidth = 1.5;  // [m] corridor half width
-constexpr double kCeiling = 3.0;    // [m] above the floor
-constexpr double kTile = 1.0;       // [m] wall tiles along the route
-constexpr double kWall = 0.3;       // [m] wall thickness
+constexpr double kHalfWidth = 1.5;        // [m] corridor half width
+constexpr double kCorridorCeiling = 3.0;  // [m] above the floor
+constexpr double kTile = 1.0;             // [m] wall tiles along the route
+constexpr double kWall = 0.3;             // [m] wall thickness
 }  // namespace
 
 World buildCorridorWorld(const Path& route, double sensor_height) {
@@ -27,14 +27,14 @@ World buildCorridorWorld(const Path& route, double sensor_height) {
       if (near.nearOtherPart(p.offset(lateral).head<2>(), kHalfWidth, p.s, 4 * kHalfWidth))
         continue;
       Eigen::Vector3d c = p.offset(lateral);
-      c.z() = floor_z + kCeiling / 2;
+      c.z() = floor_z + kCorridorCeiling / 2;
       walls.push_back(
-          {makeBox(c, {kTile + 0.3, kWall, kCeiling + 0.2}, p.heading), raw::kBuilding});
+          {makeBox(c, {kTile + 0.3, kWall, kCorridorCeiling + 0.2}, p.heading), raw::kBuilding});
     }
   }
   std::vector<Plane> planes = {
       {Eigen::Vector3d::UnitZ(), floor_z, raw::kOtherGround},
-      {Eigen::Vector3d::UnitZ(), floor_z + kCeiling, raw::kOtherStructure}};
+      {Eigen::Vector3d::UnitZ(), floor_z + kCorridorCeiling, raw::kOtherStructure}};
   return World(std::move(walls), std::move(planes), nullptr, {}, sensor_height);
 }
 

@@ -12,9 +12,9 @@ namespace socc::sim {
 
 namespace {
 
-constexpr double kMargin = 3.5;     // [m] route to wall
-constexpr double kCeiling = 2.8;    // [m]
-constexpr double kClearance = 1.2;  // [m] furniture to route
+constexpr double kMargin = 3.5;       // [m] route to wall
+constexpr double kRoomCeiling = 2.8;  // [m]
+constexpr double kClearance = 1.2;    // [m] furniture to route
 
 Parts table() {
   Parts p = {{makeBox({0, 0, 0.74}, {1.6, 0.8, 0.04}), raw::kOtherObject}};
@@ -36,7 +36,7 @@ Parts cabinet(Random& rng) {
 }
 
 Parts pillar() {
-  return {{Cylinder{Eigen::Vector2d::Zero(), -0.1, kCeiling + 0.1, 0.25}, raw::kBuilding}};
+  return {{Cylinder{Eigen::Vector2d::Zero(), -0.1, kRoomCeiling + 0.1, 0.25}, raw::kBuilding}};
 }
 
 }  // namespace
@@ -51,9 +51,10 @@ World buildIndoorWorld(const Path& route, double sensor_height, Random& rng) {
   const Eigen::Vector2d mid = room.center();
 
   std::vector<Primitive> statics;
-  const double wall_z = floor_z + kCeiling / 2;
+  const double wall_z = floor_z + kRoomCeiling / 2;
   const auto wall = [&](const Eigen::Vector2d& c, double sx, double sy) {
-    statics.push_back({makeBox({c.x(), c.y(), wall_z}, {sx, sy, kCeiling + 0.2}), raw::kBuilding});
+    statics.push_back(
+        {makeBox({c.x(), c.y(), wall_z}, {sx, sy, kRoomCeiling + 0.2}), raw::kBuilding});
   };
   wall({room.min().x() - 0.15, mid.y()}, 0.3, size.y() + 0.6);
   wall({room.max().x() + 0.15, mid.y()}, 0.3, size.y() + 0.6);
@@ -78,7 +79,7 @@ World buildIndoorWorld(const Path& route, double sensor_height, Random& rng) {
   }
   std::vector<Plane> planes = {
       {Eigen::Vector3d::UnitZ(), floor_z, raw::kOtherGround},
-      {Eigen::Vector3d::UnitZ(), floor_z + kCeiling, raw::kOtherStructure}};
+      {Eigen::Vector3d::UnitZ(), floor_z + kRoomCeiling, raw::kOtherStructure}};
   return World(std::move(statics), std::move(planes), nullptr, {}, sensor_height);
 }
 

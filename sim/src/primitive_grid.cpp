@@ -7,10 +7,6 @@
 
 namespace socc::sim {
 
-namespace {
-constexpr double kInf = std::numeric_limits<double>::infinity();
-}
-
 PrimitiveGrid::PrimitiveGrid(std::vector<Primitive> primitives, double cell_size)
     : primitives_(std::move(primitives)), cell_size_(cell_size) {
   if (!(cell_size > 0.0)) throw std::invalid_argument("grid cell size must be > 0");

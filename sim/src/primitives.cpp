@@ -8,8 +8,6 @@ namespace socc::sim {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 // Slab test against an axis-aligned box centred at the origin.
 std::optional<double> intersectCenteredBox(const Eigen::Vector3d& o, const Eigen::Vector3d& d,
                                            const Eigen::Vector3d& half) {

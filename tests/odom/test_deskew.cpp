@@ -42,12 +42,6 @@ TEST(Se3, ExpLogRoundTrip) {
 
 namespace {
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
 // Jointly fits the fixed extrinsic A and the twist xi [per second] that best explain
 // ref_i = exp((t_i - t_ref) xi) A raw_i (Gauss-Newton, left perturbations, A starts at a0).
 std::pair<Eigen::Isometry3d, Vector6d> fitExtrinsicAndTwist(const socc::Points& raw,

@@ -181,14 +181,14 @@ std::string writeKeyFile(const test::TempDir& dir) {
   return file.string();
 }
 
-auth::SharedKey testKey() {
+auth::SharedKey mapClientKey() {
   return auth::SharedKey::fromBytes(std::vector<std::uint8_t>(32, kKeyByte));
 }
 
 TEST(MapClientAuth, SignedClientIsServedUnsignedIsRefused) {
   const std::string url = randomUrl();
   test::TempDir dir;
-  InProcessServer server(url, std::make_unique<AuthGate>(testKey(), false));
+  InProcessServer server(url, std::make_unique<AuthGate>(mapClientKey(), false));
   ASSERT_TRUE(server.good());
   rpc::ClientOptions options = clientOptions(url, "robot1");
   options.key_file = writeKeyFile(dir);
@@ -264,7 +264,7 @@ TEST(MapClientAuth, EveryRetryIsResignedWithANewCounter) {
 
   const auto attempts = recorder.attempts();
   ASSERT_EQ(attempts.size(), 3u);
-  auth::Verifier verifier(testKey());  // the server's view: each attempt is fresh and genuine
+  auth::Verifier verifier(mapClientKey());  // the server's view: each attempt is fresh and genuine
   std::optional<integrate_request_t> first;
   for (const auto& bytes : attempts) {
     integrate_request_t request;

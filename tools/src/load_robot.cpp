@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "socc/wall_clock.hpp"
+
 namespace socc::tools {
 
 namespace {
@@ -53,9 +55,7 @@ void LoadRobot::integrateLoop() {
     const std::int64_t seq = frame + 1;
     const auto pose = robotPose(settings_.index, frame);
     const auto t0 = Clock::now();
-    const auto utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                           std::chrono::system_clock::now().time_since_epoch())
-                           .count();
+    const std::int64_t utime = nowMicros();
     auto request =
         rpc::makeIntegrateRequest(seq, utime, pose, scans_.scan(static_cast<std::size_t>(frame)));
     result_.last_sent_seq = seq;

@@ -12,7 +12,7 @@ namespace socc::tools {
 
 namespace {
 
-[[noreturn]] void fail(const std::filesystem::path& file, const std::string& why) {
+[[noreturn]] void headerError(const std::filesystem::path& file, const std::string& why) {
   throw std::runtime_error(file.string() + ": " + why);
 }
 
@@ -27,7 +27,7 @@ bool parseCount(const std::string& text, unsigned long long& value) {
 
 void checkPcdHeader(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) fail(file, "cannot open");
+  if (!in) headerError(file, "cannot open");
   static const char* const kKeys[] = {"VERSION", "FIELDS", "SIZE",      "TYPE",   "COUNT",
                                       "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
   std::map<std::string, std::vector<std::string>> header;
@@ -39,18 +39,19 @@ void checkPcdHeader(const std::filesystem::path& file) {
     std::string key;
     if (!(tokens >> key) || key[0] == '#') continue;
     if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys))
-      fail(file, "not a PCD file (unexpected header line '" + line.substr(0, 40) + "')");
+      headerError(file, "not a PCD file (unexpected header line '" + line.substr(0, 40) + "')");
     std::vector<std::string>& values = header[key];
     for (std::string v; tokens >> v;) values.push_back(v);
   }
   for (const char* key : {"FIELDS", "SIZE", "TYPE", "WIDTH", "POINTS", "DATA"})
-    if (header.count(key) == 0) fail(file, std::string("PCD header has no ") + key + " line");
+    if (header.count(key) == 0)
+      headerError(file, std::string("PCD header has no ") + key + " line");
 
   const std::size_t num_fields = header["FIELDS"].size();
   if (num_fields == 0 || header["SIZE"].size() != num_fields ||
       header["TYPE"].size() != num_fields ||
       (header.count("COUNT") != 0 && header["COUNT"].size() != num_fields))
-    fail(file, "PCD header: FIELDS, SIZE, TYPE and COUNT disagree");
+    headerError(file, "PCD header: FIELDS, SIZE, TYPE and COUNT disagree");
   unsigned long long point_bytes = 0;
   for (std::size_t i = 0; i < num_fields; ++i) {
     unsigned long long size = 0, count = 1;
@@ -60,7 +61,7 @@ void checkPcdHeader(const std::filesystem::path& file) {
         (type != "I" && type != "U" && type != "F") ||
         (header.count("COUNT") != 0 &&
          (!parseCount(header["COUNT"][i], count) || count == 0 || count > 1024)))
-      fail(file, "PCD header: bad SIZE/TYPE/COUNT of field " + header["FIELDS"][i]);
+      headerError(file, "PCD header: bad SIZE/TYPE/COUNT of field " + header["FIELDS"][i]);
     point_bytes += size * count;
   }
   unsigned long long width = 0, height = 1, points = 0;
@@ -69,22 +70,22 @@ void checkPcdHeader(const std::filesystem::path& file) {
       (header.count("HEIGHT") != 0 &&
        (header["HEIGHT"].size() != 1 || !parseCount(header["HEIGHT"][0], height))) ||
       height == 0 || points % height != 0 || points / height != width)  // no overflow
-    fail(file, "PCD header: WIDTH * HEIGHT must equal POINTS");
+    headerError(file, "PCD header: WIDTH * HEIGHT must equal POINTS");
   const std::vector<std::string>& data = header["DATA"];
   if (data.size() != 1 ||
       (data[0] != "ascii" && data[0] != "binary" && data[0] != "binary_compressed"))
-    fail(file, "PCD header: DATA must be ascii, binary or binary_compressed");
+    headerError(file, "PCD header: DATA must be ascii, binary or binary_compressed");
   // PCL allocates POINTS * point size before reading the body: bound it by what the file can
   // hold (ascii: at least 2 characters per point; LZF expands at most ~100x).
   const std::uintmax_t file_bytes = std::filesystem::file_size(file);
   const std::uintmax_t body_bytes = file_bytes > header_bytes ? file_bytes - header_bytes : 0;
   if (points > (1ull << 32) || point_bytes > (1ull << 16))
-    fail(file, "PCD header: too many points or too large points");
+    headerError(file, "PCD header: too many points or too large points");
   const unsigned long long claimed = points * point_bytes;
   if ((data[0] == "binary" && body_bytes < claimed) ||
       (data[0] == "ascii" && body_bytes < 2 * points) ||
       (data[0] == "binary_compressed" && claimed > 100 * body_bytes + 1024))
-    fail(file, "PCD file is too short for its POINTS");
+    headerError(file, "PCD file is too short for its POINTS");
 }
 
 }  // namespace socc::tools

@@ -1,23 +1,17 @@
 #include "journal.hpp"
 
-#include <chrono>
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
 #include <stdexcept>
 #include <string>
 
 #include "socc/channels.hpp"
+#include "socc/wall_clock.hpp"
 
 namespace socc::service {
 namespace {
 
 constexpr const char* kStartChannel = "SOCC/JOURNAL/START";
-
-std::int64_t nowMicros() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 void writeEvent(lcm::LogFile& log, const std::string& channel, const void* data, int size,
                 const std::filesystem::path& file) {

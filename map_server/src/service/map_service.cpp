@@ -5,18 +5,13 @@
 
 #include "request_checks.hpp"
 #include "socc/pose_conversion.hpp"
+#include "socc/wall_clock.hpp"
 #include "socc/wire_arrays.hpp"
 
 namespace socc::service {
 namespace {
 
 constexpr auto kRateWindow = std::chrono::seconds(5);
-
-std::int64_t nowMicros() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 LabeledCloud toCloud(const integrate_request_t& request) {
   LabeledCloud cloud;

@@ -1,6 +1,5 @@
 #include "request_router.hpp"
 
-#include <chrono>
 #include <exception>
 #include <type_traits>
 #include <vector>
@@ -8,16 +7,11 @@
 #include "socc/channels.hpp"
 #include "socc/rpc/client_id.hpp"
 #include "socc/rpc/safe_decode.hpp"
+#include "socc/wall_clock.hpp"
 #include "wire_guard.hpp"
 
 namespace socc::service {
 namespace {
-
-std::int64_t nowMicros() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 // Untrusted strings are shortened before they reach logs or reply messages.
 std::string shown(const std::string& text) {

@@ -1,17 +1,10 @@
 #include "socc/auth/auth_counter.hpp"
 
 #include <algorithm>
-#include <chrono>
+
+#include "socc/wall_clock.hpp"
 
 namespace socc::auth {
-
-namespace {
-std::int64_t nowMicros() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-}  // namespace
 
 AuthCounter::AuthCounter() : last_(nowMicros()) {}
 

@@ -18,16 +18,11 @@
 #include "socc/rpc/client_id.hpp"
 #include "socc/rpc/safe_decode.hpp"
 #include "socc/stats_request_t.hpp"
+#include "socc/wall_clock.hpp"
 #include "socc/wire_arrays.hpp"
 
 namespace socc::rpc {
 namespace {
-
-std::int64_t nowMicros() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 // Every reply starts with its 8-byte type hash followed by reply_header_t, whose first field
 // is the int64 request_id (big endian). Peeking it routes raw bytes without knowing the type.

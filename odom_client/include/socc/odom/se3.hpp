@@ -18,4 +18,7 @@ Eigen::Isometry3d applyIncrement(const Vector6d& dx, const Eigen::Isometry3d& po
 /// round-off left in a pose would otherwise grow frame by frame through the velocity model.
 Eigen::Isometry3d orthonormalized(const Eigen::Isometry3d& pose);
 
+/// [v]x: the cross-product matrix, skew(a) * b = a x b.
+Eigen::Matrix3d skew(const Eigen::Vector3d& v);
+
 }  // namespace socc::odom

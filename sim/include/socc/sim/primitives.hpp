@@ -3,10 +3,13 @@
 // SemanticKITTI label id (e.g. 10 car, 40 road, 50 building, 252 moving car).
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <variant>
 
 namespace socc::sim {
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
 struct Ray {
   Eigen::Vector3d origin;
