@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -103,7 +104,8 @@ bool fetchHistory(MapClient& client, const std::string& robot, socc::Poses& pose
                   std::vector<double>& stamps) {
   std::int64_t from_seq = 0;
   for (;;) {
-    const auto r = client.getRobotPose(robot, 10000, from_seq);
+    // As many as the server sends in one reply (it caps the page and sets history_truncated).
+    const auto r = client.getRobotPose(robot, std::numeric_limits<std::int32_t>::max(), from_seq);
     if (!report(r, "pose --history")) return false;
     const socc::pose_history_t& h = r.reply->history;
     for (std::int32_t i = 0; i < h.num_poses; ++i) {

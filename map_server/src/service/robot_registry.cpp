@@ -1,6 +1,8 @@
 #include "robot_registry.hpp"
 
 #include <algorithm>
+#include <cstddef>
+#include <type_traits>
 
 #include "socc/wire_arrays.hpp"
 
@@ -15,6 +17,12 @@ void append(pose_history_t& h, std::int64_t seq, std::int64_t scan_utime, const 
   for (int i = 0; i < 3; ++i) h.translation[i].push_back(pose.translation[i]);
   for (int i = 0; i < 4; ++i) h.quaternion[i].push_back(pose.quaternion[i]);
   ++h.num_poses;
+}
+
+pose_history_t emptyHistory(const std::string& robot_id) {
+  pose_history_t h{};
+  h.robot_id = robot_id;
+  return h;
 }
 
 // A history is consistent when every array has num_poses entries (decoded snapshots are).
@@ -38,8 +46,7 @@ void RobotRegistry::recordIntegration(const std::string& robot_id, std::int64_t 
   if (inserted) {
     robot.state.robot_id = robot_id;
     robot.state.integrations = 0;
-    robot.history.robot_id = robot_id;
-    robot.history.num_poses = 0;
+    robot.history = emptyHistory(robot_id);
   }
   robot.state.last_seq = seq;
   robot.state.last_scan_utime = scan_utime;
@@ -62,23 +69,24 @@ std::vector<robot_state_t> RobotRegistry::states() const {
 
 pose_history_t RobotRegistry::history(const std::string& robot_id, std::int64_t from_seq,
                                       std::size_t max_poses, bool* truncated) const {
-  pose_history_t out{};
-  out.robot_id = robot_id;
+  pose_history_t out = emptyHistory(robot_id);
   if (truncated != nullptr) *truncated = false;
   const auto it = robots_.find(robot_id);
-  if (it == robots_.end()) return out;
+  if (it == robots_.end() || it->second.history.num_poses == 0) return out;
   const pose_history_t& h = it->second.history;
   // Seqs only grow (duplicates are refused), so the history is sorted by seq.
-  const auto first = static_cast<std::size_t>(
-      std::lower_bound(h.seq.begin(), h.seq.end(), from_seq) - h.seq.begin());
-  const std::size_t last = std::min(h.seq.size(), first + max_poses);
-  if (truncated != nullptr) *truncated = last < h.seq.size();
-  for (std::size_t i = first; i < last; ++i) {
-    pose3d_t pose{};
-    for (int c = 0; c < 3; ++c) pose.translation[c] = h.translation[c][i];
-    for (int c = 0; c < 4; ++c) pose.quaternion[c] = h.quaternion[c][i];
-    append(out, h.seq[i], h.scan_utime[i], pose);
-  }
+  const auto first = std::lower_bound(h.seq.begin(), h.seq.end(), from_seq) - h.seq.begin();
+  const auto last =
+      std::min<std::ptrdiff_t>(h.num_poses, first + static_cast<std::ptrdiff_t>(max_poses));
+  if (truncated != nullptr) *truncated = last < h.num_poses;
+  const auto slice = [&](const auto& column) {
+    return std::decay_t<decltype(column)>(column.begin() + first, column.begin() + last);
+  };
+  out.num_poses = static_cast<std::int32_t>(last - first);
+  out.seq = slice(h.seq);
+  out.scan_utime = slice(h.scan_utime);
+  for (const auto& row : h.translation) out.translation.push_back(slice(row));
+  for (const auto& row : h.quaternion) out.quaternion.push_back(slice(row));
   return out;
 }
 
@@ -95,8 +103,7 @@ void RobotRegistry::assign(const std::vector<robot_state_t>& states,
   for (const auto& state : states) {
     Robot& robot = robots_[state.robot_id];
     robot.state = state;
-    robot.history.robot_id = state.robot_id;
-    robot.history.num_poses = 0;
+    robot.history = emptyHistory(state.robot_id);
   }
   for (const auto& h : histories) {
     const auto it = robots_.find(h.robot_id);

@@ -3,6 +3,7 @@
 #include <exception>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "socc/map_stats_t.hpp"
 #include "socc/rpc/safe_decode.hpp"
@@ -20,6 +21,30 @@ void appendEncoded(std::string& blob, const Message& message) {
   const std::size_t at = blob.size();
   blob.resize(at + static_cast<std::size_t>(message.getEncodedSize()));
   message.encode(blob.data() + at, 0, static_cast<int>(blob.size() - at));
+}
+
+// The histories section, blob[pos, end): tag, decimal count, newline, then that many
+// pose_history_t messages filling it exactly.
+bool decodeHistories(const std::string& blob, std::size_t pos, std::size_t end,
+                     std::vector<pose_history_t>& out) {
+  if (blob.compare(pos, kHistoriesTag.size(), kHistoriesTag) != 0) return false;
+  pos += kHistoriesTag.size();
+  const std::size_t newline = blob.find('\n', pos);
+  if (newline == std::string::npos || newline >= end || newline == pos || newline - pos > 9)
+    return false;
+  const std::string count_text = blob.substr(pos, newline - pos);
+  if (count_text.find_first_not_of("0123456789") != std::string::npos) return false;
+  const std::size_t count = std::stoul(count_text);
+  pos = newline + 1;
+  for (std::size_t i = 0; i < count; ++i) {
+    std::size_t used = 0;
+    auto h = rpc::safeDecodePrefix<pose_history_t>(blob.data() + pos, static_cast<int>(end - pos),
+                                                   &used);
+    if (!h) return false;
+    out.push_back(std::move(*h));
+    pos += used;
+  }
+  return pos == end;
 }
 
 }  // namespace
@@ -48,31 +73,11 @@ std::optional<SnapshotMetadata> decodeSnapshotMetadata(const std::string& blob) 
     end = tag;
     counters_text = blob.substr(tag + kCountersTag.size());
   }
-  const char* data = blob.data();
   std::size_t pos = 0;
-  const auto message = rpc::safeDecodePrefix<map_stats_t>(data, static_cast<int>(end), &pos);
+  const auto message = rpc::safeDecodePrefix<map_stats_t>(blob.data(), static_cast<int>(end), &pos);
   if (!message) return std::nullopt;
   SnapshotMetadata metadata{message->robots, {}, message->integrations, {}};
-  if (pos < end) {
-    if (blob.compare(pos, kHistoriesTag.size(), kHistoriesTag) != 0) return std::nullopt;
-    pos += kHistoriesTag.size();
-    const std::size_t newline = blob.find('\n', pos);
-    if (newline == std::string::npos || newline >= end || newline == pos || newline - pos > 9)
-      return std::nullopt;
-    const std::string count_text = blob.substr(pos, newline - pos);
-    if (count_text.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
-    const std::size_t count = std::stoul(count_text);
-    pos = newline + 1;
-    for (std::size_t i = 0; i < count; ++i) {
-      std::size_t used = 0;
-      auto h =
-          rpc::safeDecodePrefix<pose_history_t>(data + pos, static_cast<int>(end - pos), &used);
-      if (!h) return std::nullopt;
-      metadata.histories.push_back(std::move(*h));
-      pos += used;
-    }
-    if (pos != end) return std::nullopt;
-  }
+  if (pos < end && !decodeHistories(blob, pos, end, metadata.histories)) return std::nullopt;
   try {
     metadata.auth_counters = auth::parseCounters(counters_text);
   } catch (const std::exception&) {

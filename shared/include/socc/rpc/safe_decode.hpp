@@ -8,19 +8,6 @@
 
 namespace socc::rpc {
 
-template <typename Message>
-std::optional<Message> safeDecode(const void* data, int size) {
-  if (data == nullptr || size <= 0) return std::nullopt;
-  Message message;
-  try {
-    // A message must use all the bytes: trailing garbage means a different or damaged type.
-    if (message.decode(data, 0, size) != size) return std::nullopt;
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-  return message;
-}
-
 /// Decodes a Message at the start of data, where more bytes may follow (a message inside a
 /// larger blob); *used is set to its encoded size.
 template <typename Message>
@@ -34,6 +21,15 @@ std::optional<Message> safeDecodePrefix(const void* data, int size, std::size_t*
   } catch (const std::exception&) {
     return std::nullopt;
   }
+  return message;
+}
+
+template <typename Message>
+std::optional<Message> safeDecode(const void* data, int size) {
+  std::size_t used = 0;
+  auto message = safeDecodePrefix<Message>(data, size, &used);
+  // A message must use all the bytes: trailing garbage means a different or damaged type.
+  if (message && used != static_cast<std::size_t>(size)) return std::nullopt;
   return message;
 }
 
