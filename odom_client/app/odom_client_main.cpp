@@ -150,9 +150,13 @@ int main(int argc, char** argv) {
       source = openKittiDirectory(input, {first, last});
     else if (!pcd_dir.empty())
       source = openPointCloudDirectory(pcd_dir, {first, last}, config.frame_period);
-    else
+    else {
       source = openLcmScans(lcm_url, robot_id,
                             std::chrono::milliseconds(static_cast<int>(idle_timeout_s * 1000)));
+      // Scans published before this line are not received: start lcm-logplayer after it.
+      std::cerr << "odom_client: listening for scans on " << socc::channels::scan(robot_id)
+                << std::endl;
+    }
 
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);

@@ -150,7 +150,13 @@ logplayer() {
   "$client_bin" --live --idle-timeout 4 --lcm-url "$url" --robot-id live \
     --out-dir "$work/live" --quiet >"$work/live.log" 2>&1 &
   local live=$!
-  sleep 1  # let it subscribe to SOCC/SCAN/live
+  # Scans replayed before the client has subscribed are lost: wait until it says it listens.
+  for _ in $(seq 300); do
+    grep -q "listening for scans on SOCC/SCAN/live" "$work/live.log" && break
+    kill -0 "$live" 2>/dev/null || fail "odom_client --live exited: $(cat "$work/live.log")"
+    sleep 0.1
+  done
+  grep -q "listening for scans" "$work/live.log" || fail "odom_client --live did not subscribe in 30 s"
   # Half speed (8 scans in 1.6 s); the client queues the scans it has not read yet.
   lcm-logplayer -s 0.5 --lcm-url="$url" "$work/scans.lcmlog" >"$work/logplayer.log" 2>&1 ||
     fail "lcm-logplayer failed: $(cat "$work/logplayer.log")"

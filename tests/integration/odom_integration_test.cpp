@@ -222,7 +222,14 @@ TEST_F(OdomEndToEnd, LiveScansOverLcm) {
        "3", "--out-dir", out.string(), "--quiet"},
       out.string() + ".log");
   ASSERT_TRUE(c.started());
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // let it subscribe
+  // Scans published before the client has subscribed are lost: wait for it to say it listens
+  // (a fixed sleep was too short for a sanitized build on a busy machine).
+  const std::string listening = "listening for scans on " + socc::channels::scan("live");
+  for (int i = 0; i < 600 && readFile(out.string() + ".log").find(listening) == std::string::npos;
+       ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_NE(readFile(out.string() + ".log").find(listening), std::string::npos)
+      << readFile(out.string() + ".log");
   lcm::LCM lcm(url_);
   ASSERT_TRUE(lcm.good());
   for (int k = 0; k < 4; ++k) {
@@ -241,9 +248,7 @@ TEST_F(OdomEndToEnd, LiveScansOverLcm) {
       m.label = {1, 2, 3};
       lcm.publish(socc::channels::scan("live"), &m);
     }
-    // A live stream the client cannot keep up with loses scans in the socket buffers (as it
-    // would on a robot); 1 s per scan leaves room for a sanitized build on a busy machine.
-    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // a 10 Hz sensor
   }
   ASSERT_EQ(c.wait(std::chrono::seconds(60)), 0) << readFile(out.string() + ".log");
   const socc::Poses poses = socc::readKittiPoses(out / "poses_kitti.txt");

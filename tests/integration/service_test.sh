@@ -86,9 +86,10 @@ crash() {
   local durable=(--snapshot-dir "$work/snaps" --journal "$work/journal.lcmlog" --quiet)
   start_server "${durable[@]}" --snapshot-period 1
   for s in 1 2 3 4; do integrate robot1 $s >/dev/null; done
-  sleep 1.5  # a periodic snapshot covers 1..4; 5..8 live only in the journal
+  # A periodic snapshot covers 1..4; 5..8 live only in the journal.
+  for _ in $(seq 100); do [[ -s $work/snaps/map.snap ]] && break; sleep 0.1; done
+  [[ -s $work/snaps/map.snap ]] || fail "no periodic snapshot written within 10 s"
   for s in 5 6 7 8; do integrate robot1 $s >/dev/null; done
-  [[ -s $work/snaps/map.snap ]] || fail "no periodic snapshot written"
   local q=(--box -30 -30 -5 30 30 5 --fields features stats free index)
   local before; before=$(digest "${q[@]}")
   kill9_server
