@@ -99,12 +99,18 @@ check_history() {
   cli pose "$1" --history "$work/history_$1.txt" >/dev/null || fail "$1: GET_ROBOT_POSE history failed"
   [[ $(wc -l <"$work/history_$1.txt") == $(wc -l <"$2") ]] ||
     fail "$1: the server's history has $(wc -l <"$work/history_$1.txt") poses, the client wrote $(wc -l <"$2")"
+  expect_same_poses "$2" "$work/history_$1.txt" "$1: the server's pose history differs from the client's poses"
+  echo "$1: the server's pose history equals the client's $(wc -l <"$2") poses"
+}
+
+# expect_same_poses A B WHAT: the KITTI pose files A and B (same count) agree to 1e-6 m and
+# 1e-4 deg (the same poses, through text and LCM); otherwise fails with WHAT.
+expect_same_poses() {
   local diff dt dr
-  diff=$(pose_diff "$2" "$work/history_$1.txt")
+  diff=$(pose_diff "$1" "$2")
   read -r dt dr <<<"$diff"
   awk -v dt="$dt" -v dr="$dr" 'BEGIN { exit !(dt <= 1e-6 && dr <= 1e-4) }' ||
-    fail "$1: the server's pose history differs from the client's poses by $dt m / $dr deg"
-  echo "$1: the server's pose history equals the client's $(wc -l <"$2") poses"
+    fail "$3 by $dt m / $dr deg"
 }
 
 # Largest translation [m] and rotation [deg] difference between two KITTI pose files (same count).
@@ -151,12 +157,13 @@ logplayer() {
     --out-dir "$work/live" --quiet >"$work/live.log" 2>&1 &
   local live=$!
   # Scans replayed before the client has subscribed are lost: wait until it says it listens.
+  local listening="listening for scans on SOCC/SCAN/live"
   for _ in $(seq 300); do
-    grep -q "listening for scans on SOCC/SCAN/live" "$work/live.log" && break
+    grep -q "$listening" "$work/live.log" && break
     kill -0 "$live" 2>/dev/null || fail "odom_client --live exited: $(cat "$work/live.log")"
     sleep 0.1
   done
-  grep -q "listening for scans" "$work/live.log" || fail "odom_client --live did not subscribe in 30 s"
+  grep -q "$listening" "$work/live.log" || fail "odom_client --live did not subscribe in 30 s"
   # Half speed (8 scans in 1.6 s); the client queues the scans it has not read yet.
   lcm-logplayer -s 0.5 --lcm-url="$url" "$work/scans.lcmlog" >"$work/logplayer.log" 2>&1 ||
     fail "lcm-logplayer failed: $(cat "$work/logplayer.log")"
@@ -278,11 +285,8 @@ client_restart() {
   resumed=$(wc -l <"$work/robot1_part2/poses_kitti.txt")
   ((resumed == frames - 1 - held + frames)) ||
     fail "the resumed client wrote $resumed poses, expected frames $((held + 1))-$((2 * frames - 1))"
-  local diff dt dr
-  diff=$(pose_diff <(tail -n "$resumed" "$work/robot1_history.txt") "$work/robot1_part2/poses_kitti.txt")
-  read -r dt dr <<<"$diff"
-  awk -v dt="$dt" -v dr="$dr" 'BEGIN { exit !(dt <= 1e-6 && dr <= 1e-4) }' ||
-    fail "the server's history differs from the resumed client's poses by $dt m / $dr deg"
+  expect_same_poses <(tail -n "$resumed" "$work/robot1_history.txt") "$work/robot1_part2/poses_kitti.txt" \
+    "the server's history differs from the resumed client's poses"
   # Resumed from the held pose (not from the origin): the whole trajectory stays on the GT.
   local err
   err=$(rms_error 1 "$work/robot1_history.txt")

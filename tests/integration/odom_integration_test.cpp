@@ -217,19 +217,19 @@ TEST_F(OdomEndToEnd, LiveScansOverLcm) {
   // odom_client --live consumes socc::scan_t on SOCC/SCAN/<robot_id> (what lcm-logplayer replays);
   // a malformed scan in between is skipped with a warning.
   const fs::path out = work_ / "live";
+  const fs::path log = out.string() + ".log";
   socc::testing::ChildProcess c(
       {SOCC_ODOM_CLIENT_BIN, "--live", "--lcm-url", url_, "--robot-id", "live", "--idle-timeout",
        "3", "--out-dir", out.string(), "--quiet"},
-      out.string() + ".log");
+      log);
   ASSERT_TRUE(c.started());
   // Scans published before the client has subscribed are lost: wait for it to say it listens
   // (a fixed sleep was too short for a sanitized build on a busy machine).
   const std::string listening = "listening for scans on " + socc::channels::scan("live");
-  for (int i = 0; i < 600 && readFile(out.string() + ".log").find(listening) == std::string::npos;
-       ++i)
+  const auto subscribed = [&] { return readFile(log).find(listening) != std::string::npos; };
+  for (int i = 0; i < 600 && !subscribed(); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  ASSERT_NE(readFile(out.string() + ".log").find(listening), std::string::npos)
-      << readFile(out.string() + ".log");
+  ASSERT_TRUE(subscribed()) << readFile(log);
   lcm::LCM lcm(url_);
   ASSERT_TRUE(lcm.good());
   for (int k = 0; k < 4; ++k) {
@@ -250,9 +250,9 @@ TEST_F(OdomEndToEnd, LiveScansOverLcm) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));  // a 10 Hz sensor
   }
-  ASSERT_EQ(c.wait(std::chrono::seconds(60)), 0) << readFile(out.string() + ".log");
+  ASSERT_EQ(c.wait(std::chrono::seconds(60)), 0) << readFile(log);
   const socc::Poses poses = socc::readKittiPoses(out / "poses_kitti.txt");
   ASSERT_EQ(poses.size(), 4u);
   expectRelativeMotionMatchesPairwise(poses, 0);
-  EXPECT_NE(readFile(out.string() + ".log").find("skipping malformed scan"), std::string::npos);
+  EXPECT_NE(readFile(log).find("skipping malformed scan"), std::string::npos);
 }
