@@ -171,6 +171,11 @@ int main(int argc, char** argv) {
     }
     writeOutputs(out_dir, runner.trajectory());
     std::cout << log.summary(runner.wallSeconds());
+    if (rc == 0 && runner.trackingState() == TrackingState::kLost) {
+      std::cerr << "odom_client: error: the run ended LOST: frames after the robot lost track "
+                   "were not integrated (frames.csv status column)\n";
+      rc = 3;
+    }
     return rc;
   } catch (const std::exception& e) {
     std::cerr << "odom_client: error: " << e.what() << "\n";

@@ -12,7 +12,8 @@ FrameLog::FrameLog(const std::filesystem::path& csv_file) {
   if (!csv_) throw std::runtime_error(csv_file.string() + ": cannot open for writing");
   csv_ << "frame,preprocess_ms,fetch_ms,register_ms,integrate_ms,total_ms,corr_planar,"
           "corr_non_planar,alpha,iterations,chunk_voxels,bytes_received,sigma,points,"
-          "downsampled_points\n";
+          "downsampled_points,deskew_passes,status,inlier_fraction,residual_ratio,conditioning,"
+          "speed,integrated,problem\n";
 }
 
 void FrameLog::add(const FrameStats& s) {
@@ -37,8 +38,17 @@ void FrameLog::add(const FrameStats& s) {
        << s.fetch_ms << ',' << s.register_ms << ',' << s.integrate_ms << ',' << s.total_ms << ','
        << s.planar << ',' << s.non_planar << ',' << std::setprecision(4) << s.alpha << ','
        << s.iterations << ',' << s.chunk_voxels << ',' << s.bytes_received << ','
-       << std::setprecision(4) << s.sigma << ',' << s.points << ',' << s.downsampled_points << '\n';
+       << std::setprecision(4) << s.sigma << ',' << s.points << ',' << s.downsampled_points << ','
+       << s.deskew_passes << ',' << s.status << ',' << s.inlier_fraction << ','
+       << s.residual_ratio << ',' << s.conditioning << ',' << s.speed << ','
+       << (s.integrated ? 1 : 0) << ",\"" << s.problem << "\"\n";
   csv_.flush();  // a killed client still leaves a complete log
+}
+
+std::int64_t FrameLog::count(const std::string& status) const {
+  std::int64_t n = 0;
+  for (const FrameStats& s : rows_) n += s.status == status ? 1 : 0;
+  return n;
 }
 
 FrameStats FrameLog::mean() const {
@@ -74,7 +84,10 @@ std::string FrameLog::summary(double wall_seconds) const {
       << wall_seconds << " s\n"
       << "chunk: " << m.chunk_voxels << " voxels, " << m.bytes_received / 1024.0
       << " KiB/frame; registered points " << m.downsampled_points << " of " << m.points
-      << "; iterations " << m.iterations << "; alpha " << m.alpha << "\n";
+      << "; iterations " << m.iterations << "; alpha " << m.alpha << "\n"
+      << "health: " << count("ok") << " ok, " << count("degenerate") << " degenerate, "
+      << count("retried") << " retried, " << count("unhealthy") << " unhealthy, " << count("lost")
+      << " lost\n";
   return out.str();
 }
 

@@ -20,6 +20,19 @@ const std::map<std::string, Field>& fields() {
       {"deskew", &OdomConfig::deskew},
       {"frame_period", &OdomConfig::frame_period},
       {"deskew_reference_time", &OdomConfig::deskew_reference_time},
+      {"deskew_iterations", &OdomConfig::deskew_iterations},
+      {"azimuth_times", &OdomConfig::azimuth_times},
+      {"azimuth_start_deg", &OdomConfig::azimuth_start_deg},
+      {"azimuth_clockwise", &OdomConfig::azimuth_clockwise},
+      {"scan_time_in_sweep", &OdomConfig::scan_time_in_sweep},
+      {"min_inlier_fraction", &OdomConfig::min_inlier_fraction},
+      {"max_residual_ratio", &OdomConfig::max_residual_ratio},
+      {"min_conditioning", &OdomConfig::min_conditioning},
+      {"max_linear_speed", &OdomConfig::max_linear_speed},
+      {"max_angular_speed", &OdomConfig::max_angular_speed},
+      {"max_linear_acceleration", &OdomConfig::max_linear_acceleration},
+      {"max_angular_acceleration", &OdomConfig::max_angular_acceleration},
+      {"max_unhealthy_frames", &OdomConfig::max_unhealthy_frames},
       {"target_points", &OdomConfig::target_points},
       {"initial_voxel_size", &OdomConfig::initial_voxel_size},
       {"min_voxel_size", &OdomConfig::min_voxel_size},
@@ -115,6 +128,16 @@ std::string validate(const OdomConfig& c) {
     return "max_range must be > min_range";
   if (!finite_pos(c.frame_period)) return "frame_period must be > 0";
   if (!std::isfinite(c.deskew_reference_time)) return "deskew_reference_time must be finite";
+  if (c.deskew_iterations < 1) return "deskew_iterations must be >= 1";
+  if (!std::isfinite(c.azimuth_start_deg)) return "azimuth_start_deg must be finite";
+  if (!unit(c.scan_time_in_sweep)) return "scan_time_in_sweep must be within [0, 1]";
+  if (!unit(c.min_inlier_fraction)) return "min_inlier_fraction must be within [0, 1]";
+  if (!finite_pos(c.max_residual_ratio)) return "max_residual_ratio must be > 0";
+  if (!unit(c.min_conditioning)) return "min_conditioning must be within [0, 1]";
+  for (const double v : {c.max_linear_speed, c.max_angular_speed, c.max_linear_acceleration,
+                         c.max_angular_acceleration})
+    if (!finite_pos(v)) return "max_linear/angular_speed/acceleration must be > 0";
+  if (c.max_unhealthy_frames < 1) return "max_unhealthy_frames must be >= 1";
   if (c.target_points < 10) return "target_points must be >= 10";
   if (!finite_pos(c.min_voxel_size)) return "min_voxel_size must be > 0";
   if (!finite_pos(c.max_voxel_size) || c.max_voxel_size < c.min_voxel_size)

@@ -1,14 +1,11 @@
 #include "socc/odom/odom_runner.hpp"
 
 #include <chrono>
-#include <future>
 #include <iostream>
-#include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include "socc/odom/local_map.hpp"
-#include "socc/odom/odometry.hpp"
 #include "socc/pose_conversion.hpp"
 #include "socc/progress_bar.hpp"
 
@@ -29,121 +26,157 @@ std::string callError(const char* what, const rpc::CallError& e, int attempts) {
   return out.str();
 }
 
-// One Integrate in flight, answered in a worker thread; its row of stats waits with it.
-struct PendingIntegrate {
-  std::future<std::pair<rpc::Result<integrate_reply_t>, double>> reply;  // result, latency ms
-  FrameStats stats;
-};
+std::string statusOf(const FrameEstimate& e, TrackingState state) {
+  if (state == TrackingState::kLost) return "lost";
+  if (!e.health.healthy()) return "unhealthy";
+  if (e.retried) return "retried";
+  return e.health.degenerate ? "degenerate" : "ok";
+}
+
+void addHealth(const FrameEstimate& e, FrameStats& stats) {
+  stats.planar = e.registration.planar;
+  stats.non_planar = e.registration.non_planar;
+  stats.alpha = e.registration.alpha;
+  stats.iterations = e.registration.iterations;
+  stats.sigma = e.sigma;
+  stats.points = static_cast<std::int64_t>(e.cloud.size());
+  stats.downsampled_points = static_cast<std::int64_t>(e.registered_points);
+  stats.deskew_passes = e.deskew_passes;
+  stats.problem = e.health.problem;
+  stats.inlier_fraction = e.health.inlier_fraction;
+  stats.residual_ratio = e.health.residual_ratio;
+  stats.conditioning = std::min(e.health.translation_conditioning, e.health.rotation_conditioning);
+  stats.speed = e.health.linear_speed;
+}
 
 }  // namespace
 
 OdomRunner::OdomRunner(const OdomConfig& config, rpc::MapClient& client, RunOptions options)
-    : config_(config), client_(client), options_(options) {}
+    : config_(config),
+      client_(client),
+      options_(options),
+      tracking_(config.max_unhealthy_frames) {}
 
 void OdomRunner::run(ScanSource& source, FrameLog& log) {
+  log_ = &log;
   Odometry odometry(config_, options_.initial_pose, options_.initial_pose_known);
   ProgressBar bar("odom_client", source.remaining(), options_.progress);
   const Clock::time_point run_start = Clock::now();
-  std::optional<PendingIntegrate> pending;
-  std::optional<std::int64_t> last_utime;
-
-  // Waits for the Integrate in flight, logs its frame and returns the map version it produced
-  // (-1 when none was in flight).
-  const auto finishPending = [&]() -> std::int64_t {
-    if (!pending) return -1;
-    auto [result, latency_ms] = pending->reply.get();
-    if (!result.ok())
-      throw std::runtime_error(callError("INTEGRATE", result.error, result.attempts));
-    pending->stats.integrate_ms = latency_ms;
-    log.add(pending->stats);
-    pending.reset();
-    return result.reply->map_version;
-  };
-  const auto fetchChunk = [&](const Eigen::Vector3d& center) {
-    chunk_request_t request = rpc::sphereChunkRequest(center, config_.chunk_radius);
-    request.occupancy_threshold = static_cast<float>(config_.occupancy_threshold);
-    rpc::Result<chunk_reply_t> chunk = client_.getChunk(request);
-    if (!chunk.ok()) throw std::runtime_error(callError("GET_CHUNK", chunk.error, chunk.attempts));
-    return chunk;
-  };
-
   while (!(options_.stop && options_.stop->load())) {
     const Clock::time_point frame_start = Clock::now();
     std::optional<Scan> scan = source.next();
     if (!scan) break;
     if (scan->seq <= options_.skip_until_seq) continue;  // integrated before a restart
-
     FrameStats stats;
     stats.frame = scan->seq;
-    const double period = last_utime && scan->utime > *last_utime
-                              ? (scan->utime - *last_utime) * 1e-6
-                              : config_.frame_period;
-    last_utime = scan->utime;
     PreparedScan prepared;
     try {
-      prepared = odometry.prepare(scan->cloud, period);
+      prepared = odometry.prepare(scan->cloud, scan->seq, scan->utime);
     } catch (const std::invalid_argument& e) {
       std::cerr << "odom_client: skipping " << scan->name << ": " << e.what() << "\n";
       continue;
     }
     stats.preprocess_ms = msSince(frame_start);
-    stats.points = static_cast<std::int64_t>(prepared.full.size());
-    stats.downsampled_points = static_cast<std::int64_t>(prepared.downsampled.size());
-
-    // The full range-filtered (deskewed) cloud goes to the map, not the downsampled one. It is
-    // in the sensor frame, so the request is built here, off the critical path (the server is
-    // still integrating the previous scan); only the estimated pose is filled in later.
-    integrate_request_t integrate = rpc::makeIntegrateRequest(
-        scan->seq, scan->utime, Eigen::Isometry3d::Identity(), prepared.full);
-
-    // GET_CHUNK goes out while the previous Integrate may still be unanswered: the server is
-    // single-threaded and handles requests in arrival order, so the chunk already holds the
-    // previous scan. If the Integrate reached the server after the GET_CHUNK (a retry after a
-    // lost datagram, or a worker thread slower to publish than preprocessing), the chunk's map
-    // version is older than the Integrate's and it is fetched again.
-    const Clock::time_point fetch_start = Clock::now();
-    const Eigen::Vector3d center = odometry.predictedPose().translation();
-    rpc::Result<chunk_reply_t> chunk = fetchChunk(center);
-    if (chunk.reply->map_version < finishPending()) {
-      chunk = fetchChunk(center);
-      ++refetched_chunks_;
-    }
-    const LocalMap map = LocalMap::fromChunk(*chunk.reply, config_.occupancy_threshold);
-    stats.fetch_ms = msSince(fetch_start);
-    stats.chunk_voxels = static_cast<std::int64_t>(map.size());
-    stats.bytes_received = chunk.bytes_received;
+    const LocalMap map = fetchMap(odometry.predictedPose(prepared).translation(), stats);
 
     const Clock::time_point register_start = Clock::now();
-    const FrameEstimate estimate = odometry.registerFrame(prepared, map);
+    FrameEstimate estimate = odometry.registerFrame(prepared, map);
     stats.register_ms = msSince(register_start);
-    stats.planar = estimate.registration.planar;
-    stats.non_planar = estimate.registration.non_planar;
-    stats.alpha = estimate.registration.alpha;
-    stats.iterations = estimate.registration.iterations;
-    stats.sigma = estimate.sigma;
-
-    integrate.sensor_pose = toLcm(estimate.pose);
-    pending.emplace();
-    pending->reply =
-        std::async(std::launch::async, [this, request = std::move(integrate)]() mutable {
-          const Clock::time_point start = Clock::now();
-          auto result = client_.integrate(std::move(request));
-          return std::make_pair(std::move(result), msSince(start));
-        });
     stats.total_ms = msSince(frame_start);
-    pending->stats = stats;
-
-    trajectory_.seqs.push_back(scan->seq);
-    trajectory_.stamps.push_back(scan->utime * 1e-6);
-    trajectory_.poses.push_back(estimate.pose);
+    if (std::optional<FrameEstimate> first = odometry.takeReleasedFrame()) {
+      FrameStats first_stats;  // its time was spent when it arrived
+      first_stats.frame = first->seq;
+      submit(std::move(*first), first_stats);
+    }
+    if (!estimate.held) submit(std::move(estimate), stats);
     std::ostringstream extra;
     extra.precision(1);
-    extra << std::fixed << "register " << stats.register_ms << " ms, " << map.size() << " voxels";
+    extra << std::fixed << "register " << stats.register_ms << " ms, " << map.size()
+          << " voxels, " << trackingStateName(tracking_.state());
     bar.tick(extra.str());
   }
   finishPending();
   bar.finish();
   wall_seconds_ = std::chrono::duration<double>(Clock::now() - run_start).count();
+}
+
+rpc::Result<chunk_reply_t> OdomRunner::fetchChunk(const Eigen::Vector3d& center) {
+  chunk_request_t request = rpc::sphereChunkRequest(center, config_.chunk_radius);
+  request.occupancy_threshold = static_cast<float>(config_.occupancy_threshold);
+  rpc::Result<chunk_reply_t> chunk = client_.getChunk(request);
+  if (!chunk.ok()) throw std::runtime_error(callError("GET_CHUNK", chunk.error, chunk.attempts));
+  return chunk;
+}
+
+LocalMap OdomRunner::fetchMap(const Eigen::Vector3d& center, FrameStats& stats) {
+  // GET_CHUNK goes out while the previous Integrate may still be unanswered: the server is
+  // single-threaded and handles requests in arrival order, so the chunk already holds the
+  // previous scan. If the Integrate reached the server after the GET_CHUNK (a retry after a
+  // lost datagram, or a worker thread slower to publish than preprocessing), the chunk's map
+  // version is older than the Integrate's and it is fetched again.
+  const Clock::time_point start = Clock::now();
+  rpc::Result<chunk_reply_t> chunk = fetchChunk(center);
+  if (chunk.reply->map_version < finishPending()) {
+    chunk = fetchChunk(center);
+    ++refetched_chunks_;
+  }
+  LocalMap map = LocalMap::fromChunk(*chunk.reply, config_.occupancy_threshold);
+  stats.fetch_ms = msSince(start);
+  stats.chunk_voxels = static_cast<std::int64_t>(map.size());
+  stats.bytes_received = chunk.bytes_received;
+  return map;
+}
+
+std::int64_t OdomRunner::finishPending() {
+  if (!pending_) return -1;
+  auto [result, latency_ms] = pending_->reply.get();
+  if (!result.ok()) throw std::runtime_error(callError("INTEGRATE", result.error, result.attempts));
+  pending_->stats.integrate_ms = latency_ms;
+  log_->add(pending_->stats);
+  pending_.reset();
+  return result.reply->map_version;
+}
+
+void OdomRunner::submit(FrameEstimate estimate, FrameStats stats) {
+  const TrackingState before = tracking_.state();
+  const TrackingState state = tracking_.update(estimate.health.healthy());
+  addHealth(estimate, stats);
+  stats.status = statusOf(estimate, state);
+  if (!estimate.health.healthy())
+    std::cerr << "odom_client: frame " << estimate.seq << " unhealthy (" << estimate.health.problem
+              << "): not integrated\n";
+  if (state != before) {
+    std::cerr << "odom_client: tracking state " << trackingStateName(state) << " at frame "
+              << estimate.seq << "\n";
+    reportTracking(estimate.health.problem);
+  }
+  trajectory_.seqs.push_back(estimate.seq);
+  trajectory_.stamps.push_back(estimate.utime * 1e-6);
+  trajectory_.poses.push_back(estimate.pose);
+  if (state == TrackingState::kLost || !estimate.health.healthy()) {
+    finishPending();  // keeps the frames.csv rows in frame order
+    log_->add(stats);
+    return;
+  }
+  stats.integrated = true;
+  integrate(std::move(estimate), stats);
+}
+
+void OdomRunner::integrate(FrameEstimate estimate, const FrameStats& stats) {
+  finishPending();
+  integrate_request_t request =
+      rpc::makeIntegrateRequest(estimate.seq, estimate.utime, estimate.pose, estimate.cloud);
+  pending_.emplace();
+  pending_->stats = stats;
+  pending_->reply = std::async(std::launch::async, [this, r = std::move(request)]() mutable {
+    const Clock::time_point start = Clock::now();
+    auto result = client_.integrate(std::move(r));
+    return std::make_pair(std::move(result), msSince(start));
+  });
+}
+
+void OdomRunner::reportTracking(const std::string& reason) {
+  (void)reason;  // wired to the map server's robot status below
 }
 
 }  // namespace socc::odom

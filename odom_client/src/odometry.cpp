@@ -3,10 +3,47 @@
 #include <stdexcept>
 
 #include "socc/odom/deskew.hpp"
+#include "socc/odom/point_times.hpp"
 #include "socc/odom/preprocessing.hpp"
-#include "socc/odom/se3.hpp"
+#include "socc/odom/scan_map.hpp"
 
 namespace socc::odom {
+namespace {
+
+// A deskew pass whose twist changed less than this over one sweep changes the scan by less than
+// the noise of a LiDAR point: further passes would not move the estimate.
+constexpr double kSettledTranslation = 0.002;  // [m per sweep]
+constexpr double kSettledRotation = 2e-4;      // [rad per sweep]
+// Voxel size of the held first scan's own map in the start-up registration (the map server's
+// default resolution).
+constexpr double kStartupVoxelSize = 0.5;
+
+bool settled(const Vector6d& change, double sweep) {
+  return change.head<3>().norm() * sweep < kSettledTranslation &&
+         change.tail<3>().norm() * sweep < kSettledRotation;
+}
+
+// map plus the voxels of cloud (map frame).
+LocalMap withCloud(const LocalMap& map, const LabeledCloud& cloud) {
+  const LocalMap own = buildScanMap(cloud, kStartupVoxelSize);
+  std::vector<MapVoxel> voxels;
+  voxels.reserve(map.size() + own.size());
+  for (std::size_t i = 0; i < map.size(); ++i) voxels.push_back(map.voxel(i));
+  for (std::size_t i = 0; i < own.size(); ++i) voxels.push_back(own.voxel(i));
+  return LocalMap(std::move(voxels));
+}
+
+LabeledCloud transformed(LabeledCloud cloud, const Eigen::Isometry3d& pose) {
+  for (auto& p : cloud.points) p = (pose * p.cast<double>()).cast<float>();
+  return cloud;
+}
+
+}  // namespace
+
+struct Odometry::Sweep {
+  RegistrationResult registration;
+  std::size_t points = 0;
+};
 
 Odometry::Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_pose,
                    bool initial_pose_known)
@@ -20,69 +57,228 @@ Odometry::Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_po
       pose_(initial_pose),
       keep_first_pose_(initial_pose_known && !config.refine_initial_pose) {}
 
-PreparedScan Odometry::prepare(const LabeledCloud& raw, double frame_period) {
+PreparedScan Odometry::prepare(const LabeledCloud& raw, std::int64_t seq,
+                               std::int64_t utime) const {
   if (const std::string problem = checkCloud(raw); !problem.empty())
     throw std::invalid_argument("bad scan: " + problem);
   PreparedScan out;
-  out.full = rangeFilter(raw, config_.min_range, config_.max_range);
-  if (!config_.use_semantics) dropLabels(out.full);
-  if (config_.deskew && out.full.hasTimes())
-    out.full = deskew(out.full, velocity_, frame_period, config_.deskew_reference_time);
-  out.full.times.clear();  // deskewed: the points now all refer to the reference time
-
-  out.voxel_size = voxel_size_.size();
-  out.downsampled = semanticVoxelDownsample(out.full, out.voxel_size, class_factor_);
-  if (voxel_size_.farOff(out.downsampled.size())) {
-    // e.g. the first frame or a sudden change of scene: redo once with the corrected size.
-    voxel_size_.update(out.downsampled.size());
-    out.voxel_size = voxel_size_.size();
-    out.downsampled = semanticVoxelDownsample(out.full, out.voxel_size, class_factor_);
-  }
-  voxel_size_.update(out.downsampled.size());
+  out.seq = seq;
+  out.utime = utime;
+  out.cloud = rangeFilter(raw, config_.min_range, config_.max_range);
+  if (!config_.use_semantics) dropLabels(out.cloud);
+  if (!config_.deskew)
+    out.cloud.times.clear();
+  else if (!out.cloud.hasTimes() && config_.azimuth_times)
+    out.cloud.times =
+        azimuthTimes(out.cloud.points, {config_.frame_period, config_.azimuth_start_deg,
+                                        config_.azimuth_clockwise, config_.scan_time_in_sweep});
+  out.mid_time = sweepMidTime(out.cloud);
   return out;
 }
 
-Eigen::Isometry3d Odometry::predictedPose() const {
-  return pose_ * velocity_;
+Eigen::Isometry3d Odometry::predictedPose(const PreparedScan& scan) const {
+  if (time_ < 0.0) return pose_;
+  return pose_ * expSe3(twist_ * (scan.time() - time_));
+}
+
+Vector6d Odometry::twistTo(const Eigen::Isometry3d& mid_pose, double time) const {
+  return logSe3(pose_.inverse() * mid_pose) / (time - time_);
 }
 
 FrameEstimate Odometry::registerFrame(const PreparedScan& scan, const LocalMap& map) {
-  const Eigen::Isometry3d prediction = predictedPose();
-  FrameEstimate out;
-  out.sigma = threshold_.sigma();
-  out.pose = prediction;
-  const bool keep = keep_first_pose_ && !has_motion_model_;
-  if (!keep && map.size() >= static_cast<std::size_t>(std::max(config_.min_map_points, 1))) {
-    out.registration = registerScan(scan.downsampled, map, prediction, out.sigma, params_);
-    if (!threshold_.calibrated()) refine(scan, map, out);
-    out.pose = orthonormalized(out.registration.pose);
-    out.registered = true;
-    if (has_motion_model_) threshold_.update(prediction.inverse() * out.pose);
+  if (!has_motion_model_ && !held_ && scan.cloud.hasTimes()) {
+    held_ = scan;  // deskewed once the next scan gives the motion
+    FrameEstimate out;
+    out.seq = scan.seq;
+    out.utime = scan.utime;
+    out.pose = pose_;
+    out.held = true;
+    return out;
   }
-  has_motion_model_ = true;
-  velocity_ = orthonormalized(pose_.inverse() * out.pose);
-  pose_ = out.pose;
+  if (held_) return bootstrap(scan, map);
+  const bool keep = keep_first_pose_ && !has_motion_model_;
+  const Eigen::Isometry3d prediction = predictedPose(scan);
+  if (keep || map.size() < static_cast<std::size_t>(std::max(config_.min_map_points, 1)))
+    return unregistered(scan, prediction);
+
+  FrameEstimate out = estimate(scan, map, threshold_.sigma());
+  if (!out.health.healthy()) {
+    // A wider threshold from the constant-velocity prediction catches a motion the model missed.
+    FrameEstimate retry =
+        estimate(scan, map, std::max(2.0 * threshold_.sigma(), config_.initial_threshold));
+    retry.retried = true;
+    if (retry.health.healthy()) out = std::move(retry);
+  }
+  if (!out.health.healthy()) {
+    // Not trusted: the state follows the prediction (the estimate stays for the log).
+    FrameEstimate kept = unregistered(scan, prediction);
+    kept.registration = out.registration;
+    kept.health = out.health;
+    kept.retried = out.retried;
+    return kept;
+  }
+  const Eigen::Isometry3d mid = out.registration.pose;
+  if (has_motion_model_) threshold_.update(prediction.inverse() * mid);
+  advance(scan, out, mid);
   return out;
 }
 
-void Odometry::refine(const PreparedScan& scan, const LocalMap& map, FrameEstimate& out) const {
+FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, double sigma) {
+  FrameEstimate out;
+  out.sigma = sigma;
+  out.voxel_size = voxel_size_.size();
+  Eigen::Isometry3d mid = predictedPose(scan);
+  Vector6d twist = twist_;
+  const bool anchored = time_ >= 0.0 && scan.time() > time_;
+  for (int pass = 0; pass < config_.deskew_iterations; ++pass) {
+    const Sweep s = registerSweep(scan, map, mid, twist, sigma);
+    out.registration = s.registration;
+    out.registered_points = s.points;
+    out.deskew_passes = pass + 1;
+    mid = s.registration.pose;
+    if (!anchored || !scan.cloud.hasTimes()) break;
+    const Vector6d next = twistTo(mid, scan.time());
+    const bool done = settled(next - twist, config_.frame_period);
+    twist = next;
+    if (done) break;
+  }
+  out.registration.pose = mid;
+  finish(scan, mid, twist, out);
+  out.registered = true;
+  judge(scan, out);
+  return out;
+}
+
+Odometry::Sweep Odometry::registerSweep(const PreparedScan& scan, const LocalMap& map,
+                                        const Eigen::Isometry3d& guess, const Vector6d& twist,
+                                        double sigma) {
+  const LabeledCloud down = downsample(deskew(scan.cloud, twist, scan.mid_time));
+  Sweep out;
+  out.points = down.size();
+  out.registration = registerScan(down, map, guess, sigma, params_);
   // The initial threshold is wide so that it catches an unknown motion (or a rough initial pose
   // in a map other robots built): its kernel also gives weight to wrong correspondences, which
   // leaves the pose biased by centimetres. Halving sigma from the coarse result removes them;
   // a pose that enters another robot's map this way would otherwise shift that map for everyone.
-  if (config_.refine_threshold <= 0.0) return;  // off
-  for (double sigma = out.sigma / 2.0; sigma >= config_.refine_threshold; sigma /= 2.0) {
+  if (threshold_.calibrated() || config_.refine_threshold <= 0.0) return out;
+  for (double s = sigma / 2.0; s >= config_.refine_threshold; s /= 2.0) {
     const int iterations = out.registration.iterations;
-    out.registration = registerScan(scan.downsampled, map, out.registration.pose, sigma, params_);
+    out.registration = registerScan(down, map, out.registration.pose, s, params_);
     out.registration.iterations += iterations;
   }
+  return out;
+}
+
+LabeledCloud Odometry::downsample(const LabeledCloud& cloud) {
+  LabeledCloud down = semanticVoxelDownsample(cloud, voxel_size_.size(), class_factor_);
+  if (voxel_size_.farOff(down.size())) {
+    // e.g. the first frame or a sudden change of scene: redo once with the corrected size.
+    voxel_size_.update(down.size());
+    down = semanticVoxelDownsample(cloud, voxel_size_.size(), class_factor_);
+  }
+  return down;
+}
+
+FrameEstimate Odometry::bootstrap(const PreparedScan& scan, const LocalMap& map) {
+  const PreparedScan first = std::move(*held_);
+  held_.reset();
+  const bool register_first =
+      !keep_first_pose_ && map.size() >= static_cast<std::size_t>(config_.min_map_points);
+  const double sigma = threshold_.sigma();
+  const double dt = scan.time() > first.time() ? scan.time() - first.time() : config_.frame_period;
+  Vector6d twist = Vector6d::Zero();
+  Eigen::Isometry3d mid0 = pose_, mid1 = pose_;
+  FrameEstimate e0, e1;
+  for (int pass = 0; pass < config_.deskew_iterations + 1; ++pass) {
+    if (register_first)
+      mid0 = registerSweep(first, map, mid0, twist, sigma).registration.pose;
+    else  // the given (or initial) pose refers to the first scan's reference time
+      mid0 = pose_ * expSe3((first.mid_time - config_.deskew_reference_time) * twist);
+    const LocalMap target =
+        withCloud(map, transformed(deskew(first.cloud, twist, first.mid_time), mid0));
+    const Sweep s = registerSweep(scan, target, mid1, twist, sigma);
+    e1.registration = s.registration;
+    e1.registered_points = s.points;
+    e1.deskew_passes = pass + 1;
+    mid1 = s.registration.pose;
+    const Vector6d next = logSe3(mid0.inverse() * mid1) / dt;
+    const bool done = settled(next - twist, config_.frame_period);
+    twist = next;
+    if (done) break;
+  }
+  e0.sigma = e1.sigma = sigma;
+  e0.voxel_size = e1.voxel_size = voxel_size_.size();
+  finish(first, mid0, twist, e0);
+  finish(scan, mid1, twist, e1);
+  e0.registered = register_first;
+  e1.registered = true;
+  e1.health = judgeRegistration(e1.registration, e1.registered_points, sigma, config_);
+  judgeMotion(e1.health, twist, nullptr, dt, config_);
+  e0.health = e1.health;  // the first scan is deskewed with this frame's motion
+  released_ = std::move(e0);
+  pose_ = mid1;
+  time_ = scan.time();
+  twist_ = twist;
+  twist_known_ = true;
+  has_motion_model_ = true;
+  voxel_size_.update(e1.registered_points);
+  return e1;
+}
+
+FrameEstimate Odometry::unregistered(const PreparedScan& scan, const Eigen::Isometry3d& mid_pose) {
+  FrameEstimate out;
+  out.sigma = threshold_.sigma();
+  out.voxel_size = voxel_size_.size();
+  out.registered_points = downsample(scan.cloud).size();  // keeps v_adapt following the scans
+  finish(scan, mid_pose, twist_, out);
+  advance(scan, out, mid_pose);
+  return out;
+}
+
+void Odometry::finish(const PreparedScan& scan, const Eigen::Isometry3d& mid_pose,
+                      const Vector6d& twist, FrameEstimate& out) const {
+  const double ref = config_.deskew_reference_time;
+  out.seq = scan.seq;
+  out.utime = scan.utime;
+  out.pose = orthonormalized(mid_pose * expSe3((ref - scan.mid_time) * twist));
+  out.cloud = deskew(scan.cloud, twist, ref);
+  out.cloud.times.clear();  // deskewed: the points now all refer to the reference time
+}
+
+void Odometry::judge(const PreparedScan& scan, FrameEstimate& out) const {
+  out.health = judgeRegistration(out.registration, out.registered_points, out.sigma, config_);
+  if (time_ < 0.0 || !(scan.time() > time_)) return;
+  judgeMotion(out.health, twistTo(out.registration.pose, scan.time()),
+              twist_known_ ? &twist_ : nullptr, scan.time() - time_, config_);
+}
+
+void Odometry::advance(const PreparedScan& scan, const FrameEstimate& out,
+                       const Eigen::Isometry3d& mid) {
+  if (time_ >= 0.0 && scan.time() > time_ && out.registered) {
+    twist_ = twistTo(mid, scan.time());
+    twist_known_ = true;
+  }
+  pose_ = orthonormalized(mid);
+  time_ = scan.time();
+  has_motion_model_ = true;
+  voxel_size_.update(out.registered_points);
+}
+
+std::optional<FrameEstimate> Odometry::takeReleasedFrame() {
+  std::optional<FrameEstimate> out = std::move(released_);
+  released_.reset();
+  return out;
 }
 
 void Odometry::reset(const Eigen::Isometry3d& pose) {
   pose_ = pose;
-  velocity_ = Eigen::Isometry3d::Identity();
+  time_ = -1.0;
+  twist_.setZero();
+  twist_known_ = false;
   has_motion_model_ = false;
   keep_first_pose_ = false;  // e.g. the last pose the server holds: the next scan is elsewhere
+  held_.reset();
+  released_.reset();
   threshold_.reset();
 }
 

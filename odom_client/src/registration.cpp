@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
+#include <cmath>
 #include <deque>
 
 #include "socc/odom/se3.hpp"
@@ -18,10 +19,12 @@ struct System {
   Matrix6d H = Matrix6d::Zero();
   Vector6d b = Vector6d::Zero();
   int count = 0;
+  double squared_residuals = 0.0;  // unweighted, for the health check
   System& operator+=(const System& o) {
     H += o.H;
     b += o.b;
     count += o.count;
+    squared_residuals += o.squared_residuals;
     return *this;
   }
 };
@@ -46,6 +49,7 @@ void accumulate(const Eigen::Vector3d& p, const MapVoxel& v, const Correspondenc
     const double e = v.normal.dot(p - v.point);
     out.planar.H.noalias() += c.weight * J * J.transpose();
     out.planar.b.noalias() += c.weight * J * e;
+    out.planar.squared_residuals += c.squared_residual;
     ++out.planar.count;
   } else {
     // e = p - q;  de/d(rho, phi) = [I, -[p]x]
@@ -55,6 +59,7 @@ void accumulate(const Eigen::Vector3d& p, const MapVoxel& v, const Correspondenc
     const Eigen::Vector3d e = p - v.point;
     out.point.H.noalias() += c.weight * J.transpose() * J;
     out.point.b.noalias() += c.weight * J.transpose() * e;
+    out.point.squared_residuals += c.squared_residual;
     ++out.point.count;
   }
 }
@@ -110,7 +115,10 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
     const int total = sys.planar.count + sys.point.count;
     if (total < 6) break;  // under-determined: keep the current estimate
     result.alpha = static_cast<double>(sys.planar.count) / total;
+    result.rms_residual =
+        std::sqrt((sys.planar.squared_residuals + sys.point.squared_residuals) / total);
     const Matrix6d H = result.alpha * sys.planar.H + (1.0 - result.alpha) * sys.point.H;
+    result.information = H;
     const Vector6d b = result.alpha * sys.planar.b + (1.0 - result.alpha) * sys.point.b;
     const Vector6d dx = H.ldlt().solve(-b);
     if (!dx.allFinite()) break;

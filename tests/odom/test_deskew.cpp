@@ -13,10 +13,10 @@ using namespace socc::odom;
 TEST(Deskew, WithoutTimesOrMotionNothingChanges) {
   socc::LabeledCloud c;
   c.points = {{1, 2, 3}, {4, 5, 6}};
-  const Eigen::Isometry3d motion = expSe3((Vector6d() << 1, 0, 0, 0, 0, 0.1).finished());
-  EXPECT_EQ(deskew(c, motion, 0.1, 0.0).points, c.points);
+  const Vector6d twist = (Vector6d() << 10, 0, 0, 0, 0, 1).finished();
+  EXPECT_EQ(deskew(c, twist, 0.0).points, c.points);
   c.times = {0.f, 0.05f};
-  const auto still = deskew(c, Eigen::Isometry3d::Identity(), 0.1, 0.0);
+  const auto still = deskew(c, Vector6d::Zero(), 0.0);
   for (std::size_t i = 0; i < c.size(); ++i) EXPECT_TRUE(still.points[i].isApprox(c.points[i]));
 }
 
@@ -25,12 +25,20 @@ TEST(Deskew, PointAtReferenceTimeStaysAndFullPeriodAppliesTheFrameMotion) {
   c.points = {{10, 0, 0}, {10, 0, 0}, {10, 0, 0}};
   c.times = {0.0f, 0.05f, 0.1f};
   const Eigen::Isometry3d motion = expSe3((Vector6d() << 1.0, 0.2, 0, 0, 0, 0.05).finished());
-  const auto out = deskew(c, motion, 0.1, 0.0);
+  const auto out = deskew(c, logSe3(motion) / 0.1, 0.0);
   EXPECT_TRUE(out.points[0].isApprox(c.points[0]));
   EXPECT_TRUE(out.points[2].cast<double>().isApprox(motion * Eigen::Vector3d(10, 0, 0), 1e-6));
   // Half the period: half the twist (screw interpolation).
   const Eigen::Isometry3d half = expSe3(0.5 * logSe3(motion));
   EXPECT_TRUE(out.points[1].cast<double>().isApprox(half * Eigen::Vector3d(10, 0, 0), 1e-6));
+}
+
+TEST(Deskew, SweepMidTimeIsTheMiddleOfTheTimes) {
+  socc::LabeledCloud c;
+  c.points = {{1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+  EXPECT_EQ(sweepMidTime(c), 0.0);
+  c.times = {-0.02f, -0.1f, 0.0f};  // times relative to the end of the sweep
+  EXPECT_NEAR(sweepMidTime(c), -0.05, 1e-7);
 }
 
 TEST(Se3, ExpLogRoundTrip) {
@@ -108,11 +116,10 @@ TEST(Deskew, ReproducesNewerCollegeReference) {
       dst.col(k) = ref[at_start[k]].cast<double>();
     }
     const Eigen::Isometry3d initial(Eigen::umeyama(src, dst, false));
-    const double period = 0.1;
     const double t_ref = 0.0;
     const auto [extrinsic, xi] = fitExtrinsicAndTwist(raw.points, raw.times, ref, initial, t_ref);
     for (auto& p : raw.points) p = (extrinsic * p.cast<double>()).cast<float>();
-    const auto out = deskew(raw, expSe3(xi * period), period, t_ref);
+    const auto out = deskew(raw, xi, t_ref);
     double sum2 = 0.0, base2 = 0.0, max_err = 0.0;
     for (std::size_t i = 0; i < ref.size(); ++i) {
       const double e = (out.points[i] - ref[i]).cast<double>().norm();

@@ -33,7 +33,10 @@ TEST(Weights, SemanticMatchRule) {
   EXPECT_TRUE(labelsMatch(13, 0));
   EXPECT_FALSE(labelsMatch(13, 1));
   EXPECT_DOUBLE_EQ(semanticWeight(13, 13, 0.8, 0.25), 0.25 + 0.75 * 0.8);
-  EXPECT_DOUBLE_EQ(semanticWeight(0, 13, 0.6, 0.25), 0.25 + 0.75 * 0.6);
+  // Unlabeled on either side is neutral, whatever the voxel's label probability.
+  EXPECT_DOUBLE_EQ(semanticWeight(0, 13, 0.6, 0.25), 1.0);
+  EXPECT_DOUBLE_EQ(semanticWeight(13, 0, 0.0, 0.25), 1.0);
+  EXPECT_DOUBLE_EQ(semanticWeight(0, 0, 0.0, 0.25), 1.0);
   EXPECT_DOUBLE_EQ(semanticWeight(13, 1, 0.9, 0.25), 0.25);
 }
 

@@ -25,6 +25,16 @@ struct FrameStats {
   double sigma = 0.0;
   std::int64_t points = 0;              // range-filtered (integrated) points
   std::int64_t downsampled_points = 0;  // registered points
+  int deskew_passes = 0;
+  // Health (odom_client/README.md "Health"): status is "ok", "degenerate", "retried",
+  // "unhealthy" (not integrated) or "lost" (not integrated; the robot gave up).
+  std::string status = "ok";
+  std::string problem;  // why the frame is unhealthy
+  double inlier_fraction = 0.0;
+  double residual_ratio = 0.0;
+  double conditioning = 1.0;  // min of the translation and rotation conditioning
+  double speed = 0.0;         // [m/s]
+  bool integrated = false;
 };
 
 /// Writes frames.csv (when a path is given) and accumulates the means for the summary.
@@ -33,6 +43,8 @@ class FrameLog {
   explicit FrameLog(const std::filesystem::path& csv_file = {});
   void add(const FrameStats& s);
   std::int64_t frames() const { return frames_; }
+  /// Frames whose status is `status`.
+  std::int64_t count(const std::string& status) const;
   /// Human-readable summary: frames, mean ms per stage, Hz, bytes/frame.
   std::string summary(double wall_seconds) const;
   FrameStats mean() const;

@@ -13,9 +13,29 @@ struct OdomConfig {
   // Preprocessing.
   double min_range = 5.0;              // [m] closer points are dropped (ego vehicle)
   double max_range = 100.0;            // [m]
-  bool deskew = true;                  // when per-point times exist
+  bool deskew = true;                  // when per-point times exist (or azimuth_times)
   double frame_period = 0.1;           // [s] used when scans carry no timestamps
   double deskew_reference_time = 0.0;  // [s, relative to scan time] the instant the pose refers to
+  int deskew_iterations = 3;  // deskew + register passes per frame with the frame's own motion
+
+  // Per-point times of scans that carry none, derived from each point's azimuth (a spinning
+  // sensor, e.g. KITTI): the sweep starts at azimuth_start_deg and turns one revolution per
+  // frame_period; the scan's timestamp lies at scan_time_in_sweep (0 start, 0.5 middle, 1 end).
+  bool azimuth_times = false;
+  double azimuth_start_deg = 180.0;  // [deg] 180: the sweep starts facing backwards
+  bool azimuth_clockwise = true;     // seen from above (azimuth decreasing)
+  double scan_time_in_sweep = 0.0;
+
+  // Per-frame health (docs/robustness.md): an unhealthy frame is not integrated; after
+  // max_unhealthy_frames of them in a row the robot declares itself lost.
+  double min_inlier_fraction = 0.2;   // correspondences / registered points
+  double max_residual_ratio = 1.0;    // RMS residual / sigma
+  double min_conditioning = 0.002;    // below: the frame is flagged degenerate
+  double max_linear_speed = 40.0;     // [m/s]
+  double max_angular_speed = 360.0;   // [deg/s]
+  double max_linear_acceleration = 20.0;    // [m/s^2]
+  double max_angular_acceleration = 720.0;  // [deg/s^2]
+  int max_unhealthy_frames = 5;
 
   // Semantic-aware adaptive voxel downsampling: v_c = alpha_c * v_adapt.
   int target_points = 2500;         // v_adapt follows the previous frame's count to keep ~this many

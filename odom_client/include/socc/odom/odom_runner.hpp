@@ -1,20 +1,26 @@
 #pragma once
 // The client pipeline against the map service, per scan:
-//   preprocess -> GET_CHUNK around the prediction -> (previous Integrate ack) -> LocalMap ->
-//   register -> Integrate (asynchronous, in a worker thread).
-// The next scan is preprocessed while the previous Integrate is in flight, and its GET_CHUNK is
+//   prepare -> GET_CHUNK around the prediction -> (previous Integrate ack) -> LocalMap ->
+//   register (deskew iterated, health judged) -> Integrate (asynchronous, in a worker thread).
+// The next scan is prepared while the previous Integrate is in flight, and its GET_CHUNK is
 // queued behind that Integrate on the single-threaded server without waiting for the ack; a
 // chunk whose map version predates the Integrate's is fetched again.
+// Only healthy frames are integrated; after max_unhealthy_frames in a row the robot is lost and
+// integrates nothing more (the shared map is never fed a pose the robot does not trust).
 // Stateless between frames apart from the odometry state: no map is kept beyond one chunk.
 #include <Eigen/Geometry>
 #include <atomic>
 #include <cstdint>
+#include <future>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "socc/odom/frame_log.hpp"
 #include "socc/odom/odom_config.hpp"
+#include "socc/odom/odometry.hpp"
 #include "socc/odom/scan_source.hpp"
+#include "socc/odom/tracking_state.hpp"
 #include "socc/rpc/map_client.hpp"
 
 namespace socc::odom {
@@ -46,11 +52,31 @@ class OdomRunner {
   double wallSeconds() const { return wall_seconds_; }
   /// Chunks fetched twice because the first one predated the previous frame's Integrate.
   std::int64_t refetchedChunks() const { return refetched_chunks_; }
+  TrackingState trackingState() const { return tracking_.state(); }
 
  private:
+  // One Integrate in flight, answered in a worker thread; its row of stats waits with it.
+  struct PendingIntegrate {
+    std::future<std::pair<rpc::Result<integrate_reply_t>, double>> reply;  // result, latency ms
+    FrameStats stats;
+  };
+
+  LocalMap fetchMap(const Eigen::Vector3d& center, FrameStats& stats);
+  rpc::Result<chunk_reply_t> fetchChunk(const Eigen::Vector3d& center);
+  /// Waits for the Integrate in flight, logs its frame; returns the map version it produced
+  /// (-1 when none was in flight).
+  std::int64_t finishPending();
+  /// Judges, records and (when healthy and not lost) integrates one finished frame.
+  void submit(FrameEstimate estimate, FrameStats stats);
+  void integrate(FrameEstimate estimate, const FrameStats& stats);
+  void reportTracking(const std::string& reason);
+
   OdomConfig config_;
   rpc::MapClient& client_;
   RunOptions options_;
+  FrameLog* log_ = nullptr;
+  TrackingMonitor tracking_;
+  std::optional<PendingIntegrate> pending_;
   Trajectory trajectory_;
   double wall_seconds_ = 0.0;
   std::int64_t refetched_chunks_ = 0;

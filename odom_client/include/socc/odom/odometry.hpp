@@ -1,30 +1,51 @@
 #pragma once
 // The per-robot odometry state machine (no I/O, no map): constant-velocity prediction,
-// preprocessing (range filter, deskew, semantic adaptive downsampling), registration against
-// the current frame's LocalMap, and the KISS-ICP threshold and velocity updates.
+// preprocessing (range filter, per-point times), registration of each sweep at its middle with
+// deskew iterated on the frame's own motion, per-frame health, and the KISS-ICP threshold update.
+//
+// Poses are estimated at the middle of each sweep (see sweepMidTime: there a wrong deskew twist
+// stretches the scan instead of shifting it, so deskew and registration do not feed each other's
+// errors) and reported at the scan time + deskew_reference_time. The first scan of a run that
+// carries per-point times is held until the second gives the motion to deskew it with: nothing
+// enters the map deskewed with a guessed motion.
 #include <Eigen/Geometry>
 #include <array>
+#include <cstdint>
+#include <optional>
 
 #include "socc/odom/adaptive_threshold.hpp"
+#include "socc/odom/frame_health.hpp"
 #include "socc/odom/local_map.hpp"
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/registration.hpp"
+#include "socc/odom/se3.hpp"
 #include "socc/odom/voxel_downsampling.hpp"
 #include "socc/point_cloud.hpp"
 
 namespace socc::odom {
 
 struct PreparedScan {
-  LabeledCloud full;         // range-filtered, deskewed (what is integrated into the map)
-  LabeledCloud downsampled;  // semantic adaptive voxel means (what is registered)
-  double voxel_size = 0.0;   // v_adapt used
+  LabeledCloud cloud;      // range-filtered, sensor frame, per-point times kept (not deskewed)
+  std::int64_t seq = 0;    // copied into the estimate
+  std::int64_t utime = 0;  // scan timestamp [us]
+  double mid_time = 0.0;   // [s, relative to utime] middle of the sweep (0 without times)
+  double time() const { return utime * 1e-6 + mid_time; }  // [s] of the mid-sweep pose
 };
 
 struct FrameEstimate {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // map_T_sensor
+  std::int64_t seq = 0;
+  std::int64_t utime = 0;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // map_T_sensor at the reference time
+  LabeledCloud cloud;  // deskewed to the reference time, no times: what is integrated
   RegistrationResult registration;
-  double sigma = 0.0;       // threshold used for this frame
-  bool registered = false;  // false: the map was too small, the prediction was kept
+  FrameHealth health;
+  double sigma = 0.0;                 // threshold used for this frame
+  double voxel_size = 0.0;            // v_adapt used
+  std::size_t registered_points = 0;  // after downsampling
+  int deskew_passes = 0;
+  bool registered = false;  // false: the map was too small (or a given pose), prediction kept
+  bool held = false;        // the first scan, waiting for the second (see takeReleasedFrame)
+  bool retried = false;     // healthy only at the second attempt (wider threshold)
 };
 
 class Odometry {
@@ -34,34 +55,50 @@ class Odometry {
   Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_pose,
            bool initial_pose_known = false);
 
-  /// frame_period: time since the previous scan [s] (the deskew's velocity reference).
+  /// Range filter, labels, per-point times (recorded, or from the azimuth when configured).
   /// Throws std::invalid_argument when the cloud is inconsistent (see checkCloud).
-  PreparedScan prepare(const LabeledCloud& raw, double frame_period);
+  PreparedScan prepare(const LabeledCloud& raw, std::int64_t seq, std::int64_t utime) const;
 
-  /// Pose predicted for the next frame: last pose * last relative motion.
-  Eigen::Isometry3d predictedPose() const;
+  /// Pose predicted at the middle of scan's sweep (constant velocity).
+  Eigen::Isometry3d predictedPose(const PreparedScan& scan) const;
 
-  /// Registers the prepared scan against map from the prediction and advances the state.
+  /// Registers scan against map and advances the state. An unhealthy estimate does not move the
+  /// state: the pose follows the prediction and the estimate says why (health.problem).
   FrameEstimate registerFrame(const PreparedScan& scan, const LocalMap& map);
+
+  /// The held first scan, once the second registration has given its motion (at most once).
+  std::optional<FrameEstimate> takeReleasedFrame();
 
   /// Restarts from pose with zero velocity and the initial threshold (e.g. --resume).
   void reset(const Eigen::Isometry3d& pose);
 
-  const Eigen::Isometry3d& pose() const { return pose_; }
-  const Eigen::Isometry3d& velocity() const { return velocity_; }
   double sigma() const { return threshold_.sigma(); }
+  /// Body twist per second of the constant-velocity model (translation first).
+  const Vector6d& twist() const { return twist_; }
 
  private:
-  // Coarse-to-fine passes after the first registration while the threshold is uncalibrated.
-  void refine(const PreparedScan& scan, const LocalMap& map, FrameEstimate& out) const;
+  struct Sweep;  // one deskew + registration pass's result
+  Sweep registerSweep(const PreparedScan& scan, const LocalMap& map,
+                      const Eigen::Isometry3d& guess, const Vector6d& twist, double sigma);
+  LabeledCloud downsample(const LabeledCloud& cloud);  // semantic, adaptive voxel size
+  FrameEstimate estimate(const PreparedScan& scan, const LocalMap& map, double sigma);
+  FrameEstimate bootstrap(const PreparedScan& scan, const LocalMap& map);
+  FrameEstimate unregistered(const PreparedScan& scan, const Eigen::Isometry3d& mid_pose);
+  void finish(const PreparedScan& scan, const Eigen::Isometry3d& mid_pose, const Vector6d& twist,
+              FrameEstimate& out) const;
+  void judge(const PreparedScan& scan, FrameEstimate& out) const;
+  void advance(const PreparedScan& scan, const FrameEstimate& out, const Eigen::Isometry3d& mid);
+  Vector6d twistTo(const Eigen::Isometry3d& mid_pose, double time) const;
 
   OdomConfig config_;
   std::array<double, kNumClasses> class_factor_;
   RegistrationParams params_;
   AdaptiveThreshold threshold_;
   AdaptiveVoxelSize voxel_size_;
-  Eigen::Isometry3d pose_;
-  Eigen::Isometry3d velocity_ = Eigen::Isometry3d::Identity();  // relative motion per frame
+  Eigen::Isometry3d pose_;       // map_T_sensor at time_ (middle of the last sweep)
+  double time_ = -1.0;           // [s]; negative: no frame yet (pose_ is the initial pose)
+  Vector6d twist_ = Vector6d::Zero();
+  bool twist_known_ = false;  // twist_ was measured between two registered frames
   // The first frame after a (re)start has no motion model: its correction measures the error of
   // the given initial pose, not of the model, so it must not shrink the adaptive threshold.
   bool has_motion_model_ = false;
@@ -69,6 +106,8 @@ class Odometry {
   // other robots; registering against those can move an exact given pose by decimetres, and the
   // first scan integrated there would carry that error into everyone's map.
   bool keep_first_pose_ = false;
+  std::optional<PreparedScan> held_;          // first scan with times, waiting for the motion
+  std::optional<FrameEstimate> released_;     // held_ once finalised
 };
 
 }  // namespace socc::odom

@@ -25,6 +25,11 @@ struct RegistrationResult {
   int planar = 0;          // correspondences of the last iteration
   int non_planar = 0;
   double alpha = 0.0;  // N_pl / (N_pl + N_po) of the last iteration
+  double rms_residual = 0.0;  // [m] of the last iteration's correspondences (unweighted)
+  // Weighted normal matrix J^T W J of the last iteration (translation first): how well each
+  // direction of the pose is constrained (degeneracy check).
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  int correspondences() const { return planar + non_planar; }
 };
 
 /// One correspondence's contribution, exposed so tests can check the formulas.

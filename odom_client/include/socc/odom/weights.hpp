@@ -23,9 +23,13 @@ inline bool labelsMatch(std::uint8_t point_label, std::uint8_t voxel_label) {
   return point_label == voxel_label || point_label == 0 || voxel_label == 0;
 }
 
-/// w_sem = w_lower + match * (1 - w_lower) * p_label.
+/// w_sem = w_lower + match * (1 - w_lower) * p_label between two labels; 1 (neutral) when either
+/// side is unlabeled: no semantic evidence is no reason to down-weight a correspondence, so an
+/// unlabeled robot registers exactly as with semantics off, and robots with and without labels
+/// can share one map without biasing each other.
 inline double semanticWeight(std::uint8_t point_label, std::uint8_t voxel_label, double p_label,
                              double w_lower) {
+  if (point_label == 0 || voxel_label == 0) return 1.0;
   const double match = labelsMatch(point_label, voxel_label) ? 1.0 : 0.0;
   return w_lower + match * (1.0 - w_lower) * p_label;
 }

@@ -1,0 +1,37 @@
+#pragma once
+// Per-frame health of a registration: is the estimate trustworthy enough to enter the shared
+// map? Judged from the registration itself (inlier fraction, residual against sigma, how well
+// each direction is constrained) and from the motion it implies (speed, acceleration).
+#include <string>
+
+#include "socc/odom/odom_config.hpp"
+#include "socc/odom/registration.hpp"
+#include "socc/odom/se3.hpp"
+
+namespace socc::odom {
+
+struct FrameHealth {
+  double inlier_fraction = 1.0;           // correspondences / registered points
+  double residual_ratio = 0.0;            // RMS residual / sigma
+  double translation_conditioning = 1.0;  // lambda_min / lambda_max of the translation block
+  double rotation_conditioning = 1.0;     // same for the rotation block
+  double linear_speed = 0.0;              // [m/s]
+  double angular_speed = 0.0;             // [rad/s]
+  double linear_acceleration = 0.0;       // [m/s^2]
+  double angular_acceleration = 0.0;      // [rad/s^2]
+  bool degenerate = false;  // a direction is barely constrained (flagged; not unhealthy alone)
+  std::string problem;      // why the frame is unhealthy; empty when healthy
+
+  bool healthy() const { return problem.empty(); }
+};
+
+/// Judges the registration of `points` registered points at threshold sigma.
+FrameHealth judgeRegistration(const RegistrationResult& r, std::size_t points, double sigma,
+                              const OdomConfig& limits);
+
+/// Adds the motion check: twist [per second] is the estimated motion since the previous frame,
+/// dt [s] apart; previous_twist the one before (nullptr: unknown, acceleration not judged).
+void judgeMotion(FrameHealth& health, const Vector6d& twist, const Vector6d* previous_twist,
+                 double dt, const OdomConfig& limits);
+
+}  // namespace socc::odom

@@ -1,0 +1,68 @@
+#include "socc/odom/frame_health.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <sstream>
+
+namespace socc::odom {
+namespace {
+
+// lambda_min / lambda_max of a symmetric 3x3 block (1 for an isotropic block, 0 when a direction
+// is unconstrained). Translation and rotation are judged apart: their units differ.
+double conditioning(const Eigen::Matrix3d& block) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(block, Eigen::EigenvaluesOnly);
+  const double hi = eig.eigenvalues()[2];
+  return hi > 0.0 ? std::max(0.0, eig.eigenvalues()[0]) / hi : 0.0;
+}
+
+void fail(FrameHealth& h, const std::string& why) {
+  if (h.problem.empty()) h.problem = why;
+}
+
+std::string format(const char* what, double value, const char* op, double limit) {
+  std::ostringstream out;
+  out.precision(3);
+  out << what << ' ' << value << ' ' << op << ' ' << limit;
+  return out.str();
+}
+
+constexpr double kDeg = M_PI / 180.0;
+
+}  // namespace
+
+FrameHealth judgeRegistration(const RegistrationResult& r, std::size_t points, double sigma,
+                              const OdomConfig& limits) {
+  FrameHealth h;
+  h.inlier_fraction = points > 0 ? static_cast<double>(r.correspondences()) / points : 0.0;
+  h.residual_ratio = sigma > 0.0 ? r.rms_residual / sigma : 0.0;
+  h.translation_conditioning = conditioning(r.information.topLeftCorner<3, 3>());
+  h.rotation_conditioning = conditioning(r.information.bottomRightCorner<3, 3>());
+  h.degenerate = h.translation_conditioning < limits.min_conditioning ||
+                 h.rotation_conditioning < limits.min_conditioning;
+  if (h.inlier_fraction < limits.min_inlier_fraction)
+    fail(h, format("inlier fraction", h.inlier_fraction, "<", limits.min_inlier_fraction));
+  if (h.residual_ratio > limits.max_residual_ratio)
+    fail(h, format("residual/sigma", h.residual_ratio, ">", limits.max_residual_ratio));
+  return h;
+}
+
+void judgeMotion(FrameHealth& h, const Vector6d& twist, const Vector6d* previous_twist, double dt,
+                 const OdomConfig& limits) {
+  h.linear_speed = twist.head<3>().norm();
+  h.angular_speed = twist.tail<3>().norm();
+  if (h.linear_speed > limits.max_linear_speed)
+    fail(h, format("speed [m/s]", h.linear_speed, ">", limits.max_linear_speed));
+  if (h.angular_speed > limits.max_angular_speed * kDeg)
+    fail(h, format("turn rate [deg/s]", h.angular_speed / kDeg, ">", limits.max_angular_speed));
+  if (previous_twist == nullptr || !(dt > 0.0)) return;
+  h.linear_acceleration = (twist.head<3>() - previous_twist->head<3>()).norm() / dt;
+  h.angular_acceleration = (twist.tail<3>() - previous_twist->tail<3>()).norm() / dt;
+  if (h.linear_acceleration > limits.max_linear_acceleration)
+    fail(h, format("acceleration [m/s^2]", h.linear_acceleration, ">",
+                   limits.max_linear_acceleration));
+  if (h.angular_acceleration > limits.max_angular_acceleration * kDeg)
+    fail(h, format("angular acceleration [deg/s^2]", h.angular_acceleration / kDeg, ">",
+                   limits.max_angular_acceleration));
+}
+
+}  // namespace socc::odom

@@ -1,0 +1,156 @@
+// Closed-loop odometry with exact ground truth: socc-sim scans (with motion distortion) go
+// through the whole client pipeline (prepare, chunk query of the server's own grid, iterated
+// deskew + registration, health) and back into that grid, as odom_client and map_server do,
+// without the LCM transport. The deskew unit tests check the formula; these check that deskew,
+// registration and map converge together across scenes, sensors, speeds and routes.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "socc/chunk_request_t.hpp"
+#include "socc/labels.hpp"
+#include "socc/map/semantic_occupancy_map.hpp"
+#include "socc/odom/odometry.hpp"
+#include "socc/odom/tracking_state.hpp"
+#include "socc/sim/lidar_model.hpp"
+#include "socc/sim/scan_simulator.hpp"
+#include "socc/sim/scene.hpp"
+
+using namespace socc::odom;
+
+namespace {
+
+struct Case {
+  const char* scene;
+  const char* route;
+  const char* sensor;
+  double speed;  // [m/s]; 0 = the scene's default
+  int frames;
+  double max_drift;  // [% of the distance travelled] end-point drift allowed
+};
+
+std::ostream& operator<<(std::ostream& out, const Case& c) {
+  return out << c.scene << '/' << c.route << '/' << c.sensor << '/' << c.speed;
+}
+
+socc::LabeledCloud simulated(const socc::sim::Scene& scene, const socc::sim::LidarModel& lidar,
+                             int frame, bool distortion) {
+  const socc::sim::SimulatedScan s =
+      socc::sim::simulateScan(scene, lidar, 0.1 * frame, frame, {distortion, 7});
+  socc::LabeledCloud c;
+  c.points = s.points;
+  c.times = s.times;
+  for (const std::uint32_t raw : s.labels) c.labels.push_back(socc::mapSemanticKittiLabel(raw));
+  return c;
+}
+
+LocalMap chunkAround(const socc::map::SemanticOccupancyMap& map, const Eigen::Vector3d& center,
+                     const OdomConfig& cfg) {
+  socc::map::ChunkQuery query;
+  query.center = center;
+  query.radius = cfg.chunk_radius;
+  query.occupancy_threshold = cfg.occupancy_threshold;
+  query.fields = socc::chunk_request_t::FIELD_FEATURES;
+  socc::chunk_reply_t reply;
+  map.queryChunk(query, reply);
+  return LocalMap::fromChunk(reply, cfg.occupancy_threshold);
+}
+
+// What odom_client does per scan, against an in-process grid. Returns the estimated poses.
+struct ClosedLoop {
+  OdomConfig cfg;
+  socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
+  Odometry odom;
+  TrackingMonitor tracking{cfg.max_unhealthy_frames};
+  std::vector<Eigen::Isometry3d> poses;
+  int integrated = 0;
+
+  explicit ClosedLoop(const Eigen::Isometry3d& start) : odom(cfg, start, true) {}
+
+  void step(const socc::LabeledCloud& cloud, int frame) {
+    const PreparedScan p = odom.prepare(cloud, frame, frame * 100000);
+    const FrameEstimate e =
+        odom.registerFrame(p, chunkAround(map, odom.predictedPose(p).translation(), cfg));
+    if (auto first = odom.takeReleasedFrame()) submit(*first);
+    if (!e.held) submit(e);
+  }
+  void submit(const FrameEstimate& e) {
+    poses.push_back(e.pose);
+    if (!e.health.healthy())
+      std::printf("frame %lld unhealthy: %s\n", static_cast<long long>(e.seq),
+                  e.health.problem.c_str());
+    if (tracking.update(e.health.healthy()) == TrackingState::kLost || !e.health.healthy())
+      return;
+    map.integrate(e.pose, e.cloud);
+    ++integrated;
+  }
+};
+
+class ClosedLoopDistortion : public ::testing::TestWithParam<Case> {};
+
+TEST_P(ClosedLoopDistortion, ConvergesAndStaysCloseToGroundTruth) {
+  const Case& c = GetParam();
+  socc::sim::SceneOptions options;
+  options.type = socc::sim::parseSceneType(c.scene);
+  options.route = c.route;
+  options.frames = static_cast<std::size_t>(c.frames);
+  if (c.speed > 0.0) options.speed = c.speed;
+  const socc::sim::Scene scene = socc::sim::buildScene(options);
+  const socc::sim::LidarModel lidar = socc::sim::lidarPreset(c.sensor);
+  ClosedLoop loop(scene.trajectory.poseAt(0.0));
+  for (int k = 0; k < c.frames; ++k) loop.step(simulated(scene, lidar, k, true), k);
+
+  ASSERT_EQ(loop.poses.size(), static_cast<std::size_t>(c.frames));
+  EXPECT_EQ(loop.integrated, c.frames) << "every frame healthy and integrated";
+  double travelled = 0.0, worst_step = 0.0;
+  for (int k = 1; k < c.frames; ++k) {
+    const Eigen::Isometry3d gt_step =
+        scene.trajectory.poseAt(0.1 * (k - 1)).inverse() * scene.trajectory.poseAt(0.1 * k);
+    const Eigen::Isometry3d est_step = loop.poses[k - 1].inverse() * loop.poses[k];
+    travelled += gt_step.translation().norm();
+    const double err = (gt_step.inverse() * est_step).translation().norm();
+    worst_step = std::max(worst_step, err);
+  }
+  const Eigen::Isometry3d gt_end = scene.trajectory.poseAt(0.1 * (c.frames - 1));
+  const double drift = (gt_end.inverse() * loop.poses.back()).translation().norm();
+  std::printf("%s/%s/%s: %.1f m, end drift %.3f m (%.2f %%), worst step error %.3f m\n", c.scene,
+              c.route, c.sensor, travelled, drift, 100.0 * drift / travelled, worst_step);
+  EXPECT_LT(100.0 * drift / travelled, c.max_drift);
+  // The unstable loop's steps were off by 0.4-0.6 m; the start-up step in the office is ~0.1 m off
+  // (0.15 m true step, little constrains the corridor axis over one step).
+  EXPECT_LT(worst_step, 0.12) << "no oscillation of the estimated steps";
+}
+
+// Short runs (CI time under ASan): the oscillation the iterated mid-sweep deskew removes used to
+// diverge within ~25 frames on every one of these. Not covered: a cold start at >= 20 m/s on a
+// straight street converges to standing still (docs/robustness.md, known limits).
+INSTANTIATE_TEST_SUITE_P(
+    Space, ClosedLoopDistortion,
+    ::testing::Values(Case{"street", "straight", "hdl64", 0.0, 40, 0.5},
+                      Case{"street", "straight", "vlp32", 14.0, 30, 1.0},
+                      Case{"street", "circle", "vlp16", 9.0, 40, 1.0},
+                      Case{"zigzag", "auto", "vlp16", 0.0, 40, 3.0},  // degenerate
+                      Case{"indoor", "auto", "vlp32", 0.0, 40, 1.0},
+                      Case{"office", "auto", "hdl64", 0.0, 40, 1.0}));
+
+// A robot whose scans suddenly come from another place (a kidnapped robot, a wrong sensor
+// stream): its frames turn unhealthy, it declares itself lost, and nothing more is integrated.
+TEST(ClosedLoop, AKidnappedRobotGetsLostAndStopsIntegrating) {
+  socc::sim::SceneOptions here;
+  here.frames = 40;
+  socc::sim::SceneOptions elsewhere = here;
+  elsewhere.type = socc::sim::SceneType::kIndoor;
+  const socc::sim::Scene scene = socc::sim::buildScene(here);
+  const socc::sim::Scene other = socc::sim::buildScene(elsewhere);
+  const socc::sim::LidarModel lidar = socc::sim::lidarPreset("hdl64");
+  ClosedLoop loop(scene.trajectory.poseAt(0.0));
+  for (int k = 0; k < 15; ++k) loop.step(simulated(scene, lidar, k, true), k);
+  ASSERT_EQ(loop.integrated, 15);
+  const std::int64_t version = loop.map.version();
+  for (int k = 15; k < 30; ++k) loop.step(simulated(other, lidar, k, true), k);
+  EXPECT_EQ(loop.tracking.state(), TrackingState::kLost);
+  EXPECT_EQ(loop.integrated, 15) << "a frame of the other place entered the map";
+  EXPECT_EQ(loop.map.version(), version);
+}
+
+}  // namespace

@@ -1,0 +1,96 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "socc/odom/deskew.hpp"
+#include "socc/odom/frame_health.hpp"
+#include "socc/odom/point_times.hpp"
+#include "socc/odom/tracking_state.hpp"
+
+using namespace socc::odom;
+
+namespace {
+RegistrationResult result(int correspondences, double rms, const Vector6d& information_diag) {
+  RegistrationResult r;
+  r.planar = correspondences;
+  r.rms_residual = rms;
+  r.information = information_diag.asDiagonal();
+  return r;
+}
+}  // namespace
+
+TEST(FrameHealth, JudgesInliersResidualAndDegeneracy) {
+  const OdomConfig cfg;
+  const Vector6d ones = Vector6d::Ones();
+  FrameHealth h = judgeRegistration(result(900, 0.1, ones), 1000, 0.5, cfg);
+  EXPECT_TRUE(h.healthy()) << h.problem;
+  EXPECT_DOUBLE_EQ(h.inlier_fraction, 0.9);
+  EXPECT_DOUBLE_EQ(h.residual_ratio, 0.2);
+  EXPECT_FALSE(h.degenerate);
+
+  h = judgeRegistration(result(50, 0.1, ones), 1000, 0.5, cfg);
+  EXPECT_NE(h.problem.find("inlier fraction"), std::string::npos) << h.problem;
+  h = judgeRegistration(result(900, 0.9, ones), 1000, 0.5, cfg);
+  EXPECT_NE(h.problem.find("residual"), std::string::npos) << h.problem;
+
+  // A corridor: nothing constrains the translation along its axis. Flagged, still healthy.
+  h = judgeRegistration(result(900, 0.1, (Vector6d() << 1e-5, 1, 1, 1, 1, 1).finished()), 1000,
+                        0.5, cfg);
+  EXPECT_TRUE(h.degenerate);
+  EXPECT_TRUE(h.healthy());
+  EXPECT_LT(h.translation_conditioning, 1e-4);
+}
+
+TEST(FrameHealth, JudgesSpeedAndAcceleration) {
+  const OdomConfig cfg;  // 40 m/s, 360 deg/s, 20 m/s^2, 720 deg/s^2
+  const Vector6d cruise = (Vector6d() << 10, 0, 0, 0, 0, 0.2).finished();
+  FrameHealth h;
+  judgeMotion(h, cruise, &cruise, 0.1, cfg);
+  EXPECT_TRUE(h.healthy()) << h.problem;
+  EXPECT_DOUBLE_EQ(h.linear_speed, 10.0);
+
+  h = {};
+  judgeMotion(h, (Vector6d() << 60, 0, 0, 0, 0, 0).finished(), nullptr, 0.1, cfg);
+  EXPECT_NE(h.problem.find("speed"), std::string::npos) << h.problem;
+  h = {};
+  judgeMotion(h, (Vector6d() << 0, 0, 0, 0, 0, 8.0).finished(), nullptr, 0.1, cfg);
+  EXPECT_NE(h.problem.find("turn rate"), std::string::npos) << h.problem;
+  // The oscillation of an unstable deskew loop: 0.44 m then 1.05 m steps at 10 Hz.
+  h = {};
+  const Vector6d slow = (Vector6d() << 4.4, 0, 0, 0, 0, 0).finished();
+  judgeMotion(h, (Vector6d() << 10.5, 0, 0, 0, 0, 0).finished(), &slow, 0.1, cfg);
+  EXPECT_NE(h.problem.find("acceleration"), std::string::npos) << h.problem;
+  h = {};
+  judgeMotion(h, (Vector6d() << 10, 0, 0, 0, 0, 2.0).finished(), &cruise, 0.1, cfg);
+  EXPECT_NE(h.problem.find("angular acceleration"), std::string::npos) << h.problem;
+}
+
+TEST(TrackingMonitor, LostAfterTheConfiguredRunOfUnhealthyFramesAndStaysLost) {
+  TrackingMonitor m(3);
+  EXPECT_EQ(m.update(true), TrackingState::kTracking);
+  EXPECT_EQ(m.update(false), TrackingState::kDegraded);
+  EXPECT_EQ(m.update(true), TrackingState::kTracking);  // a run, not a total
+  EXPECT_EQ(m.update(false), TrackingState::kDegraded);
+  EXPECT_EQ(m.update(false), TrackingState::kDegraded);
+  EXPECT_EQ(m.update(false), TrackingState::kLost);
+  EXPECT_EQ(m.update(true), TrackingState::kLost);
+  EXPECT_STREQ(trackingStateName(TrackingState::kLost), "lost");
+}
+
+TEST(PointTimes, AzimuthTimesFollowTheSweep) {
+  // socc-sim / KITTI convention: starts facing backwards (180 deg), turns clockwise.
+  const socc::Points pts = {{-10, 0.01f, 0}, {0, 10, 0}, {10, 0, 0}, {0, -10, 0}, {-10, -0.01f, 0}};
+  const std::vector<float> t = azimuthTimes(pts, {0.1, 180.0, true, 0.0});
+  EXPECT_NEAR(t[0], 0.0, 1e-4);
+  EXPECT_NEAR(t[1], 0.025, 1e-6);
+  EXPECT_NEAR(t[2], 0.05, 1e-6);
+  EXPECT_NEAR(t[3], 0.075, 1e-6);
+  EXPECT_NEAR(t[4], 0.1, 1e-4);
+  // Timestamp at the end of the sweep: times are negative, the sweep's middle at -0.05 s.
+  const std::vector<float> end = azimuthTimes(pts, {0.1, 180.0, true, 1.0});
+  EXPECT_NEAR(end[2], -0.05, 1e-6);
+  socc::LabeledCloud c;
+  c.points = pts;
+  c.times = end;
+  EXPECT_NEAR(sweepMidTime(c), -0.05, 1e-4);
+}
