@@ -1,7 +1,14 @@
 // Integration speed and memory of the semantic occupancy grid vs OctoMap on real KITTI scans.
-// Prints a markdown table; targets: <= 30 ms/scan and >= 5x faster than OctoMap's
-// insertPointCloud (same resolution and max range, discretize = true), both in the same run.
+// Targets (README "Status"): <= 30 ms/scan and >= 5x faster than OctoMap's insertPointCloud
+// (same resolution and max range, discretize = true), in the same run, judged with the grid on
+// all cores as the server runs it, on SemanticKITTI-labelled scans (the semantic path: per-voxel
+// class distribution) and on the KITTI 00 sequence (labels on frame 0 only). OctoMap's insert is
+// single-threaded, so the ratio with the grid on one core (tbb::global_control) is printed too,
+// not judged.
+// Exit status: 0 all targets met, 1 a target missed (named on stdout), 77 data absent.
+// --smoke: one short run, nothing judged (CI checks that the benchmark runs, not the times).
 #include <octomap/OcTree.h>
+#include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -10,8 +17,11 @@
 #include <filesystem>
 #include <iostream>
 #include <numeric>
+#include <optional>
+#include <stdexcept>
 
 #include "socc/kitti_io.hpp"
+#include "socc/labels.hpp"
 #include "socc/map/semantic_occupancy_map.hpp"
 #include "socc/progress_bar.hpp"
 
@@ -20,8 +30,32 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+constexpr int kSkipExit = 77;  // ctest SKIP_RETURN_CODE (bench/CMakeLists.txt)
+
+struct Options {
+  std::string sequence, shared_data;
+  int frames = 16, repeat = 5;
+  double voxel_size = 0.5, max_range = 100.0;
+  bool smoke = false;
+};
+
+// Scans in the sensor frame with their LiDAR poses (map frame).
+struct ScanSet {
+  std::string name;
+  std::vector<socc::LabeledCloud> clouds;
+  socc::Poses poses;
+  std::size_t points = 0, labelled = 0;
+};
+
 struct Timing {
   double mean = 0, median = 0, max = 0;
+};
+
+struct Row {
+  std::string mapper;
+  int threads = 1;
+  Timing t;
+  std::size_t voxels = 0, bytes = 0;
 };
 
 Timing summarise(std::vector<double> ms) {
@@ -38,126 +72,193 @@ double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+void addScan(ScanSet& set, const fs::path& bin, const fs::path& label,
+             const Eigen::Isometry3d& pose) {
+  socc::LabeledCloud cloud;
+  cloud.points = socc::readKittiBin(bin);
+  if (!label.empty()) {
+    for (std::uint32_t raw : socc::readSemanticKittiLabels(label))
+      cloud.labels.push_back(socc::mapSemanticKittiLabel(raw & 0xFFFFu));
+    if (!cloud.consistent()) throw std::runtime_error(label.string() + ": label count != points");
+    set.labelled += cloud.size();
+  }
+  set.points += cloud.size();
+  set.clouds.push_back(std::move(cloud));
+  set.poses.push_back(pose);
+}
+
+// A KITTI-layout sequence (poses.txt + calib.txt); labels where labels/ has them.
+ScanSet loadSequence(const fs::path& dir, int frames) {
+  const socc::KittiSequence seq = socc::listKittiSequence(dir);
+  const socc::Poses poses = socc::readKittiLidarPoses(dir);
+  const std::size_t n =
+      std::min({static_cast<std::size_t>(frames), seq.scans.size(), poses.size()});
+  ScanSet set;
+  set.name = dir.filename().string() + " (" + std::to_string(n) + " scans)";
+  for (std::size_t i = 0; i < n; ++i) addScan(set, seq.scans[i], seq.labels[i], poses[i]);
+  return set;
+}
+
+// SemanticKITTI 08 frames 720 and 1500 (a revisit in reverse), every point labelled; poses
+// from the KITTI GT rows of the file names (GT is only good to ~1 m here: enough for timing).
+ScanSet loadLabelledPair(const fs::path& shared, int frames) {
+  const socc::KittiSequence seq = socc::listKittiSequence(shared / "kitti_pairs" / "08");
+  const socc::Poses cam = socc::readKittiPoses(shared / "kitti_gt" / "poses" / "08.txt");
+  const Eigen::Isometry3d tr = socc::readKittiCalibTr(shared / "kitti_gt" / "calib_04-10_Tr.txt");
+  const std::size_t n = std::min(static_cast<std::size_t>(frames), seq.scans.size());
+  ScanSet set;
+  set.name = "kitti_pairs/08 labelled (" + std::to_string(n) + " scans)";
+  for (std::size_t i = 0; i < n; ++i) {
+    if (seq.labels[i].empty()) throw std::runtime_error(seq.scans[i].string() + ": no .label");
+    const auto frame = static_cast<std::size_t>(std::stoul(seq.scans[i].stem().string()));
+    const socc::Poses lidar = socc::cameraToLidarPoses({cam.at(frame)}, tr);
+    addScan(set, seq.scans[i], seq.labels[i], lidar.front());
+  }
+  return set;
+}
+
+// Best time per scan over `repeat` runs (fresh map each): filters out preemption on a shared
+// machine. threads = 0: TBB's default (all cores).
+Row timeGrid(const ScanSet& set, const Options& o, int threads) {
+  std::optional<tbb::global_control> limit;
+  if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, threads);
+  const bool all_labelled = set.labelled == set.points;
+  Row row;
+  row.mapper =
+      all_labelled ? "socc grid (raycast, stats, semantics)" : "socc grid (raycast, stats)";
+  row.threads = static_cast<int>(
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  socc::map::MapConfig config;
+  config.voxel_size = o.voxel_size;
+  config.max_range = o.max_range;
+  std::vector<double> best(set.clouds.size(), 1e300);
+  for (int run = 0; run < o.repeat; ++run) {
+    socc::map::SemanticOccupancyMap map(config);
+    socc::ProgressBar bar("socc grid, " + std::to_string(row.threads) + " thread(s)", best.size());
+    for (std::size_t i = 0; i < best.size(); ++i) {
+      const auto start = Clock::now();
+      map.integrate(set.poses[i], set.clouds[i]);
+      best[i] = std::min(best[i], msSince(start));
+      bar.tick(std::to_string(best[i]) + " ms");
+    }
+    const socc::map::MapStats stats = map.stats();
+    row.voxels = static_cast<std::size_t>(stats.num_voxels);
+    row.bytes = static_cast<std::size_t>(stats.memory_bytes);
+  }
+  row.t = summarise(best);
+  return row;
+}
+
+Row timeOctomap(const ScanSet& set, const Options& o) {
+  const std::size_t n = set.clouds.size();
+  std::vector<octomap::Pointcloud> clouds(n);  // map frame, built outside the timing
+  for (std::size_t i = 0; i < n; ++i) {
+    clouds[i].reserve(set.clouds[i].size());
+    for (const auto& p : set.clouds[i].points) {
+      const Eigen::Vector3f q = (set.poses[i] * p.cast<double>()).cast<float>();
+      clouds[i].push_back(q.x(), q.y(), q.z());
+    }
+  }
+  Row row;
+  row.mapper = "OctoMap insertPointCloud (discretize)";
+  std::vector<double> best(n, 1e300);
+  for (int run = 0; run < o.repeat; ++run) {
+    octomap::OcTree tree(o.voxel_size);
+    socc::ProgressBar bar("octomap", n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3f c = set.poses[i].translation().cast<float>();
+      const auto start = Clock::now();
+      tree.insertPointCloud(clouds[i], octomap::point3d(c.x(), c.y(), c.z()), o.max_range, false,
+                            true);
+      best[i] = std::min(best[i], msSince(start));
+      bar.tick(std::to_string(best[i]) + " ms");
+    }
+    row.voxels = tree.size();
+    row.bytes = tree.memoryUsage();
+  }
+  row.t = summarise(best);
+  return row;
+}
+
+// Prints the set's rows and judges the targets on it; returns the misses.
+std::vector<std::string> report(const ScanSet& set, const std::vector<Row>& rows, bool judge) {
+  std::printf("\n### %s: %.0f points/scan, %.0f %% labelled\n\n", set.name.c_str(),
+              static_cast<double>(set.points) / static_cast<double>(set.clouds.size()),
+              100.0 * static_cast<double>(set.labelled) / static_cast<double>(set.points));
+  std::printf(
+      "| mapper | threads | ms/scan mean | median | max | voxels / nodes | memory [MB] |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
+  for (const Row& r : rows)
+    std::printf("| %s | %d | %.1f | %.1f | %.1f | %zu | %.1f |\n", r.mapper.c_str(), r.threads,
+                r.t.mean, r.t.median, r.t.max, r.voxels, static_cast<double>(r.bytes) / 1e6);
+  const Row &all = rows[0], &one = rows[1], &octo = rows[2];
+  std::vector<std::string> missed;
+  const auto target = [&](const std::string& what, double value, bool met, const char* unit) {
+    const char* verdict = met ? "PASS" : "FAIL";
+    std::printf("- target %s: %.1f%s -> %s\n", what.c_str(), value, unit,
+                judge ? verdict : "not judged (smoke)");
+    if (judge && !met) missed.push_back(what + ", " + set.name);
+  };
+  const std::string threads = std::to_string(all.threads) + " thread(s)";
+  const double ratio_all = octo.t.mean / all.t.mean, ratio_one = octo.t.mean / one.t.mean;
+  std::printf("\n");
+  target("<= 30 ms/scan (mean, " + threads + ")", all.t.mean, all.t.mean <= 30.0, " ms");
+  target(">= 5x faster than OctoMap (grid on " + threads + ", OctoMap on 1)", ratio_all,
+         ratio_all >= 5.0, "x");
+  std::printf("- ratio with the grid on 1 thread too (not judged): %.1fx\n", ratio_one);
+  return missed;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
       "Benchmark: integrate real KITTI scans (GT poses, LiDAR frame) into the semantic occupancy "
-      "grid and into OctoMap's OcTree::insertPointCloud in the same run; prints ms/scan, memory, "
-      "the speed ratio and PASS/FAIL against the targets (<= 30 ms/scan, >= 5x OctoMap)."};
-  std::string data = (fs::path(SOCC_SOURCE_DIR) / "../shared/data/kitti_00_first16").string();
-  int frames = 16;
-  int repeat = 3;
-  double voxel_size = 0.5, max_range = 100.0;
-  bool strict = false, skip_octomap = false;
-  app.add_option("--data", data, "KITTI-layout directory (velodyne/, poses.txt, calib.txt)")
+      "grid (all cores and 1 core) and into OctoMap's OcTree::insertPointCloud in the same run, "
+      "on SemanticKITTI-labelled scans and on the KITTI 00 sequence; prints ms/scan, memory, "
+      "the speed ratios and PASS/FAIL against the targets (<= 30 ms/scan, >= 5x OctoMap).\n"
+      "Exit: 0 all met, 1 a target missed, 77 data absent."};
+  Options o;
+  o.shared_data = (fs::path(SOCC_SOURCE_DIR) / "../shared/data").lexically_normal().string();
+  o.sequence = o.shared_data + "/kitti_00_first16";
+  app.add_option("--shared-data", o.shared_data,
+                 "shared data folder (labelled scans: kitti_pairs/08 and kitti_gt)")
       ->capture_default_str();
-  app.add_option("--frames", frames, "number of scans to integrate")
+  app.add_option("--data", o.sequence, "KITTI-layout sequence (velodyne/, poses.txt, calib.txt)")
+      ->capture_default_str();
+  app.add_option("--frames", o.frames, "scans of the sequence")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  app.add_option("--repeat", repeat,
-                 "runs per mapper (fresh map each); per scan the fastest run counts, which "
-                 "filters out preemption on a shared machine")
+  app.add_option("--repeat", o.repeat,
+                 "runs per mapper (fresh map each); per scan the fastest counts")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  app.add_option("--voxel-size", voxel_size, "voxel size [m]")->capture_default_str();
-  app.add_option("--max-range", max_range, "max range [m]")->capture_default_str();
-  app.add_flag("--skip-octomap", skip_octomap, "only run our grid (no ratio)");
-  app.add_flag("--strict", strict, "exit 1 when a target is missed");
+  app.add_option("--voxel-size", o.voxel_size, "voxel size [m]")->capture_default_str();
+  app.add_option("--max-range", o.max_range, "max range [m]")->capture_default_str();
+  app.add_flag("--smoke", o.smoke, "2 scans per set, 1 run, targets not judged (CI)");
   CLI11_PARSE(app, argc, argv);
-
-  if (!fs::exists(fs::path(data) / "velodyne")) {
-    std::cout << "SKIP: data not found at " << data << " (pass --data DIR)\n";
-    return 0;
-  }
-  const socc::KittiSequence seq = socc::listKittiSequence(data);
-  const socc::Poses poses = socc::readKittiLidarPoses(data);
-  const std::size_t n =
-      std::min({static_cast<std::size_t>(frames), seq.scans.size(), poses.size()});
-  std::vector<socc::LabeledCloud> clouds(n);
-  std::size_t total_points = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    clouds[i].points = socc::readKittiBin(seq.scans[i]);
-    total_points += clouds[i].size();
+  if (o.smoke) {
+    o.frames = 2;
+    o.repeat = 1;
   }
 
-  socc::map::MapConfig config;
-  config.voxel_size = voxel_size;
-  config.max_range = max_range;
-  std::vector<double> ours_ms(n, 1e300);
-  socc::map::MapStats stats;
-  for (int run = 0; run < repeat; ++run) {
-    socc::map::SemanticOccupancyMap map(config);
-    socc::ProgressBar bar("socc grid run " + std::to_string(run + 1), n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto start = Clock::now();
-      map.integrate(poses[i], clouds[i]);
-      const double ms = msSince(start);
-      ours_ms[i] = std::min(ours_ms[i], ms);
-      bar.tick(std::to_string(ms) + " ms");
+  const fs::path pair_dir = fs::path(o.shared_data) / "kitti_pairs" / "08" / "velodyne";
+  for (const fs::path& need : {fs::path(o.sequence) / "velodyne", pair_dir})
+    if (!fs::exists(need)) {
+      std::cout << "SKIP: data not found: " << need.string() << " (see --shared-data, --data)\n";
+      return kSkipExit;
     }
-    stats = map.stats();
-  }
+  const ScanSet sets[] = {loadLabelledPair(o.shared_data, o.frames),
+                          loadSequence(o.sequence, o.frames)};
 
-  std::vector<double> octo_ms;
-  std::size_t octo_bytes = 0, octo_nodes = 0;
-  if (!skip_octomap) {
-    std::vector<octomap::Pointcloud> octo_clouds(n);  // map frame, built outside the timing
-    for (std::size_t i = 0; i < n; ++i) {
-      octo_clouds[i].reserve(clouds[i].size());
-      for (const auto& p : clouds[i].points) {
-        const Eigen::Vector3d q = poses[i] * p.cast<double>();
-        octo_clouds[i].push_back(static_cast<float>(q.x()), static_cast<float>(q.y()),
-                                 static_cast<float>(q.z()));
-      }
-    }
-    octo_ms.assign(n, 1e300);
-    for (int run = 0; run < repeat; ++run) {
-      octomap::OcTree tree(voxel_size);
-      socc::ProgressBar bar("octomap run " + std::to_string(run + 1), n);
-      for (std::size_t i = 0; i < n; ++i) {
-        const Eigen::Vector3d o = poses[i].translation();
-        const octomap::point3d origin(static_cast<float>(o.x()), static_cast<float>(o.y()),
-                                      static_cast<float>(o.z()));
-        const auto start = Clock::now();
-        tree.insertPointCloud(octo_clouds[i], origin, max_range, false, true);
-        const double ms = msSince(start);
-        octo_ms[i] = std::min(octo_ms[i], ms);
-        bar.tick(std::to_string(ms) + " ms");
-      }
-      octo_bytes = tree.memoryUsage();
-      octo_nodes = tree.size();
-    }
+  std::printf("\n## Map integration: %.2f m voxels, %.0f m range, best of %d run(s) per scan\n",
+              o.voxel_size, o.max_range, o.repeat);
+  std::vector<std::string> missed;
+  for (const ScanSet& set : sets) {
+    const std::vector<Row> rows = {timeGrid(set, o, 0), timeGrid(set, o, 1), timeOctomap(set, o)};
+    for (std::string& m : report(set, rows, !o.smoke)) missed.push_back(std::move(m));
   }
-
-  const Timing ours = summarise(ours_ms), octo = summarise(octo_ms);
-  std::printf(
-      "\n## Map integration: %zu KITTI scans (%.0f points/scan), %.2f m voxels, %.0f m range, "
-      "best of %d runs per scan\n\n",
-      n, static_cast<double>(total_points) / static_cast<double>(n), voxel_size, max_range, repeat);
-  std::printf("| mapper | ms/scan mean | median | max | voxels / nodes | memory [MB] |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|\n");
-  std::printf("| socc grid (raycast, stats, semantics) | %.1f | %.1f | %.1f | %lld | %.1f |\n",
-              ours.mean, ours.median, ours.max, static_cast<long long>(stats.num_voxels),
-              static_cast<double>(stats.memory_bytes) / 1e6);
-  if (!skip_octomap)
-    std::printf("| OctoMap insertPointCloud (discretize) | %.1f | %.1f | %.1f | %zu | %.1f |\n",
-                octo.mean, octo.median, octo.max, octo_nodes,
-                static_cast<double>(octo_bytes) / 1e6);
-
-  bool pass = true;
-  const bool fast = ours.mean <= 30.0;
-  pass &= fast;
-  std::printf("\n- target <= 30 ms/scan (mean): %.1f ms -> %s\n", ours.mean,
-              fast ? "PASS" : "FAIL");
-  if (!skip_octomap) {
-    const double ratio = octo.mean / ours.mean;
-    const bool faster = ratio >= 5.0;
-    pass &= faster;
-    std::printf("- target >= 5x faster than OctoMap: %.1fx -> %s\n", ratio,
-                faster ? "PASS" : "FAIL");
-  }
-  std::printf("- occupied voxels: %lld, blocks: %lld\n", static_cast<long long>(stats.num_occupied),
-              static_cast<long long>(stats.num_blocks));
-  return strict && !pass ? 1 : 0;
+  if (o.smoke) return 0;
+  for (const std::string& m : missed) std::printf("MISSED target %s\n", m.c_str());
+  return missed.empty() ? 0 : 1;
 }

@@ -82,6 +82,7 @@ int main(int argc, char** argv) {
   std::string data = std::string(SOCC_SHARED_DATA_DIR) + "/kitti_00_first16";
   std::string server_bin = SOCC_MAP_SERVER_BIN;
   int passes = 2;
+  bool smoke = false;
   OdomConfig config;
   app.add_option("--data", data, "KITTI-layout directory")->capture_default_str();
   app.add_option("--map-server", server_bin, "map_server executable")->capture_default_str();
@@ -91,10 +92,12 @@ int main(int argc, char** argv) {
   app.add_option("--chunk-radius", config.chunk_radius, "GET_CHUNK sphere radius [m]")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  app.add_flag("--smoke", smoke, "one pass, targets not judged (CI: the benchmark must run)");
   CLI11_PARSE(app, argc, argv);
+  if (smoke) passes = 1;
   if (!fs::exists(data)) {
-    std::fprintf(stderr, "bench_odometry: data folder %s not found\n", data.c_str());
-    return 1;
+    std::printf("SKIP: data folder %s not found\n", data.c_str());
+    return 77;  // ctest SKIP_RETURN_CODE (bench/CMakeLists.txt)
   }
 
   std::vector<FrameStats> rows;
@@ -193,5 +196,6 @@ int main(int argc, char** argv) {
       "%s\n",
       register_mean, reg_wall, reg_cpu, reg_ok ? "PASS" : "FAIL");
   std::printf("- target end-to-end >= 20 Hz: %.1f Hz -> %s\n", hz, hz_ok ? "PASS" : "FAIL");
-  return 0;
+  if (smoke) std::printf("- smoke run: targets not judged\n");
+  return smoke || (reg_ok && hz_ok) ? 0 : 1;
 }
