@@ -6,13 +6,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <random>
 
 #include "odom_child_process.hpp"
 #include "socc/odom/odom_runner.hpp"
-#include "socc/odom/odometry.hpp"
 
 namespace fs = std::filesystem;
 using namespace socc::odom;
@@ -28,48 +26,6 @@ double percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
-}
-
-// Registration alone, without the server competing for the cores: each frame k >= 2 against
-// the final map's chunk around it, from the constant-velocity prediction; best of 3 runs.
-struct Timing {
-  double wall_ms;
-  double cpu_ms;  // process CPU time, all threads: independent of other processes' load
-};
-
-std::vector<Timing> registrationOnly(const std::string& data, socc::rpc::MapClient& client,
-                                     const Trajectory& trajectory) {
-  using Clock = std::chrono::steady_clock;
-  const OdomConfig cfg;
-  const RegistrationParams params{cfg.planarity_threshold, cfg.gamma, cfg.w_lower,
-                                  cfg.max_iterations, cfg.convergence};
-  std::vector<Timing> out;
-  const auto source = openKittiDirectory(data, {});
-  Odometry preprocessing(cfg, Eigen::Isometry3d::Identity());
-  const auto& poses = trajectory.poses;
-  for (std::size_t k = 0; k < poses.size(); ++k) {
-    const auto scan = source->next();
-    if (!scan) break;
-    const PreparedScan prepared = preprocessing.prepare(scan->cloud, cfg.frame_period);
-    if (k < 2) continue;
-    const Eigen::Isometry3d prediction = poses[k - 1] * (poses[k - 2].inverse() * poses[k - 1]);
-    const auto chunk =
-        client.getChunk(socc::rpc::sphereChunkRequest(prediction.translation(), cfg.chunk_radius));
-    if (!chunk.ok()) continue;
-    const LocalMap map = LocalMap::fromChunk(*chunk.reply, cfg.occupancy_threshold);
-    Timing best{1e9, 1e9};
-    for (int r = 0; r < 3; ++r) {
-      const auto start = Clock::now();
-      const std::clock_t cpu_start = std::clock();
-      registerScan(prepared.downsampled, map, prediction, 0.5, params);
-      best.cpu_ms = std::min(
-          best.cpu_ms, 1000.0 * static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC);
-      best.wall_ms = std::min(
-          best.wall_ms, std::chrono::duration<double, std::milli>(Clock::now() - start).count());
-    }
-    out.push_back(best);
-  }
-  return out;
 }
 
 }  // namespace
@@ -101,7 +57,6 @@ int main(int argc, char** argv) {
   }
 
   std::vector<FrameStats> rows;
-  std::vector<Timing> register_only;
   double frames = 0.0, wall = 0.0;
   std::int64_t refetched = 0;
   std::random_device rd;
@@ -135,7 +90,6 @@ int main(int argc, char** argv) {
     frames += static_cast<double>(log.frames());
     wall += runner.wallSeconds();
     refetched += runner.refetchedChunks();
-    if (pass == 0) register_only = registrationOnly(data, client, runner.trajectory());
     fs::remove(log_file);
   }
 
@@ -147,7 +101,7 @@ int main(int argc, char** argv) {
       {"total (pipeline period)", &FrameStats::total_ms}};
   std::printf("## odom_client pipeline on %s (%d pass(es), %zu frames measured)\n\n", data.c_str(),
               passes, rows.size());
-  std::printf("| stage | mean ms | median ms | p90 ms | max ms |\n|---|---|---|---|---|\n");
+  std::printf("| stage | mean ms | median ms | p99 ms | max ms |\n|---|---|---|---|---|\n");
   double register_mean = 0.0;
   for (const Column& c : columns) {
     std::vector<double> v;
@@ -157,7 +111,7 @@ int main(int argc, char** argv) {
     mean /= std::max<std::size_t>(v.size(), 1);
     if (c.field == &FrameStats::register_ms) register_mean = mean;
     std::printf("| %s | %.2f | %.2f | %.2f | %.2f |\n", c.name, mean, percentile(v, 0.5),
-                percentile(v, 0.9), v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()));
+                percentile(v, 0.99), v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()));
   }
   double bytes = 0.0, voxels = 0.0, iterations = 0.0, points = 0.0;
   for (const auto& r : rows) {
@@ -174,27 +128,12 @@ int main(int argc, char** argv) {
   std::printf("| registered points | %.0f/frame, %.1f iterations |\n", points / n, iterations / n);
   std::printf("| chunks fetched again (older than the previous Integrate) | %lld |\n",
               static_cast<long long>(refetched));
-  double reg_wall = 0.0, reg_cpu = 0.0, reg_cpu_max = 0.0;
-  for (const Timing& t : register_only) {
-    reg_wall += t.wall_ms;
-    reg_cpu += t.cpu_ms;
-    reg_cpu_max = std::max(reg_cpu_max, t.cpu_ms);
-  }
-  const double m = std::max<double>(static_cast<double>(register_only.size()), 1.0);
-  reg_wall /= m;
-  reg_cpu /= m;
-  std::printf("| registration only, wall (best of 3, server idle) | %.2f ms/frame |\n", reg_wall);
-  std::printf("| registration only, CPU time of all threads | %.2f ms/frame mean, %.2f max |\n",
-              reg_cpu, reg_cpu_max);
-  // The machine is shared: wall times inflate with other processes' load, CPU time does not (and
-  // it bounds the single-core wall time), so the target is judged on the smallest measurement.
-  const double reg_judged = std::min({register_mean, reg_wall, reg_cpu});
-  const bool reg_ok = reg_judged <= 20.0;
+  // Registration as the pipeline runs it: against the map before the frame is integrated, with
+  // the real threshold, coarse-to-fine start and deskew passes.
+  const bool reg_ok = register_mean <= 20.0;
   const bool hz_ok = hz >= 20.0;
-  std::printf(
-      "\n- target registration <= 20 ms/frame (mean; pipeline %.1f, alone %.1f wall / %.1f CPU) -> "
-      "%s\n",
-      register_mean, reg_wall, reg_cpu, reg_ok ? "PASS" : "FAIL");
+  std::printf("\n- target registration <= 20 ms/frame (pipeline mean): %.1f -> %s\n", register_mean,
+              reg_ok ? "PASS" : "FAIL");
   std::printf("- target end-to-end >= 20 Hz: %.1f Hz -> %s\n", hz, hz_ok ? "PASS" : "FAIL");
   if (smoke) std::printf("- smoke run: targets not judged\n");
   return smoke || (reg_ok && hz_ok) ? 0 : 1;

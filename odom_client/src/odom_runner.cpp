@@ -22,7 +22,7 @@ std::string callError(const char* what, const rpc::CallError& e, int attempts) {
   std::ostringstream out;
   out << what << " failed after " << attempts << " attempt(s): "
       << (e.timed_out ? "no reply from the map server (is map_server running on this LCM URL?)"
-                      : e.message + " (status " + std::to_string(e.status) + ")");
+                      : e.message + " (" + rpc::statusName(e.status) + ")");
   return out.str();
 }
 
@@ -148,7 +148,7 @@ void OdomRunner::submit(FrameEstimate estimate, FrameStats stats) {
   if (state != before) {
     std::cerr << "odom_client: tracking state " << trackingStateName(state) << " at frame "
               << estimate.seq << "\n";
-    reportTracking(estimate.health.problem);
+    reportTracking(state, estimate);
   }
   trajectory_.seqs.push_back(estimate.seq);
   trajectory_.stamps.push_back(estimate.utime * 1e-6);
@@ -175,8 +175,18 @@ void OdomRunner::integrate(FrameEstimate estimate, const FrameStats& stats) {
   });
 }
 
-void OdomRunner::reportTracking(const std::string& reason) {
-  (void)reason;  // wired to the map server's robot status below
+void OdomRunner::reportTracking(TrackingState state, const FrameEstimate& frame) {
+  // Other robots and operators see it in SOCC/STATUS; a LOST robot's INTEGRATEs are refused by
+  // the server too, should anything still send one.
+  std::int8_t wire = robot_status_request_t::TRACKING;
+  if (state == TrackingState::kDegraded) wire = robot_status_request_t::DEGRADED;
+  if (state == TrackingState::kLost) wire = robot_status_request_t::LOST;
+  const std::string reason = frame.health.problem.substr(0, 200);
+  const auto reply = client_.reportTracking(wire, reason, frame.seq, frame.utime);
+  // NOT_FOUND: nothing of this robot was integrated yet, so there is nothing to protect.
+  if (!reply.ok() && reply.error.status != reply_header_t::NOT_FOUND)
+    std::cerr << "odom_client: warning: " << callError("ROBOT_STATUS", reply.error, reply.attempts)
+              << "\n";
 }
 
 }  // namespace socc::odom

@@ -69,7 +69,7 @@ class OdomRunner {
   /// Judges, records and (when healthy and not lost) integrates one finished frame.
   void submit(FrameEstimate estimate, FrameStats stats);
   void integrate(FrameEstimate estimate, const FrameStats& stats);
-  void reportTracking(const std::string& reason);
+  void reportTracking(TrackingState state, const FrameEstimate& frame);
 
   OdomConfig config_;
   rpc::MapClient& client_;
