@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
   Arguments a;
   app.add_option("--out", a.out, "Output directory (created)")->required();
   app.add_option("--scene", a.scene, "World to build around the trajectory")
-      ->check(CLI::IsMember({"street", "corridor", "zigzag", "indoor"}))
+      ->check(CLI::IsMember({"street", "corridor", "zigzag", "office", "indoor"}))
       ->capture_default_str();
   app.add_option("--sensor", a.sensor, "LiDAR model")
       ->check(CLI::IsMember({"hdl64", "vlp32", "vlp16"}))
@@ -91,8 +91,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--seed", a.seed, "Seed of the world, noise and dropouts")->capture_default_str();
   auto* traj = app.add_option("--trajectory", a.trajectory,
-                              "Route (auto: the scene's default: street/corridor straight, "
-                              "zigzag zigzag, indoor circle)")
+                              "Route (auto: the scene's default: street/corridor/office "
+                              "straight, zigzag zigzag, indoor circle)")
                    ->check(CLI::IsMember({"auto", "straight", "circle", "figure8", "zigzag"}))
                    ->capture_default_str();
   auto* kitti = app.add_option("--kitti-poses", a.kitti_poses,

@@ -25,6 +25,8 @@ SceneDefaults defaultsFor(SceneType type) {
       return {1.2, 1.5, 15.0, 16.0, 40.0, "straight"};
     case SceneType::kZigzag:
       return {1.2, 1.5, 15.0, 16.0, 40.0, "zigzag"};
+    case SceneType::kOffice:
+      return {1.2, 1.5, 15.0, 16.0, 40.0, "straight"};
     case SceneType::kIndoor:
       return {1.2, 0.8, 3.0, 6.0, 2.0, "circle"};
   }
@@ -50,8 +52,10 @@ SceneType parseSceneType(const std::string& name) {
   if (name == "street") return SceneType::kStreet;
   if (name == "corridor") return SceneType::kCorridor;
   if (name == "zigzag") return SceneType::kZigzag;
+  if (name == "office") return SceneType::kOffice;
   if (name == "indoor") return SceneType::kIndoor;
-  throw std::invalid_argument("unknown scene '" + name + "' (street, corridor, zigzag, indoor)");
+  throw std::invalid_argument("unknown scene '" + name +
+                              "' (street, corridor, zigzag, office, indoor)");
 }
 
 Scene buildScene(const SceneOptions& o) {
@@ -83,6 +87,8 @@ Scene buildScene(const SceneOptions& o) {
     case SceneType::kCorridor:
     case SceneType::kZigzag:
       return {buildCorridorWorld(*route, d.sensor_height), *trajectory};
+    case SceneType::kOffice:
+      return {buildOfficeWorld(*route, d.sensor_height, rng), *trajectory};
     case SceneType::kIndoor:
       return {buildIndoorWorld(*route, d.sensor_height, rng), *trajectory};
   }

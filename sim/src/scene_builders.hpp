@@ -10,6 +10,7 @@ namespace socc::sim {
 
 World buildStreetWorld(const std::shared_ptr<const Path>& route, double sensor_height, Random& rng);
 World buildCorridorWorld(const Path& route, double sensor_height);
+World buildOfficeWorld(const Path& route, double sensor_height, Random& rng);
 World buildIndoorWorld(const Path& route, double sensor_height, Random& rng);
 
 }  // namespace socc::sim

@@ -4,6 +4,8 @@
 //              hedges, street lamps, traffic signs, trees, parked cars, moving cars and people
 //   corridor - a long featureless corridor (walls, floor, ceiling): degenerate along its axis
 //   zigzag   - the same corridor along a zigzag route
+//   office   - a corridor as in real buildings: recessed doors (some open into rooms), recesses
+//              and niches, side corridors, pillars at irregular spacing, beams, furniture
 //   indoor   - a room with furniture and pillars
 #include <optional>
 #include <string>
@@ -14,7 +16,7 @@
 
 namespace socc::sim {
 
-enum class SceneType { kStreet, kCorridor, kZigzag, kIndoor };
+enum class SceneType { kStreet, kCorridor, kZigzag, kOffice, kIndoor };
 SceneType parseSceneType(const std::string& name);  // throws std::invalid_argument
 
 struct SceneOptions {
