@@ -15,6 +15,7 @@
 #include "socc/map_command_request_t.hpp"
 #include "socc/render_request_t.hpp"
 #include "socc/robot_pose_request_t.hpp"
+#include "socc/robot_status_request_t.hpp"
 #include "socc/scan_t.hpp"
 #include "socc/stats_request_t.hpp"
 
@@ -106,6 +107,16 @@ void requestSeeds(SeedWriter& w) {
   pose.max_history = 100;
   pose.history_from_seq = 2;
   w.message("fuzz_robot_pose_request", "history", pose);
+
+  socc::robot_status_request_t status{};
+  status.header = header("ROBOT_STATUS");
+  status.seq = 1;
+  status.utime = in.scan_utime;
+  for (std::int8_t state = 0; state < 4; ++state) {
+    status.tracking_state = state;
+    status.reason = state == 0 ? "" : "12 unhealthy frames in a row";
+    w.message("fuzz_robot_status_request", "state" + std::to_string(state), status);
+  }
 
   socc::map_command_request_t cmd{};
   cmd.header = header("MAP_COMMAND");

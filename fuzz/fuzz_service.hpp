@@ -41,12 +41,12 @@ inline service::ServerConfig smallServerConfig() {
   return config;
 }
 
-/// A service whose map holds a small ring of labelled points around the origin.
-inline service::MapService populatedService() {
-  service::MapService svc(smallServerConfig());
+/// A small ring of labelled points around the origin, robot "seed" at seq, 0.1 s per seq.
+inline integrate_request_t seedScan(std::int64_t seq) {
   integrate_request_t r{};
   r.header.client_id = "seed";
-  r.seq = 1;
+  r.seq = seq;
+  r.scan_utime = seq * 100'000;
   r.sensor_pose.quaternion[0] = 1.0;
   r.xyz.resize(3);  // by axis: xyz[0] = x of every point
   for (int i = 0; i < 64; ++i) {
@@ -58,7 +58,13 @@ inline service::MapService populatedService() {
   }
   r.num_points = static_cast<std::int32_t>(r.label.size());
   r.num_labels = r.num_points;
-  svc.integrate(r);
+  return r;
+}
+
+/// A service whose map holds seedScan(1).
+inline service::MapService populatedService() {
+  service::MapService svc(smallServerConfig());
+  svc.integrate(seedScan(1));
   return svc;
 }
 

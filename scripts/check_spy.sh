@@ -75,7 +75,7 @@ echo "check_spy.sh: screenshot $png"
 
 echo "check_spy.sh: lcm-spy output:"
 sed 's/^/  /' "$work/spy.log" | head -40
-# lcm-spy 1.3 only prints how many types it found ("Found 18 LCM types"); lcm's own class
+# lcm-spy 1.3 only prints how many types it found ("Found 20 LCM types"); lcm's own class
 # discoverer, run on the same CLASSPATH, names them.
 expected="$(ls "$root"/lcmtypes/*.lcm | wc -l)"
 found="$(sed -n 's/^Found \([0-9]*\) LCM types.*/\1/p' "$work/spy.log" | head -1)"

@@ -23,30 +23,12 @@ namespace {
 
 using socc::rpc::MapClient;
 
-// gRPC-style names, so scripts and people can tell e.g. a missing key (UNAUTHENTICATED) apart.
-std::string statusName(std::int8_t status) {
-  switch (status) {
-    case socc::reply_header_t::INVALID_ARGUMENT:
-      return "INVALID_ARGUMENT";
-    case socc::reply_header_t::NOT_FOUND:
-      return "NOT_FOUND";
-    case socc::reply_header_t::RESOURCE_EXHAUSTED:
-      return "RESOURCE_EXHAUSTED";
-    case socc::reply_header_t::INTERNAL:
-      return "INTERNAL";
-    case socc::reply_header_t::UNAUTHENTICATED:
-      return "UNAUTHENTICATED";
-    default:
-      return "status " + std::to_string(status);
-  }
-}
-
 template <typename Reply>
 bool report(const socc::rpc::Result<Reply>& result, const std::string& what) {
   if (result.ok()) return true;
   std::cerr << "socc-cli " << what << ": "
-            << (result.error.timed_out ? "TIMEOUT" : statusName(result.error.status)) << ": "
-            << result.error.message << '\n';
+            << (result.error.timed_out ? "TIMEOUT" : socc::rpc::statusName(result.error.status))
+            << ": " << result.error.message << '\n';
   return false;
 }
 
@@ -125,8 +107,45 @@ void printPose(const socc::robot_state_t& s) {
   const auto& q = s.last_pose.quaternion;
   std::cout << s.robot_id << " seq=" << s.last_seq << " integrations=" << s.integrations
             << " utime=" << s.last_scan_utime << " t=[" << t[0] << ' ' << t[1] << ' ' << t[2]
-            << "] q=[" << q[0] << ' ' << q[1] << ' ' << q[2] << ' ' << q[3] << "]\n";
+            << "] q=[" << q[0] << ' ' << q[1] << ' ' << q[2] << ' ' << q[3]
+            << "] tracking=" << socc::rpc::trackingStateName(s.tracking_state)
+            << " refused=" << s.refused_integrations;
+  if (s.tracking_utime != 0 || !s.tracking_reason.empty())
+    std::cout << " reported_at_seq=" << s.tracking_seq << " reason=\"" << s.tracking_reason << '"';
+  std::cout << '\n';
 }
+
+// socc-cli tracking STATE: ROBOT_STATUS, this client's robot reports its tracking state.
+struct TrackingCommand {
+  CLI::App* command = nullptr;
+  std::string state;
+  std::string reason;
+  std::int64_t seq = 0;
+  std::int64_t utime = 0;
+
+  void add(CLI::App& app) {
+    command = app.add_subcommand("tracking",
+                                 "report this client's (robot's) tracking state; LOST and "
+                                 "RELOCALIZING make the server refuse its integrations until it "
+                                 "reports TRACKING");
+    std::vector<std::string> names;
+    for (std::int8_t s = 0; s <= socc::robot_status_request_t::RELOCALIZING; ++s)
+      names.push_back(socc::rpc::trackingStateName(s));
+    command->add_option("state", state)->required()->check(CLI::IsMember(names));
+    command->add_option("--reason", reason, "why, for people (<= 200 bytes)");
+    command->add_option("--seq", seq, "the frame the state refers to")->capture_default_str();
+    command->add_option("--utime", utime, "that frame's time [us]")->capture_default_str();
+  }
+
+  bool run(MapClient& client) const {
+    std::int8_t code = 0;
+    while (socc::rpc::trackingStateName(code) != state) ++code;  // a checked name
+    const auto r = client.reportTracking(code, reason, seq, utime);
+    if (!report(r, "tracking")) return false;
+    printPose(r.reply->state);
+    return true;
+  }
+};
 
 }  // namespace
 
@@ -207,6 +226,9 @@ int main(int argc, char** argv) {
   integrate->add_option("--labels", label_file, "SemanticKITTI .label for --bin")
       ->check(CLI::ExistingFile);
   integrate->add_option("--seed", seed, "seed of the synthetic scene")->capture_default_str();
+
+  TrackingCommand tracking;
+  tracking.add(app);
 
   CLI11_PARSE(app, argc, argv);
   options.timeout = std::chrono::milliseconds(timeout_ms);
@@ -290,6 +312,8 @@ int main(int argc, char** argv) {
                 << " truncated=" << (r.reply->truncated ? 1 : 0) << " bytes=" << r.bytes_received
                 << " version=" << r.reply->map_version << '\n';
       if (digest) std::cout << "digest=" << contentDigest(*r.reply) << '\n';
+    } else if (tracking.command->parsed()) {
+      if (!tracking.run(client)) return 1;
     } else if (integrate->parsed()) {
       socc::LabeledCloud cloud;
       if (bin_file.empty()) {

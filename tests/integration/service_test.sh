@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Integration test of map_server + socc-cli as real processes over UDP multicast on loopback.
-# usage: service_test.sh basic|crash|auth <map_server> <socc-cli>
+# usage: service_test.sh basic|crash|auth|guard <map_server> <socc-cli>
 #   basic: integrate, duplicate, chunk, stats, pose, save/load, exports, render, clear
 #   crash: kill -9 (idle and mid-run), restart with snapshot + journal -> byte-equal chunks;
 #          corrupt snapshot refused unless --ignore-corrupt-snapshot
 #   auth:  server with --key-file: signed CLI served, unsigned/wrong key UNAUTHENTICATED and
 #          nothing changed, --auth-queries, key file readable by others refused (exit 2)
+#   guard: a robot whose poses jump (a diverged trajectory) is refused FAILED_PRECONDITION and
+#          leaves the map unchanged, another robot is served; LOST refuses until TRACKING
 set -euo pipefail
 mode=$1 server_bin=$2 cli_bin=$3
 
@@ -48,8 +50,9 @@ start_server() {
 kill9_server() { kill -9 "$server_pid"; wait "$server_pid" 2>/dev/null || true; server_pid=""; }
 digest() { cli chunk "$@" --digest | sed -n 's/^digest=//p'; }
 integrate() { # integrate <robot> <seq> [socc-cli options]: a synthetic scan from a seq-dependent pose
+  # (0.1 s per seq; at most 2.3 m and 5 deg per seq: plausible for the server's motion check)
   local robot=$1 seq=$2; shift 2
-  cli --client-id "$robot" "$@" integrate --seq "$seq" --pose "$((seq % 7))" "$((seq % 3))" 0 \
+  cli --client-id "$robot" "$@" integrate --seq "$seq" --pose "$((seq / 2))" "$((seq % 3))" 0 \
     "$((seq * 5))" --seed "$seq"
 }
 
@@ -179,6 +182,53 @@ auth() {
   grep -q "chmod" "$work/perm.log" || fail "no clear key file error: $(cat "$work/perm.log")"
   echo "ok: 0644 key file refused (exit 2): $(head -1 "$work/perm.log")"
   expect_refused "chmod" cli --key-file "$key" stats
+}
+
+car2() { cli --client-id car2 "$@"; }
+
+# The same accepted scans in the same order as guard() below, on a fresh server.
+guard_reference() {
+  for s in 1 2; do integrate robot1 "$s" >/dev/null; done
+  car2 integrate --seq 1 --pose 3 0 0 0 --seed 101 >/dev/null
+  for s in 3 4 5 6; do integrate robot1 "$s" >/dev/null; done
+  car2 integrate --seq 8 --pose 40 0 0 0 --seed 108 >/dev/null
+}
+
+guard() {
+  local q=(--sphere 0 0 0 60 --fields features stats free index)
+  start_server --quiet
+  for s in 1 2; do expect "seq=$s applied" integrate robot1 "$s"; done
+  expect "seq=1 applied" car2 integrate --seq 1 --pose 3 0 0 0 --seed 101
+  local before; before=$(digest "${q[@]}")
+  # car2 diverges: 25 m further per 0.1 s. Each pose is judged against its last accepted one.
+  for s in 2 3 4 5 6; do
+    expect_refused "FAILED_PRECONDITION: pose jumps .* m/s > max 40 m/s\) from robot car2's last accepted pose \(seq 1\)" \
+      car2 integrate --seq "$s" --pose "$((25 * s))" 0 0 0 --seed "$((100 + s))"
+  done
+  [[ $(digest "${q[@]}") == "$before" ]] || fail "refused integrations changed the map"
+  echo "ok: map digest unchanged by 5 refused integrations"
+  expect "^car2 seq=1 integrations=1 .* tracking=TRACKING refused=5" cli pose car2
+  for s in 3 4 5 6; do expect "seq=$s applied" integrate robot1 "$s"; done
+
+  # car2 reports LOST: refused whatever its pose, until it reports TRACKING (relocalized), and
+  # its next pose is then a new start.
+  expect 'tracking=LOST refused=5 reported_at_seq=6 reason="diverged"' \
+    car2 tracking LOST --seq 6 --reason diverged
+  expect_refused "FAILED_PRECONDITION: robot car2 reported LOST at seq 6 \(diverged\)" \
+    car2 integrate --seq 7 --pose 3 0 0 0 --seed 107
+  expect "tracking=TRACKING refused=6" car2 tracking TRACKING --seq 7
+  expect "seq=8 applied" car2 integrate --seq 8 --pose 40 0 0 0 --seed 108
+  expect "integrations=8 .*robots=2" cli stats
+  local guarded; guarded=$(digest "${q[@]}")
+  kill9_server
+
+  # The reference server takes every scan (the check off, from the config: car2's 8 is far
+  # from its 1, which the guarded server only accepted after the relocalization).
+  printf 'plausibility:\n  enabled: false\n' >"$work/open.yaml"
+  start_server --quiet --config "$work/open.yaml"
+  guard_reference
+  [[ $(digest "${q[@]}") == "$guarded" ]] || fail "map differs from one without the refused scans"
+  echo "ok: map equals a server that only ever saw the accepted scans"
 }
 
 "$mode"

@@ -43,6 +43,19 @@ inline integrate_request_t scan(const std::string& robot, std::int64_t seq, doub
   return request;
 }
 
+/// A ROBOT_STATUS report of robot (robot_status_request_t state) about frame seq.
+inline robot_status_request_t trackingReport(const std::string& robot, std::int8_t state,
+                                             std::int64_t seq, const std::string& reason = "") {
+  robot_status_request_t request{};
+  request.header.client_id = robot;
+  request.header.reply_channel = channels::reply(channels::kRobotStatus, robot);
+  request.seq = seq;
+  request.utime = seq * 100000;
+  request.tracking_state = state;
+  request.reason = reason;
+  return request;
+}
+
 inline chunk_request_t everything() {
   chunk_request_t request =
       rpc::sphereChunkRequest(Eigen::Vector3d::Zero(), 60.0,

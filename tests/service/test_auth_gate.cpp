@@ -150,6 +150,17 @@ TEST(AuthGate, MapCommandNeedsSignature) {
   EXPECT_EQ(h.service.map().stats().num_voxels, 0);
 }
 
+TEST(AuthGate, TrackingReportNeedsSignature) {
+  // A report changes state (LOST stops the robot's integrations), so it is signed like one.
+  AuthHarness h(false);
+  ASSERT_EQ(h.send(channels::kIntegrate, signedBytes(scan("robot1", 1), 1))->status, kOk);
+  const auto lost = test::trackingReport("robot1", robot_status_request_t::LOST, 1);
+  EXPECT_EQ(h.send(channels::kRobotStatus, test::encode(lost))->status, kUnauthenticated);
+  EXPECT_EQ(h.service.robots().find("robot1")->tracking_state, +robot_status_request_t::TRACKING);
+  EXPECT_EQ(h.send(channels::kRobotStatus, signedBytes(lost, 2))->status, kOk);
+  EXPECT_EQ(h.service.robots().find("robot1")->tracking_state, +robot_status_request_t::LOST);
+}
+
 TEST(AuthGate, QueriesAreOpenUnlessAuthQueries) {
   AuthHarness open(false);
   EXPECT_EQ(open.send(channels::kGetStats, test::encode(statsRequest()))->status, kOk);

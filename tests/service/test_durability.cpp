@@ -208,5 +208,53 @@ TEST(Durability, MetadataRoundTripAndGarbage) {
   }
 }
 
+std::string fromHex(const std::string& hex) {
+  std::string bytes;
+  for (std::size_t i = 0; i + 1 < hex.size(); i += 2)
+    bytes.push_back(static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+  return bytes;
+}
+
+TEST(Durability, MetadataWithoutTrackingFieldsStillLoads) {
+  // The metadata of a snapshot written before robot_state_t had the tracking fields (map_stats_t
+  // encoded by the types of then): car1 seq 6 at (1.5, -2, 0.25), car2 seq 3 at (-4, -2, 0.25).
+  const std::string old_blob = fromHex(
+      "de2b7c79f2ca2e59000000000000000000000000000000000000000000000000"
+      "0000000000000000000000000000000000000000000000000000000000000000"
+      "0000000000000000000000000000000700000000000000000000000000000000"
+      "0000000000000000000000000000000000000002000000056361723100000000"
+      "000000000600000000000927c000000000000000073ff8000000000000c00000"
+      "00000000003fd00000000000003ff00000000000000000000000000000000000"
+      "0000000000000000000000000000000005636172320000000000000000030000"
+      "0000000493e00000000000000002c010000000000000c0000000000000003fd0"
+      "0000000000003ff0000000000000000000000000000000000000000000000000"
+      "000000000000");
+  const auto decoded = decodeSnapshotMetadata(old_blob);
+  ASSERT_TRUE(decoded);
+  EXPECT_EQ(decoded->journal_sequence, 7);
+  ASSERT_EQ(decoded->robots.size(), 2u);
+  const robot_state_t& car1 = decoded->robots[0];
+  EXPECT_EQ(car1.robot_id, "car1");
+  EXPECT_EQ(car1.last_seq, 6);
+  EXPECT_EQ(car1.last_scan_utime, 600000);
+  EXPECT_EQ(car1.integrations, 7);
+  EXPECT_EQ(car1.last_pose.translation[0], 1.5);
+  EXPECT_EQ(car1.last_pose.translation[2], 0.25);
+  EXPECT_EQ(car1.last_pose.quaternion[0], 1.0);
+  EXPECT_EQ(car1.tracking_state, +robot_status_request_t::TRACKING);
+  EXPECT_EQ(decoded->robots[1].robot_id, "car2");
+  EXPECT_EQ(decoded->robots[1].last_pose.translation[0], -4.0);
+  // Followed by the newer sections, and damaged: truncations are refused, never misread.
+  SnapshotMetadata sections;
+  sections.auth_counters["client"] = 3;
+  const std::string counters = encodeSnapshotMetadata(sections);
+  const std::string tail = counters.substr(counters.find("\nSOCC-AUTH-COUNTERS"));
+  const auto with_counters = decodeSnapshotMetadata(old_blob + tail);
+  ASSERT_TRUE(with_counters);
+  EXPECT_EQ(with_counters->auth_counters.at("client"), 3);
+  for (std::size_t n = 1; n < old_blob.size(); n += 5)
+    EXPECT_FALSE(decodeSnapshotMetadata(old_blob.substr(0, n))) << n;
+}
+
 }  // namespace
 }  // namespace socc::service

@@ -201,6 +201,25 @@ std::vector<Case> cases() {
          return test::encode(c);
        },
        +R::INVALID_ARGUMENT},
+      {"unknown tracking state", std::string(channels::kRobotStatus),
+       [] { return test::encode(test::trackingReport("robot1", 9, 1)); }, +R::INVALID_ARGUMENT},
+      {"tracking report of another robot's channel", std::string(channels::kRobotStatus),
+       [] {
+         auto r = test::trackingReport("robot1", robot_status_request_t::LOST, 1);
+         r.header.reply_channel = channels::reply(channels::kRobotStatus, "victim");
+         return test::encode(r);
+       },
+       +R::INVALID_ARGUMENT},
+      {"tracking report of an unknown robot", std::string(channels::kRobotStatus),
+       [] { return test::encode(test::trackingReport("ghost", robot_status_request_t::LOST, 1)); },
+       +R::NOT_FOUND},
+      {"damaged tracking report", std::string(channels::kRobotStatus),
+       [] {
+         auto b = test::encode(test::trackingReport("robot1", robot_status_request_t::LOST, 1));
+         b.resize(b.size() - 3);
+         return b;
+       },
+       std::nullopt},
       {"command path escapes", std::string(channels::kMapCommand),
        [] {
          map_command_request_t c{};

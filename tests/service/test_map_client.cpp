@@ -147,6 +147,33 @@ TEST(MapClient, AllServicesOverUdp) {
   EXPECT_EQ(image.reply->width, 20);
 }
 
+TEST(MapClient, ReportTrackingOverUdp) {
+  const std::string url = randomUrl();
+  InProcessServer server(url);
+  ASSERT_TRUE(server.good());
+  rpc::MapClient client(clientOptions(url, "robot1"));
+  const auto early = client.reportTracking(robot_status_request_t::LOST, "no frames", 0, 0);
+  EXPECT_EQ(early.error.status, +reply_header_t::NOT_FOUND);
+
+  ASSERT_TRUE(client.integrate(test::scan("robot1", 1)).ok());
+  const auto lost = client.reportTracking(robot_status_request_t::LOST, "diverged", 1, 100000);
+  ASSERT_TRUE(lost.ok()) << lost.error.message;
+  EXPECT_EQ(lost.reply->state.tracking_state, +robot_status_request_t::LOST);
+  const auto refused = client.integrate(test::scan("robot1", 2));
+  EXPECT_FALSE(refused.ok());
+  EXPECT_EQ(rpc::statusName(refused.error.status), "FAILED_PRECONDITION");
+  EXPECT_EQ(refused.error.message,
+            "robot robot1 reported LOST at seq 1 (diverged); INTEGRATE refused until it reports "
+            "TRACKING");
+  ASSERT_TRUE(client.reportTracking(robot_status_request_t::TRACKING, "", 2, 200000).ok());
+  EXPECT_TRUE(client.integrate(test::scan("robot1", 2)).ok());
+  const auto stats = client.getStats();
+  ASSERT_TRUE(stats.ok());
+  ASSERT_EQ(stats.reply->stats.robots.size(), 1u);
+  EXPECT_EQ(stats.reply->stats.robots[0].tracking_state, +robot_status_request_t::TRACKING);
+  EXPECT_EQ(stats.reply->stats.robots[0].refused_integrations, 1);
+}
+
 TEST(MapClient, OneThreadIntegratesWhileAnotherFetches) {
   const std::string url = randomUrl();
   InProcessServer server(url);

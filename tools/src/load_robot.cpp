@@ -31,6 +31,12 @@ void runAtRate(const RobotSettings& s, Tick&& tick) {
   }
 }
 
+// Robots drive at 10 m/s whatever the rate (1 m per frame at 10 Hz), a speed the server's
+// plausibility check accepts.
+Eigen::Isometry3d poseAt(const RobotSettings& s, std::int64_t frame) {
+  return robotPose(s.index, frame, 10.0 / s.rate_hz);
+}
+
 }  // namespace
 
 LoadRobot::LoadRobot(RobotSettings settings, const ScanSet& scans)
@@ -51,11 +57,15 @@ const RobotResult& LoadRobot::join() {
 }
 
 void LoadRobot::integrateLoop() {
-  runAtRate(settings_, [this](std::int64_t frame) {
+  // Scans are stamped at the sensor rate, as a LiDAR does, not when a late loop sends them: the
+  // server checks each pose step against the scan-time step.
+  const std::int64_t epoch = nowMicros();
+  runAtRate(settings_, [this, epoch](std::int64_t frame) {
     const std::int64_t seq = frame + 1;
-    const auto pose = robotPose(settings_.index, frame);
+    const auto pose = poseAt(settings_, frame);
     const auto t0 = Clock::now();
-    const std::int64_t utime = nowMicros();
+    const std::int64_t utime =
+        epoch + static_cast<std::int64_t>(static_cast<double>(frame) * 1e6 / settings_.rate_hz);
     auto request =
         rpc::makeIntegrateRequest(seq, utime, pose, scans_.scan(static_cast<std::size_t>(frame)));
     result_.last_sent_seq = seq;
@@ -73,7 +83,7 @@ void LoadRobot::integrateLoop() {
 
 void LoadRobot::chunkLoop() {
   runAtRate(settings_, [this](std::int64_t) {
-    const Eigen::Vector3d centre = robotPose(settings_.index, frame_.load()).translation();
+    const Eigen::Vector3d centre = poseAt(settings_, frame_.load()).translation();
     const auto t0 = Clock::now();
     const auto r = client_.getChunk(rpc::sphereChunkRequest(centre, settings_.chunk_radius));
     if (r.ok())

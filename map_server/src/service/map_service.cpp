@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "plausibility.hpp"
 #include "request_checks.hpp"
 #include "socc/pose_conversion.hpp"
 #include "socc/wall_clock.hpp"
@@ -29,13 +30,14 @@ integrate_reply_t MapService::integrate(const integrate_request_t& request,
                                         const std::uint8_t* received, std::size_t received_size) {
   integrate_reply_t reply{};
   reply.seq = request.seq;
-  setStatus(reply, applyIntegrate(request, reply, received, received_size));
+  setStatus(reply, applyIntegrate(request, reply, true, received, received_size));
   reply.map_version = map_.version();
   return reply;
 }
 
 Status MapService::applyIntegrate(const integrate_request_t& request, integrate_reply_t& reply,
-                                  const std::uint8_t* received, std::size_t received_size) {
+                                  bool judge, const std::uint8_t* received,
+                                  std::size_t received_size) {
   if (Status s = checkIntegrateRequest(request, map_.config()); !s.ok()) return s;
   const std::string& robot_id = request.header.client_id;
   // A retry (same seq) or an old message (lower seq) was applied before: acknowledge only.
@@ -43,10 +45,7 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
     reply.duplicate = true;
     return {};
   }
-  if (!robots_.contains(robot_id) &&
-      static_cast<std::int64_t>(robots_.size()) >= config_.limits.max_robots)
-    return Status::exhausted("the server already tracks " + std::to_string(robots_.size()) +
-                             " robots (limits.max_robots)");
+  if (Status s = admitRobot(request, judge); !s.ok()) return s;
   const LabeledCloud cloud = toCloud(request);
   const Eigen::Isometry3d pose = fromLcm(request.sensor_pose);
   if (const std::string why = map_.validate(pose, cloud); !why.empty()) return Status::invalid(why);
@@ -87,6 +86,21 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
   return {};
 }
 
+Status MapService::admitRobot(const integrate_request_t& request, bool judge) {
+  const std::string& robot_id = request.header.client_id;
+  const robot_state_t* robot = robots_.find(robot_id);
+  if (robot == nullptr) {
+    if (static_cast<std::int64_t>(robots_.size()) < config_.limits.max_robots) return {};
+    return Status::exhausted("the server already tracks " + std::to_string(robots_.size()) +
+                             " robots (limits.max_robots)");
+  }
+  if (!judge) return {};
+  Status admitted =
+      admitIntegrate(*robot, robots_.anchored(robot_id), request, config_.plausibility);
+  if (!admitted.ok()) robots_.recordRefusal(robot_id);
+  return admitted;
+}
+
 double MapService::integrationsPerSecond() const {
   const auto now = std::chrono::steady_clock::now();
   std::int64_t count = 0;
@@ -119,6 +133,20 @@ stats_reply_t MapService::getStats(const stats_request_t& /*request*/,
                                    const RequestCounters& counters) const {
   stats_reply_t reply{};
   reply.stats = stats(counters);
+  return reply;
+}
+
+robot_status_reply_t MapService::robotStatus(const robot_status_request_t& request) {
+  robot_status_reply_t reply{};
+  reply.state.last_pose.quaternion[0] = 1.0;
+  if (Status s = checkRobotStatusRequest(request); !s.ok()) return setStatus(reply, s);
+  const std::string& robot_id = request.header.client_id;
+  // Only robots with a pose in the map have integrations to refuse (and a registry entry).
+  if (!robots_.recordTracking(robot_id, request.seq, request.utime, request.tracking_state,
+                              request.reason))
+    return setStatus(reply,
+                     Status::notFound("robot '" + robot_id + "' has no accepted INTEGRATE yet"));
+  reply.state = *robots_.find(robot_id);
   return reply;
 }
 

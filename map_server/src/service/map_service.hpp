@@ -27,6 +27,8 @@
 #include "socc/render_request_t.hpp"
 #include "socc/robot_pose_reply_t.hpp"
 #include "socc/robot_pose_request_t.hpp"
+#include "socc/robot_status_reply_t.hpp"
+#include "socc/robot_status_request_t.hpp"
 #include "socc/stats_reply_t.hpp"
 #include "socc/stats_request_t.hpp"
 #include "status.hpp"
@@ -54,6 +56,7 @@ class MapService {
 
   /// received/received_size: the bytes request was decoded from (all of them), journaled as
   /// they are; without them (in-process callers) the request is re-encoded for the journal.
+  /// A known robot's request must pass admitIntegrate (plausibility.hpp) first.
   integrate_reply_t integrate(const integrate_request_t& request,
                               const std::uint8_t* received = nullptr,
                               std::size_t received_size = 0);
@@ -62,6 +65,8 @@ class MapService {
   robot_pose_reply_t getRobotPose(const robot_pose_request_t& request) const;
   map_command_reply_t command(const map_command_request_t& request);
   render_reply_t render(const render_request_t& request) const;
+  /// ROBOT_STATUS: stores the tracking state the robot (client_id) reports.
+  robot_status_reply_t robotStatus(const robot_status_request_t& request);
 
   map_stats_t stats(const RequestCounters& counters) const;
   const map::SemanticOccupancyMap& map() const { return map_; }
@@ -87,8 +92,13 @@ class MapService {
   void attachReplayGuard(auth::ReplayGuard& guard) { replay_guard_ = &guard; }
 
  private:
-  Status applyIntegrate(const integrate_request_t& request, integrate_reply_t& reply,
+  /// judge: live requests pass admitIntegrate; journal replay does not (each entry passed it
+  /// when it arrived, and the tracking reports since then are not journaled).
+  Status applyIntegrate(const integrate_request_t& request, integrate_reply_t& reply, bool judge,
                         const std::uint8_t* received = nullptr, std::size_t received_size = 0);
+  /// Room for a new robot; with judge, a known robot's request passes admitIntegrate (its
+  /// refusals are counted in its state).
+  Status admitRobot(const integrate_request_t& request, bool judge);
   Status runCommand(const map_command_request_t& request, map_command_reply_t& reply);
   double integrationsPerSecond() const;
 

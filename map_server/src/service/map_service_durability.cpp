@@ -52,7 +52,7 @@ std::int64_t MapService::replayJournal(const JournalContents& contents, bool sho
     if (!request)
       throw std::runtime_error("journal entry " + std::to_string(sequence) + " does not decode");
     integrate_reply_t reply{};
-    if (Status s = applyIntegrate(*request, reply); !s.ok())
+    if (Status s = applyIntegrate(*request, reply, false); !s.ok())
       throw std::runtime_error("journal entry " + std::to_string(sequence) +
                                " was not applied: " + s.message);
     applied += reply.duplicate ? 0 : 1;

@@ -98,6 +98,21 @@ Status checkRenderRequest(const render_request_t& request, double voxel_size,
   return {};
 }
 
+Status checkRobotStatusRequest(const robot_status_request_t& request) {
+  if (request.seq < 0) return Status::invalid("seq must be >= 0");
+  if (request.tracking_state < robot_status_request_t::TRACKING ||
+      request.tracking_state > robot_status_request_t::RELOCALIZING)
+    return Status::invalid("unknown tracking_state " + std::to_string(request.tracking_state));
+  // The reason is shown in every map_stats_t and in terminals (socc-cli stats).
+  constexpr std::size_t kMaxReason = 200;
+  if (request.reason.size() > kMaxReason)
+    return Status::invalid("reason is longer than " + std::to_string(kMaxReason) + " bytes");
+  for (const char c : request.reason)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      return Status::invalid("reason contains control characters");
+  return {};
+}
+
 Status resolveCommandPath(const std::string& path, const std::filesystem::path& file_dir,
                           std::filesystem::path& resolved) {
   if (path.empty()) return Status::invalid("path is empty");

@@ -7,6 +7,7 @@
 #include "socc/chunk_request_t.hpp"
 #include "socc/integrate_request_t.hpp"
 #include "socc/render_request_t.hpp"
+#include "socc/robot_status_request_t.hpp"
 #include "status.hpp"
 
 namespace socc::service {
@@ -14,6 +15,8 @@ namespace socc::service {
 /// Array sizes, seq and pose of an Integrate; point values are checked by the map.
 Status checkIntegrateRequest(const integrate_request_t& request, const map::MapConfig& config);
 Status checkChunkRequest(const chunk_request_t& request, const ServiceLimits& limits);
+/// Known tracking state, seq >= 0, a short printable reason.
+Status checkRobotStatusRequest(const robot_status_request_t& request);
 Status checkRenderRequest(const render_request_t& request, double voxel_size,
                           const ServiceLimits& limits);
 

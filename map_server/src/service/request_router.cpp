@@ -24,14 +24,11 @@ RequestRouter::RequestRouter(lcm::LCM& lcm, MapService& service, RequestGate& ga
     : lcm_(lcm), service_(service), gate_(gate), log_(verbose) {
   // Raw subscriptions through LCM's C API: the typed C++ ones print and drop undecodable
   // messages without telling us, and the C++ raw-handler wrapper trips UBSan (-fsanitize=vptr).
-  const std::array<std::string_view, 6> services = {channels::kIntegrate,  channels::kGetChunk,
-                                                    channels::kGetStats,   channels::kGetRobotPose,
-                                                    channels::kMapCommand, channels::kRender};
   for (std::size_t i = 0; i < routes_.size(); ++i) {
     routes_[i].router = this;
-    routes_[i].service = services[i];
+    routes_[i].service = channels::kServices[i];
     routes_[i].subscription =
-        lcm_subscribe(lcm_.getUnderlyingLCM(), channels::request(services[i]).c_str(),
+        lcm_subscribe(lcm_.getUnderlyingLCM(), channels::request(channels::kServices[i]).c_str(),
                       &RequestRouter::onMessage, &routes_[i]);
   }
 }
@@ -141,6 +138,11 @@ void RequestRouter::dispatch(std::string_view service, const lcm::ReceiveBuffer&
   else if (service == channels::kRender)
     serve<render_request_t>(rbuf, service, false,
                             [this](const render_request_t& r) { return service_.render(r); });
+  else if (service == channels::kRobotStatus)
+    // State-changing: a LOST report stops the robot's integrations.
+    serve<robot_status_request_t>(rbuf, service, true, [this](const robot_status_request_t& r) {
+      return service_.robotStatus(r);
+    });
 }
 
 void RequestRouter::publishStatus() {

@@ -11,6 +11,7 @@
 #include "map_service.hpp"
 #include "rate_limited_log.hpp"
 #include "request_gate.hpp"
+#include "socc/channels.hpp"
 
 namespace socc::service {
 
@@ -48,7 +49,7 @@ class RequestRouter {
   RequestGate& gate_;
   RequestCounters counters_;
   RateLimitedLog log_;
-  std::array<Route, 6> routes_;
+  std::array<Route, channels::kServices.size()> routes_;
 };
 
 }  // namespace socc::service

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <type_traits>
 
+#include "plausibility.hpp"
 #include "socc/wire_arrays.hpp"
 
 namespace socc::service {
@@ -52,7 +53,35 @@ void RobotRegistry::recordIntegration(const std::string& robot_id, std::int64_t 
   robot.state.last_scan_utime = scan_utime;
   robot.state.last_pose = pose;
   ++robot.state.integrations;
+  robot.anchored = true;
   append(robot.history, seq, scan_utime, pose);
+}
+
+void RobotRegistry::recordRefusal(const std::string& robot_id) {
+  if (const auto it = robots_.find(robot_id); it != robots_.end())
+    ++it->second.state.refused_integrations;
+}
+
+bool RobotRegistry::recordTracking(const std::string& robot_id, std::int64_t seq,
+                                   std::int64_t utime, std::int8_t tracking_state,
+                                   const std::string& reason) {
+  const auto it = robots_.find(robot_id);
+  if (it == robots_.end()) return false;
+  Robot& robot = it->second;
+  // Back from LOST / RELOCALIZING: the robot found its pose again (in the map), so its next
+  // pose is not judged against the one it had before it was lost, which may be wrong.
+  if (refusesIntegrations(robot.state.tracking_state) && !refusesIntegrations(tracking_state))
+    robot.anchored = false;
+  robot.state.tracking_state = tracking_state;
+  robot.state.tracking_reason = reason;
+  robot.state.tracking_seq = seq;
+  robot.state.tracking_utime = utime;
+  return true;
+}
+
+bool RobotRegistry::anchored(const std::string& robot_id) const {
+  const auto it = robots_.find(robot_id);
+  return it != robots_.end() && it->second.anchored;
 }
 
 const robot_state_t* RobotRegistry::find(const std::string& robot_id) const {

@@ -1,6 +1,7 @@
 #pragma once
 // What the server remembers per robot: last applied seq (for idempotent Integrate), last pose
-// (so a restarted client can resume) and the pose history (every applied Integrate's pose).
+// (so a restarted client can resume), the pose history (every applied Integrate's pose) and
+// the tracking state the robot last reported (ROBOT_STATUS).
 #include <cstdint>
 #include <map>
 #include <string>
@@ -15,11 +16,19 @@ class RobotRegistry {
  public:
   /// True when seq was applied before: equal to or lower than the robot's last applied seq.
   bool isDuplicate(const std::string& robot_id, std::int64_t seq) const;
-  bool contains(const std::string& robot_id) const { return robots_.count(robot_id) > 0; }
   std::size_t size() const { return robots_.size(); }
 
   void recordIntegration(const std::string& robot_id, std::int64_t seq, std::int64_t scan_utime,
                          const pose3d_t& pose);
+  /// An INTEGRATE of the robot was refused (FAILED_PRECONDITION): only counted.
+  void recordRefusal(const std::string& robot_id);
+  /// Stores a tracking report; false (nothing stored) for a robot without an accepted
+  /// INTEGRATE. TRACKING or DEGRADED after LOST or RELOCALIZING un-anchors the robot.
+  bool recordTracking(const std::string& robot_id, std::int64_t seq, std::int64_t utime,
+                      std::int8_t tracking_state, const std::string& reason);
+  /// False from a recovery report (see recordTracking) until the next accepted INTEGRATE:
+  /// its last pose is then no reference for the plausibility check. In memory only.
+  bool anchored(const std::string& robot_id) const;
   const robot_state_t* find(const std::string& robot_id) const;
   std::vector<robot_state_t> states() const;  // ordered by robot id
   /// Up to max_poses entries of the robot's history with seq >= from_seq (seq order); truncated
@@ -36,6 +45,7 @@ class RobotRegistry {
   struct Robot {
     robot_state_t state;
     pose_history_t history;
+    bool anchored = true;
   };
   std::map<std::string, Robot> robots_;  // ordered: deterministic snapshots and stats
 };

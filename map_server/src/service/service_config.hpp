@@ -16,9 +16,21 @@ struct ServiceLimits {
   std::int64_t max_robots = 1024;  // robot states kept; new robots beyond -> rejected
 };
 
+// How far a robot may move between two of its INTEGRATEs (plausibility.hpp): speed times the
+// scan-time difference plus a slack for timestamp jitter and pose noise. The defaults leave
+// a car at 20 m/s or a handheld sensor turning 180 deg/s a factor of 2 (KITTI: <= 25 m/s).
+struct PlausibilityLimits {
+  bool enabled = true;
+  double max_linear_speed = 40.0;    // [m/s]
+  double max_angular_speed = 360.0;  // [deg/s]
+  double linear_slack = 0.5;         // [m]
+  double angular_slack = 10.0;       // [deg]
+};
+
 struct ServerConfig {
   map::MapConfig map;
   ServiceLimits limits;
+  PlausibilityLimits plausibility;
   // MAP_COMMAND paths (save/load/export) are resolved inside this directory, so a client
   // cannot make the server read or write arbitrary files.
   std::filesystem::path file_dir = ".";
@@ -28,8 +40,8 @@ struct ServerConfig {
 };
 
 /// Loads server.yaml: optional `map_config` and `key_file` (relative to this file), `file_dir`,
-/// `auth_queries` and `limits:` keys. Unknown keys or bad values throw std::runtime_error naming
-/// the key.
+/// `auth_queries`, `limits:` and `plausibility:` keys. Unknown keys or bad values throw
+/// std::runtime_error naming the key.
 ServerConfig loadServerConfig(const std::filesystem::path& file);
 
 }  // namespace socc::service

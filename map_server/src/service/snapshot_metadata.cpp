@@ -12,7 +12,9 @@ namespace socc::service {
 namespace {
 
 // Sections follow the LCM message, each behind a tag. A trailer (rather than new map_stats_t
-// fields) keeps map_stats_t's fingerprint, so older snapshots stay readable.
+// fields) keeps map_stats_t's fingerprint; when robot_state_t itself grows, the previous
+// layout gets a reader of its own (decodeStatsWithoutTracking), so older snapshots stay
+// readable.
 constexpr std::string_view kHistoriesTag = "\nSOCC-POSE-HISTORIES v1\n";  // count, then messages
 constexpr std::string_view kCountersTag = "\nSOCC-AUTH-COUNTERS v1\n";
 
@@ -47,6 +49,61 @@ bool decodeHistories(const std::string& blob, std::size_t pos, std::size_t end,
   return pos == end;
 }
 
+// Big-endian reader of LCM encodings that never reads past end.
+class LcmReader {
+ public:
+  LcmReader(const std::string& blob, std::size_t end)
+      : data_(blob.data()), end_(static_cast<int>(end)) {}
+  bool int64(std::int64_t& v) {
+    return step(__int64_t_decode_array(data_, pos_, end_ - pos_, &v, 1));
+  }
+  bool int32(std::int32_t& v) {
+    return step(__int32_t_decode_array(data_, pos_, end_ - pos_, &v, 1));
+  }
+  bool skip(int bytes) { return bytes <= end_ - pos_ && step(bytes); }
+  bool string(std::string& s) {  // int32 length including the NUL, then the bytes
+    std::int32_t length = 0;
+    if (!int32(length) || length < 1 || length > end_ - pos_) return false;
+    s.assign(data_ + pos_, static_cast<std::size_t>(length - 1));
+    return step(length);
+  }
+  bool pose(pose3d_t& p) { return step(p._decodeNoHash(data_, pos_, end_ - pos_)); }
+  std::size_t pos() const { return static_cast<std::size_t>(pos_); }
+
+ private:
+  bool step(int bytes) {
+    if (bytes < 0) return false;
+    pos_ += bytes;
+    return true;
+  }
+  const char* data_;
+  int end_;
+  int pos_ = 0;
+};
+
+// map_stats_t as snapshots wrote it before robot_state_t had the tracking fields (its LCM
+// fingerprint then): same layout, each robot only up to last_pose. Sets pos past it.
+bool decodeStatsWithoutTracking(const std::string& blob, std::size_t end, SnapshotMetadata& out,
+                                std::size_t& pos) {
+  constexpr auto kFingerprint = static_cast<std::int64_t>(0xde2b7c79f2ca2e59ULL);
+  LcmReader r(blob, end);
+  std::int64_t fingerprint = 0;
+  std::int32_t num_robots = 0;
+  // utime .. map_version: 8 fields of 8 bytes; integrations_per_s .. auth_failures: 4.
+  if (!r.int64(fingerprint) || fingerprint != kFingerprint || !r.skip(64) ||
+      !r.int64(out.journal_sequence) || !r.skip(32) || !r.int32(num_robots) || num_robots < 0)
+    return false;
+  for (std::int32_t i = 0; i < num_robots; ++i) {
+    robot_state_t s{};
+    if (!r.string(s.robot_id) || !r.int64(s.last_seq) || !r.int64(s.last_scan_utime) ||
+        !r.int64(s.integrations) || !r.pose(s.last_pose))
+      return false;
+    out.robots.push_back(std::move(s));
+  }
+  pos = r.pos();
+  return true;
+}
+
 }  // namespace
 
 std::string encodeSnapshotMetadata(const SnapshotMetadata& metadata) {
@@ -74,9 +131,14 @@ std::optional<SnapshotMetadata> decodeSnapshotMetadata(const std::string& blob) 
     counters_text = blob.substr(tag + kCountersTag.size());
   }
   std::size_t pos = 0;
-  const auto message = rpc::safeDecodePrefix<map_stats_t>(blob.data(), static_cast<int>(end), &pos);
-  if (!message) return std::nullopt;
-  SnapshotMetadata metadata{message->robots, {}, message->integrations, {}};
+  SnapshotMetadata metadata;
+  if (const auto message =
+          rpc::safeDecodePrefix<map_stats_t>(blob.data(), static_cast<int>(end), &pos)) {
+    metadata.robots = message->robots;
+    metadata.journal_sequence = message->integrations;
+  } else if (!decodeStatsWithoutTracking(blob, end, metadata, pos)) {
+    return std::nullopt;
+  }
   if (pos < end && !decodeHistories(blob, pos, end, metadata.histories)) return std::nullopt;
   try {
     metadata.auth_counters = auth::parseCounters(counters_text);

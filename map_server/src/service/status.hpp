@@ -17,6 +17,9 @@ struct Status {
   static Status exhausted(std::string m) {
     return {reply_header_t::RESOURCE_EXHAUSTED, std::move(m)};
   }
+  static Status failedPrecondition(std::string m) {
+    return {reply_header_t::FAILED_PRECONDITION, std::move(m)};
+  }
   static Status internal(std::string m) { return {reply_header_t::INTERNAL, std::move(m)}; }
   static Status unauthenticated(std::string m) {
     return {reply_header_t::UNAUTHENTICATED, std::move(m)};

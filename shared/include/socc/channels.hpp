@@ -4,6 +4,7 @@
 //   replies    SOCC/<SERVICE>/REP/<client_id>
 //   status     SOCC/STATUS            (map_stats_t, 1 Hz)
 //   scans      SOCC/SCAN/<robot_id>   (scan_t, from drivers or lcm-logplayer)
+#include <array>
 #include <string>
 #include <string_view>
 
@@ -15,6 +16,11 @@ inline constexpr std::string_view kGetStats = "GET_STATS";
 inline constexpr std::string_view kGetRobotPose = "GET_ROBOT_POSE";
 inline constexpr std::string_view kMapCommand = "MAP_COMMAND";
 inline constexpr std::string_view kRender = "RENDER";
+inline constexpr std::string_view kRobotStatus = "ROBOT_STATUS";
+
+/// Every service: the server subscribes to each request channel, a client to each reply channel.
+inline constexpr std::array<std::string_view, 7> kServices = {
+    kIntegrate, kGetChunk, kGetStats, kGetRobotPose, kMapCommand, kRender, kRobotStatus};
 
 inline constexpr std::string_view kStatus = "SOCC/STATUS";
 
@@ -27,6 +33,8 @@ inline std::string request(std::string_view service) {
 inline std::string reply(std::string_view service, std::string_view client_id) {
   return "SOCC/" + std::string(service) + "/REP/" + std::string(client_id);
 }
-inline std::string scan(std::string_view robot_id) { return "SOCC/SCAN/" + std::string(robot_id); }
+inline std::string scan(std::string_view robot_id) {
+  return "SOCC/SCAN/" + std::string(robot_id);
+}
 
 }  // namespace socc::channels

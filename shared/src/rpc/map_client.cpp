@@ -170,8 +170,7 @@ MapClient::MapClient(ClientOptions options) {
   std::random_device rd;
   impl_->next_request_id = static_cast<std::int64_t>(
       ((static_cast<std::uint64_t>(rd()) << 31) ^ rd()) & 0x3fffffffffffffffULL);
-  for (const auto service : {channels::kIntegrate, channels::kGetChunk, channels::kGetStats,
-                             channels::kGetRobotPose, channels::kMapCommand, channels::kRender})
+  for (const auto service : channels::kServices)
     lcm_subscribe(impl_->lcm.getUnderlyingLCM(),
                   channels::reply(service, impl_->options.client_id).c_str(), &Impl::onReply,
                   impl_.get());
@@ -217,6 +216,16 @@ Result<map_command_reply_t> MapClient::command(map_command_request_t request) {
 }
 Result<render_reply_t> MapClient::render(render_request_t request) {
   return impl_->call<render_reply_t>(channels::kRender, request);
+}
+Result<robot_status_reply_t> MapClient::reportTracking(std::int8_t tracking_state,
+                                                       const std::string& reason, std::int64_t seq,
+                                                       std::int64_t utime) {
+  robot_status_request_t request{};
+  request.seq = seq;
+  request.utime = utime;
+  request.tracking_state = tracking_state;
+  request.reason = reason;
+  return impl_->call<robot_status_reply_t>(channels::kRobotStatus, request);
 }
 
 chunk_request_t sphereChunkRequest(const Eigen::Vector3d& center, double radius,

@@ -21,6 +21,9 @@
 #include "socc/render_reply_t.hpp"
 #include "socc/render_request_t.hpp"
 #include "socc/robot_pose_reply_t.hpp"
+#include "socc/robot_status_reply_t.hpp"
+#include "socc/robot_status_request_t.hpp"
+#include "socc/rpc/status_names.hpp"
 #include "socc/stats_reply_t.hpp"
 
 namespace socc::rpc {
@@ -71,6 +74,12 @@ class MapClient {
                                           std::int64_t history_from_seq = 0);
   Result<map_command_reply_t> command(map_command_request_t request);
   Result<render_reply_t> render(render_request_t request);
+  /// ROBOT_STATUS: reports this client's (= robot's) tracking state (robot_status_request_t
+  /// constants) at frame seq / scan time utime. LOST and RELOCALIZING make the server refuse
+  /// its INTEGRATEs (FAILED_PRECONDITION) until it reports TRACKING or DEGRADED again.
+  /// NOT_FOUND before the robot's first accepted INTEGRATE.
+  Result<robot_status_reply_t> reportTracking(std::int8_t tracking_state, const std::string& reason,
+                                              std::int64_t seq, std::int64_t utime);
 
  private:
   struct Impl;
