@@ -146,6 +146,7 @@ void OdomRunner::submit(FrameEstimate estimate, FrameStats stats) {
     std::cerr << "odom_client: frame " << estimate.seq << " unhealthy (" << estimate.health.problem
               << "): not integrated\n";
   if (state != before) {
+    finishPending();  // the server applies requests in order: the report follows the Integrate
     std::cerr << "odom_client: tracking state " << trackingStateName(state) << " at frame "
               << estimate.seq << "\n";
     reportTracking(state, estimate);

@@ -1,5 +1,6 @@
 #include "socc/odom/odometry.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "socc/odom/deskew.hpp"
@@ -130,6 +131,10 @@ FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, 
   Eigen::Isometry3d mid = predictedPose(scan);
   Vector6d twist = twist_;
   const bool anchored = time_ >= 0.0 && scan.time() > time_;
+  if (anchored && !twist_known_) {
+    mid = searchFirstMotion(scan, map, pose_, scan.time() - time_, sigma);
+    twist = twistTo(mid, scan.time());
+  }
   for (int pass = 0; pass < config_.deskew_iterations; ++pass) {
     const Sweep s = registerSweep(scan, map, mid, twist, sigma);
     out.registration = s.registration;
@@ -169,6 +174,29 @@ Odometry::Sweep Odometry::registerSweep(const PreparedScan& scan, const LocalMap
   return out;
 }
 
+Eigen::Isometry3d Odometry::searchFirstMotion(const PreparedScan& scan, const LocalMap& map,
+                                              const Eigen::Isometry3d& from, double dt,
+                                              double sigma) {
+  // The first motion of a run has no prior, and ICP started at "standing still" converges to
+  // standing still on a straight street at speed: the along-track features are metres off and
+  // get no kernel weight, while road and facades already fit. So several speeds along the
+  // sensor's x axis (the direction vehicles and most robots move in) are each registered, and
+  // the one that explains most of the scan wins (ties: the slower one).
+  Eigen::Isometry3d best = from;
+  int best_count = -1;
+  for (const double speed : {0.0, 2.0, -2.0, 5.0, 10.0, 15.0, 20.0, 30.0}) {
+    if (std::abs(speed) > config_.max_linear_speed) continue;
+    Vector6d twist = Vector6d::Zero();
+    twist[0] = speed;
+    const Sweep s = registerSweep(scan, map, from * expSe3(twist * dt), twist, sigma);
+    if (s.registration.correspondences() > best_count) {
+      best_count = s.registration.correspondences();
+      best = s.registration.pose;
+    }
+  }
+  return best;
+}
+
 LabeledCloud Odometry::downsample(const LabeledCloud& cloud) {
   LabeledCloud down = semanticVoxelDownsample(cloud, voxel_size_.size(), class_factor_);
   if (voxel_size_.farOff(down.size())) {
@@ -196,6 +224,10 @@ FrameEstimate Odometry::bootstrap(const PreparedScan& scan, const LocalMap& map)
       mid0 = pose_ * expSe3((first.mid_time - config_.deskew_reference_time) * twist);
     const LocalMap target =
         withCloud(map, transformed(deskew(first.cloud, twist, first.mid_time), mid0));
+    if (pass == 0) {
+      mid1 = searchFirstMotion(scan, target, mid0, dt, sigma);
+      twist = logSe3(mid0.inverse() * mid1) / dt;
+    }
     const Sweep s = registerSweep(scan, target, mid1, twist, sigma);
     e1.registration = s.registration;
     e1.registered_points = s.points;

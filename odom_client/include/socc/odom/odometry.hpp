@@ -81,6 +81,8 @@ class Odometry {
   Sweep registerSweep(const PreparedScan& scan, const LocalMap& map,
                       const Eigen::Isometry3d& guess, const Vector6d& twist, double sigma);
   LabeledCloud downsample(const LabeledCloud& cloud);  // semantic, adaptive voxel size
+  Eigen::Isometry3d searchFirstMotion(const PreparedScan& scan, const LocalMap& map,
+                                      const Eigen::Isometry3d& from, double dt, double sigma);
   FrameEstimate estimate(const PreparedScan& scan, const LocalMap& map, double sigma);
   FrameEstimate bootstrap(const PreparedScan& scan, const LocalMap& map);
   FrameEstimate unregistered(const PreparedScan& scan, const Eigen::Isometry3d& mid_pose);
