@@ -6,9 +6,10 @@
 #
 # Usage: scripts/bench_odometry.sh DIR [--build BUILD] [--out OUT] [--gt POSES] [--calib CALIB]
 #                                  [--lengths 100,200,...] [--no-semantics] [--frames N]
+#                                  [--config ODOM_YAML]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 [ $# -ge 1 ] || usage 2
 case "$1" in -h|--help) usage 0 ;; esac
@@ -22,6 +23,7 @@ while [ $# -gt 0 ]; do
     --calib) calib="$2"; shift 2 ;;
     --lengths) lengths="$2"; shift 2 ;;
     --no-semantics) client_args+=(--no-semantics); shift ;;
+    --config) client_args+=(--config "$2"); shift 2 ;;
     --frames) client_args+=(--last-frame "$(($2 - 1))"); shift 2 ;;
     -h|--help) usage 0 ;;
     *) echo "bench_odometry: unknown argument $1" >&2; usage 2 ;;

@@ -3,7 +3,7 @@
 # socc-cli processes and lcm-logplayer over UDP multicast on loopback (random group, port
 # 50000-59999).
 #
-# Usage: multirobot_test.sh logplayer|robots|client_restart|server_restart --server BIN --client BIN --cli BIN
+# Usage: multirobot_test.sh logplayer|robots|client_restart|server_restart|lost --server BIN --client BIN --cli BIN
 #                           [--to-lcmlog BIN] [--sim BIN] [--data DIR]
 #   logplayer: socc-to-lcmlog converts frames 0-7 of DATA/kitti_00_first16 to a log,
 #              odom_client --live consumes it from lcm-logplayer; its poses must equal an offline
@@ -26,12 +26,17 @@
 #              (chunk digest) as an undisturbed reference run; the poses equal the reference
 #              run's (max element difference 1e-6) and the server's pose history of the robot;
 #              the restarted server stops cleanly (exit 0).
+#   lost:      odom_client on a socc-sim street with motion distortion whose scans from frame 15 on
+#              come from another world (a kidnapped robot / wrong sensor stream): its frames turn
+#              unhealthy, it declares itself lost, exits 3, the server lists it as LOST, and the
+#              map equals (chunk digest) a run on frames 0-14 alone: nothing of the lost robot
+#              reached the shared map.
 set -euo pipefail
-usage() { sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,33p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 case "${1:-}" in
   -h|--help) usage 0 ;;
-  logplayer|robots|client_restart|server_restart) mode=$1; shift ;;
+  logplayer|robots|client_restart|server_restart|lost) mode=$1; shift ;;
   *) usage 2 ;;
 esac
 server_bin="" client_bin="" cli_bin="" to_lcmlog_bin="" sim_bin="" data=""
@@ -371,6 +376,40 @@ server_restart() {
   wait "$server_pid" || rc=$?
   ((rc == 0)) ||
     fail "the restarted map_server exited $rc on SIGTERM: $(cat "$work/server_restarted.log")"
+}
+
+lost() {
+  [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
+  "$sim_bin" --out "$work/here" --frames 30 --distortion --seed 7 --quiet >/dev/null ||
+    fail "socc-sim failed"
+  "$sim_bin" --out "$work/elsewhere" --scene indoor --frames 30 --distortion --seed 8 --quiet \
+    >/dev/null || fail "socc-sim failed"
+  local f  # frames 15-29 of the sequence are scans of the other world
+  for f in $(seq -f %06g 15 29); do
+    cp "$work/elsewhere/velodyne/$f.bin" "$work/here/velodyne/$f.bin"
+    cp "$work/elsewhere/labels/$f.label" "$work/here/labels/$f.label"
+    cp "$work/elsewhere/point_times/$f.bin" "$work/here/point_times/$f.bin"
+  done
+  map_digest() { cli chunk --sphere 0 0 0 150 --fields features stats free index --digest | sed -n 's/^digest=//p'; }
+
+  start_server reference
+  "$client_bin" --lcm-url "$url" --kitti "$work/here" --robot-id car --last-frame 14 --quiet \
+    >"$work/reference.log" 2>&1 || fail "reference odom_client failed: $(tail -5 "$work/reference.log")"
+  local reference; reference=$(map_digest)
+  [[ -n $reference ]] || fail "reference chunk query failed"
+  stop_server
+
+  start_server kidnapped
+  local rc=0
+  "$client_bin" --lcm-url "$url" --kitti "$work/here" --robot-id car --quiet --out-dir "$work/out" \
+    >"$work/kidnapped.log" 2>&1 || rc=$?
+  ((rc == 3)) || fail "odom_client exited $rc, expected 3 (lost): $(tail -5 "$work/kidnapped.log")"
+  grep -q "tracking state lost" "$work/kidnapped.log" || fail "no 'tracking state lost' on stderr"
+  grep -q ",lost," "$work/out/frames.csv" || fail "frames.csv has no 'lost' status"
+  cli stats | tee "$work/stats.txt" | sed 's/^/  stats: /'
+  grep -q "tracking=LOST" "$work/stats.txt" || fail "the server does not list the robot as LOST"
+  [[ $(map_digest) == "$reference" ]] || fail "the lost robot changed the shared map"
+  echo "lost robot: exit 3, LOST on the server, map identical to frames 0-14 alone"
 }
 
 "$mode"
