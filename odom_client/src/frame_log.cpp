@@ -39,9 +39,9 @@ void FrameLog::add(const FrameStats& s) {
        << s.planar << ',' << s.non_planar << ',' << std::setprecision(4) << s.alpha << ','
        << s.iterations << ',' << s.chunk_voxels << ',' << s.bytes_received << ','
        << std::setprecision(4) << s.sigma << ',' << s.points << ',' << s.downsampled_points << ','
-       << s.deskew_passes << ',' << s.status << ',' << s.inlier_fraction << ','
-       << s.residual_ratio << ',' << s.conditioning << ',' << s.speed << ','
-       << (s.integrated ? 1 : 0) << ",\"" << s.problem << "\"\n";
+       << s.deskew_passes << ',' << s.status << ',' << s.inlier_fraction << ',' << s.residual_ratio
+       << ',' << s.conditioning << ',' << s.speed << ',' << (s.integrated ? 1 : 0) << ",\""
+       << s.problem << "\"\n";
   csv_.flush();  // a killed client still leaves a complete log
 }
 

@@ -52,10 +52,7 @@ void addHealth(const FrameEstimate& e, FrameStats& stats) {
 }  // namespace
 
 OdomRunner::OdomRunner(const OdomConfig& config, rpc::MapClient& client, RunOptions options)
-    : config_(config),
-      client_(client),
-      options_(options),
-      tracking_(config.max_unhealthy_frames) {}
+    : config_(config), client_(client), options_(options), tracking_(config.max_unhealthy_frames) {}
 
 void OdomRunner::run(ScanSource& source, FrameLog& log) {
   log_ = &log;
@@ -91,8 +88,8 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
     if (!estimate.held) submit(std::move(estimate), stats);
     std::ostringstream extra;
     extra.precision(1);
-    extra << std::fixed << "register " << stats.register_ms << " ms, " << map.size()
-          << " voxels, " << trackingStateName(tracking_.state());
+    extra << std::fixed << "register " << stats.register_ms << " ms, " << map.size() << " voxels, "
+          << trackingStateName(tracking_.state());
     bar.tick(extra.str());
   }
   finishPending();

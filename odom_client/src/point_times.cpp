@@ -13,6 +13,7 @@ std::vector<float> azimuthTimes(const Points& points, const SweepGeometry& sweep
     const double azimuth = std::atan2(points[i].y(), points[i].x());
     double turned = std::fmod(direction * (azimuth - start), kTwoPi);  // angle swept so far
     if (turned < 0.0) turned += kTwoPi;
+    if (turned > kTwoPi - 1e-6) turned = 0.0;  // the start azimuth itself, up to float rounding
     times[i] = static_cast<float>((turned / kTwoPi - sweep.scan_time_in_sweep) * sweep.period);
   }
   return times;

@@ -63,16 +63,18 @@ TEST_P(ClosedLoopDistortion, ConvergesAndStaysCloseToGroundTruth) {
 }
 
 // Short runs (CI time under ASan): the oscillation the iterated mid-sweep deskew removes used to
-// diverge within ~25 frames on every one of these. Not covered: a cold start at >= 20 m/s on a
-// straight street converges to standing still (docs/robustness.md, known limits).
-INSTANTIATE_TEST_SUITE_P(Space, ClosedLoopDistortion,
-                         ::testing::Values(Case{"street", "straight", "hdl64", 0.0, 40, 0.5},
-                                           Case{"street", "straight", "vlp32", 14.0, 30, 1.0},
-                                           Case{"street", "circle", "vlp16", 9.0, 40, 1.0},
-                                           Case{"zigzag", "auto", "vlp16", 0.0, 40,
-                                                3.0},  // degenerate
-                                           Case{"indoor", "auto", "vlp32", 0.0, 40, 1.0},
-                                           Case{"office", "auto", "hdl64", 0.0, 40, 1.0}));
+// diverge within ~25 frames on every one of these. The 20-22 m/s streets start cold at that
+// speed: from "standing still" ICP alone converges to standing still there (first-motion search).
+INSTANTIATE_TEST_SUITE_P(
+    Space, ClosedLoopDistortion,
+    ::testing::Values(Case{"street", "straight", "hdl64", 0.0, 40, 0.5},
+                      Case{"street", "straight", "vlp32", 14.0, 30, 1.0},
+                      Case{"street", "straight", "vlp32", 22.0, 30, 1.0},  // cold start
+                      Case{"street", "straight", "hdl64", 20.0, 30, 0.5},
+                      Case{"street", "circle", "vlp16", 9.0, 40, 1.0},
+                      Case{"zigzag", "auto", "vlp16", 0.0, 40, 3.0},  // degenerate
+                      Case{"indoor", "auto", "vlp32", 0.0, 40, 1.0},
+                      Case{"office", "auto", "hdl64", 0.0, 40, 1.0}));
 
 // A robot whose scans suddenly come from another place (a kidnapped robot, a wrong sensor
 // stream): its frames turn unhealthy, it declares itself lost, and nothing more is integrated.

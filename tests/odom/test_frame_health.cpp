@@ -34,8 +34,8 @@ TEST(FrameHealth, JudgesInliersResidualAndDegeneracy) {
   EXPECT_NE(h.problem.find("residual"), std::string::npos) << h.problem;
 
   // A corridor: nothing constrains the translation along its axis. Flagged, still healthy.
-  h = judgeRegistration(result(900, 0.1, (Vector6d() << 1e-5, 1, 1, 1, 1, 1).finished()), 1000,
-                        0.5, cfg);
+  h = judgeRegistration(result(900, 0.1, (Vector6d() << 1e-5, 1, 1, 1, 1, 1).finished()), 1000, 0.5,
+                        cfg);
   EXPECT_TRUE(h.degenerate);
   EXPECT_TRUE(h.healthy());
   EXPECT_LT(h.translation_conditioning, 1e-4);

@@ -78,8 +78,8 @@ class Odometry {
 
  private:
   struct Sweep;  // one deskew + registration pass's result
-  Sweep registerSweep(const PreparedScan& scan, const LocalMap& map,
-                      const Eigen::Isometry3d& guess, const Vector6d& twist, double sigma);
+  Sweep registerSweep(const PreparedScan& scan, const LocalMap& map, const Eigen::Isometry3d& guess,
+                      const Vector6d& twist, double sigma);
   LabeledCloud downsample(const LabeledCloud& cloud);  // semantic, adaptive voxel size
   Eigen::Isometry3d searchFirstMotion(const PreparedScan& scan, const LocalMap& map,
                                       const Eigen::Isometry3d& from, double dt, double sigma);
@@ -97,8 +97,8 @@ class Odometry {
   RegistrationParams params_;
   AdaptiveThreshold threshold_;
   AdaptiveVoxelSize voxel_size_;
-  Eigen::Isometry3d pose_;       // map_T_sensor at time_ (middle of the last sweep)
-  double time_ = -1.0;           // [s]; negative: no frame yet (pose_ is the initial pose)
+  Eigen::Isometry3d pose_;  // map_T_sensor at time_ (middle of the last sweep)
+  double time_ = -1.0;      // [s]; negative: no frame yet (pose_ is the initial pose)
   Vector6d twist_ = Vector6d::Zero();
   bool twist_known_ = false;  // twist_ was measured between two registered frames
   // The first frame after a (re)start has no motion model: its correction measures the error of
@@ -108,8 +108,8 @@ class Odometry {
   // other robots; registering against those can move an exact given pose by decimetres, and the
   // first scan integrated there would carry that error into everyone's map.
   bool keep_first_pose_ = false;
-  std::optional<PreparedScan> held_;          // first scan with times, waiting for the motion
-  std::optional<FrameEstimate> released_;     // held_ once finalised
+  std::optional<PreparedScan> held_;       // first scan with times, waiting for the motion
+  std::optional<FrameEstimate> released_;  // held_ once finalised
 };
 
 }  // namespace socc::odom

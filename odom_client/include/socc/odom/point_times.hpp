@@ -8,10 +8,10 @@
 namespace socc::odom {
 
 struct SweepGeometry {
-  double period = 0.1;            // [s] one revolution
+  double period = 0.1;             // [s] one revolution
   double start_azimuth_deg = 180;  // where the sweep starts (atan2(y, x) of the sensor frame)
-  bool clockwise = true;          // seen from above
-  double scan_time_in_sweep = 0;  // where the scan's timestamp lies: 0 start, 0.5 middle, 1 end
+  bool clockwise = true;           // seen from above
+  double scan_time_in_sweep = 0;   // where the scan's timestamp lies: 0 start, 0.5 middle, 1 end
 };
 
 /// One time per point [s, relative to the scan's timestamp], within

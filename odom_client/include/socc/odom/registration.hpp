@@ -24,7 +24,7 @@ struct RegistrationResult {
   bool stalled = false;    // stopped because the iteration cycled back to a recent pose
   int planar = 0;          // correspondences of the last iteration
   int non_planar = 0;
-  double alpha = 0.0;  // N_pl / (N_pl + N_po) of the last iteration
+  double alpha = 0.0;         // N_pl / (N_pl + N_po) of the last iteration
   double rms_residual = 0.0;  // [m] of the last iteration's correspondences (unweighted)
   // Weighted normal matrix J^T W J of the last iteration (translation first): how well each
   // direction of the pose is constrained (degeneracy check).
