@@ -21,7 +21,8 @@ function(socc_add_lcmtypes target dir)
   add_custom_target(${target}_gen DEPENDS ${hpps})
   add_library(${target} INTERFACE)
   add_dependencies(${target} ${target}_gen)
-  target_include_directories(${target} SYSTEM INTERFACE ${out}/cpp)
+  target_include_directories(${target} SYSTEM INTERFACE $<BUILD_INTERFACE:${out}/cpp>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_link_libraries(${target} INTERFACE lcm::lcm)
 
   find_package(Java COMPONENTS Development QUIET)

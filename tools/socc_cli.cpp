@@ -18,6 +18,7 @@
 #include "socc/labels.hpp"
 #include "socc/pose_conversion.hpp"
 #include "socc/rpc/map_client.hpp"
+#include "socc/version.hpp"
 
 namespace {
 
@@ -151,6 +152,7 @@ struct TrackingCommand {
 
 int main(int argc, char** argv) {
   CLI::App app{"socc-cli: talk to map_server over LCM"};
+  app.set_version_flag("--version", socc::versionLine("socc-cli"));
   app.require_subcommand(1);
   socc::rpc::ClientOptions options;
   options.lcm_url = std::string(socc::channels::kDefaultLcmUrl);
@@ -239,12 +241,13 @@ int main(int argc, char** argv) {
       const auto r = client.getStats();
       if (!report(r, "stats")) return 1;
       const auto& s = r.reply->stats;
-      std::cout << "voxels=" << s.num_voxels << " occupied=" << s.num_occupied
-                << " free=" << s.num_free << " blocks=" << s.num_blocks
-                << " memory_bytes=" << s.memory_bytes << " version=" << s.map_version
-                << " integrations=" << s.integrations << " rate=" << s.integrations_per_s
-                << "/s requests=" << s.requests << " rejected=" << s.rejected_requests
-                << " auth_failures=" << s.auth_failures << " robots=" << s.num_robots << '\n';
+      std::cout << "server=" << s.server_version << " voxels=" << s.num_voxels
+                << " occupied=" << s.num_occupied << " free=" << s.num_free
+                << " blocks=" << s.num_blocks << " memory_bytes=" << s.memory_bytes
+                << " version=" << s.map_version << " integrations=" << s.integrations
+                << " rate=" << s.integrations_per_s << "/s requests=" << s.requests
+                << " rejected=" << s.rejected_requests << " auth_failures=" << s.auth_failures
+                << " robots=" << s.num_robots << '\n';
       for (const auto& state : s.robots) printPose(state);
     } else if (pose->parsed()) {
       const auto r = client.getRobotPose(robot);

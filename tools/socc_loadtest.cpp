@@ -22,6 +22,7 @@
 #include "socc/tools/load_robot.hpp"
 #include "socc/tools/load_scans.hpp"
 #include "socc/tools/server_process.hpp"
+#include "socc/version.hpp"
 
 namespace {
 
@@ -155,6 +156,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "socc-loadtest: N simulated robots integrate KITTI-size scans and fetch chunks at a fixed "
       "rate against map_server; prints throughput, latency percentiles and lost integrations"};
+  app.set_version_flag("--version", socc::versionLine("socc-loadtest"));
   Options o;
   app.add_option("--robots", o.robots, "simulated robots")
       ->capture_default_str()

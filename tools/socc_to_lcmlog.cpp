@@ -9,6 +9,7 @@
 #include "socc/rpc/client_id.hpp"
 #include "socc/tools/scan_directory.hpp"
 #include "socc/tools/scan_log_writer.hpp"
+#include "socc/version.hpp"
 #include "socc/wall_clock.hpp"
 
 int main(int argc, char** argv) {
@@ -19,6 +20,7 @@ int main(int argc, char** argv) {
       "20 classes, optional point_times/*.bin with per-point times [s]) or a directory of\n"
       "*.pcd files (x y z, optional intensity and label). Scan times come from times.txt\n"
       "(one line per frame, seconds) when present, otherwise from --rate."};
+  app.set_version_flag("--version", socc::versionLine("socc-to-lcmlog"));
   std::string input;
   std::string output;
   socc::tools::ScanLogOptions options;

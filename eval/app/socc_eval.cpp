@@ -8,6 +8,7 @@
 #include "socc/eval/evaluation.hpp"
 #include "socc/eval/plot_writer.hpp"
 #include "socc/eval/trajectory.hpp"
+#include "socc/version.hpp"
 
 namespace {
 
@@ -71,6 +72,7 @@ int main(int argc, char** argv) {
       "--lengths metres, first frames every --step frames), the ATE after SE(3) alignment\n"
       "(as evo_ape -a) and the frame-to-frame RPE (as evo_rpe, delta 1 frame).\n"
       "Poses are matched by index: both files must hold the same number of poses."};
+  app.set_version_flag("--version", socc::versionLine("socc-eval"));
   Arguments a;
   app.add_option("--gt", a.gt, "Ground-truth trajectory (KITTI 3x4 or TUM)")
       ->required()

@@ -20,6 +20,7 @@
 #include "socc/channels.hpp"
 #include "socc/large_message_heap.hpp"
 #include "socc/lcm_url.hpp"
+#include "socc/version.hpp"
 
 namespace {
 
@@ -184,6 +185,7 @@ int main(int argc, char** argv) {
       "map_server: the shared semantic occupancy grid, served over LCM.\n"
       "Services on SOCC/<SERVICE>/REQ (INTEGRATE, GET_CHUNK, GET_STATS, GET_ROBOT_POSE,\n"
       "MAP_COMMAND, RENDER), replies on SOCC/<SERVICE>/REP/<client_id>, status on SOCC/STATUS."};
+  app.set_version_flag("--version", socc::versionLine("map_server"));
   Options options;
   app.add_option("--lcm-url", options.lcm_url,
                  "LCM URL; only udpm://239.x.y.z:port?ttl=0 or memq://. Large GET_CHUNK replies "

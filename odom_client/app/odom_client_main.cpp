@@ -13,6 +13,7 @@
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/odom_runner.hpp"
 #include "socc/pose_conversion.hpp"
+#include "socc/version.hpp"
 
 namespace fs = std::filesystem;
 using namespace socc::odom;
@@ -57,6 +58,7 @@ int main(int argc, char** argv) {
       "Per scan: range filter, deskew, semantic adaptive downsampling, GET_CHUNK around the\n"
       "predicted pose, point-to-plane/point-to-point ICP with occupancy and semantic weights,\n"
       "then INTEGRATE of the full scan at the estimated pose. Needs a running map_server."};
+  app.set_version_flag("--version", socc::versionLine("odom_client"));
   std::string input, pcd_dir, config_file, out_dir, initial_pose, key_file;
   std::string robot_id = "robot1";
   std::string lcm_url(socc::channels::kDefaultLcmUrl);

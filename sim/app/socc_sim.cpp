@@ -7,6 +7,7 @@
 #include "socc/kitti_io.hpp"
 #include "socc/sim/scene.hpp"
 #include "socc/sim/sequence_writer.hpp"
+#include "socc/version.hpp"
 
 namespace {
 
@@ -78,6 +79,7 @@ int main(int argc, char** argv) {
       "raw SemanticKITTI ids, poses.txt in the LiDAR frame, calib.txt, times.txt and, with\n"
       "--distortion, point_times/). Same seed -> identical files.\n"
       "Default: 100 frames of an urban street (HDL-64, 9 m/s, moving cars and pedestrians)."};
+  app.set_version_flag("--version", socc::versionLine("socc-sim"));
   Arguments a;
   app.add_option("--out", a.out, "Output directory (created)")->required();
   app.add_option("--scene", a.scene, "World to build around the trajectory")

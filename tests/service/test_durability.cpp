@@ -256,5 +256,32 @@ TEST(Durability, MetadataWithoutTrackingFieldsStillLoads) {
     EXPECT_FALSE(decodeSnapshotMetadata(old_blob.substr(0, n))) << n;
 }
 
+TEST(Durability, MetadataWithoutServerVersionStillLoads) {
+  // The metadata of a snapshot written before map_stats_t had server_version (encoded by the
+  // types of then): car1 seq 8 at (2.5, 0, 0), LOST ("lost" at seq 8), 3 refused, journal 9.
+  const std::string old_blob = fromHex(
+      "aac20648c2eb2350000000000000000000000000000000000000000000000000"
+      "0000000000000000000000000000000000000000000000000000000000000000"
+      "0000000000000000000000000000000900000000000000000000000000000000"
+      "0000000000000000000000000000000000000001000000056361723100000000"
+      "000000000800000000000c350000000000000000094004000000000000000000"
+      "000000000000000000000000003ff00000000000000000000000000000000000"
+      "0000000000000000000000000002000000056c6f737400000000000000000800"
+      "000000000c35000000000000000003");
+  const auto decoded = decodeSnapshotMetadata(old_blob);
+  ASSERT_TRUE(decoded);
+  EXPECT_EQ(decoded->journal_sequence, 9);
+  ASSERT_EQ(decoded->robots.size(), 1u);
+  const robot_state_t& car1 = decoded->robots[0];
+  EXPECT_EQ(car1.robot_id, "car1");
+  EXPECT_EQ(car1.last_seq, 8);
+  EXPECT_EQ(car1.last_pose.translation[0], 2.5);
+  EXPECT_EQ(car1.tracking_state, +robot_status_request_t::LOST);
+  EXPECT_EQ(car1.tracking_reason, "lost");
+  EXPECT_EQ(car1.refused_integrations, 3);
+  for (std::size_t n = 1; n < old_blob.size(); n += 5)
+    EXPECT_FALSE(decodeSnapshotMetadata(old_blob.substr(0, n))) << n;
+}
+
 }  // namespace
 }  // namespace socc::service

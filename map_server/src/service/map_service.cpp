@@ -6,6 +6,7 @@
 #include "plausibility.hpp"
 #include "request_checks.hpp"
 #include "socc/pose_conversion.hpp"
+#include "socc/version.hpp"
 #include "socc/wall_clock.hpp"
 #include "socc/wire_arrays.hpp"
 
@@ -112,6 +113,7 @@ map_stats_t MapService::stats(const RequestCounters& counters) const {
   const map::MapStats m = map_.stats();
   map_stats_t out{};
   out.utime = nowMicros();
+  out.server_version = kVersion;
   out.voxel_size = map_.config().voxel_size;
   out.num_voxels = m.num_voxels;
   out.num_occupied = m.num_occupied;

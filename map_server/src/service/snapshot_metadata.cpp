@@ -12,9 +12,9 @@ namespace socc::service {
 namespace {
 
 // Sections follow the LCM message, each behind a tag. A trailer (rather than new map_stats_t
-// fields) keeps map_stats_t's fingerprint; when robot_state_t itself grows, the previous
-// layout gets a reader of its own (decodeStatsWithoutTracking), so older snapshots stay
-// readable.
+// fields) keeps map_stats_t's fingerprint; when map_stats_t or robot_state_t itself grows, the
+// previous layout gets a reader of its own (decodeStatsWithoutVersion,
+// decodeStatsWithoutTracking), so older snapshots stay readable.
 constexpr std::string_view kHistoriesTag = "\nSOCC-POSE-HISTORIES v1\n";  // count, then messages
 constexpr std::string_view kCountersTag = "\nSOCC-AUTH-COUNTERS v1\n";
 
@@ -67,7 +67,10 @@ class LcmReader {
     s.assign(data_ + pos_, static_cast<std::size_t>(length - 1));
     return step(length);
   }
-  bool pose(pose3d_t& p) { return step(p._decodeNoHash(data_, pos_, end_ - pos_)); }
+  template <typename Message>
+  bool message(Message& m) {
+    return step(m._decodeNoHash(data_, pos_, end_ - pos_));
+  }
   std::size_t pos() const { return static_cast<std::size_t>(pos_); }
 
  private:
@@ -81,22 +84,45 @@ class LcmReader {
   int pos_ = 0;
 };
 
+// The head of map_stats_t as snapshots wrote it before server_version: the fingerprint of
+// then, utime .. map_version (8 fields of 8 bytes), integrations (the journal sequence),
+// integrations_per_s .. auth_failures (4 fields), num_robots.
+bool readStatsHead(LcmReader& r, std::int64_t fingerprint, SnapshotMetadata& out,
+                   std::int32_t& num_robots) {
+  std::int64_t found = 0;
+  return r.int64(found) && found == fingerprint && r.skip(64) && r.int64(out.journal_sequence) &&
+         r.skip(32) && r.int32(num_robots) && num_robots >= 0;
+}
+
+// map_stats_t as snapshots wrote it before it had server_version (its LCM fingerprint then):
+// the robots are today's robot_state_t. Sets pos past it.
+bool decodeStatsWithoutVersion(const std::string& blob, std::size_t end, SnapshotMetadata& out,
+                               std::size_t& pos) {
+  constexpr auto kFingerprint = static_cast<std::int64_t>(0xaac20648c2eb2350ULL);
+  LcmReader r(blob, end);
+  std::int32_t num_robots = 0;
+  if (!readStatsHead(r, kFingerprint, out, num_robots)) return false;
+  for (std::int32_t i = 0; i < num_robots; ++i) {
+    robot_state_t s{};
+    if (!r.message(s)) return false;
+    out.robots.push_back(std::move(s));
+  }
+  pos = r.pos();
+  return true;
+}
+
 // map_stats_t as snapshots wrote it before robot_state_t had the tracking fields (its LCM
 // fingerprint then): same layout, each robot only up to last_pose. Sets pos past it.
 bool decodeStatsWithoutTracking(const std::string& blob, std::size_t end, SnapshotMetadata& out,
                                 std::size_t& pos) {
   constexpr auto kFingerprint = static_cast<std::int64_t>(0xde2b7c79f2ca2e59ULL);
   LcmReader r(blob, end);
-  std::int64_t fingerprint = 0;
   std::int32_t num_robots = 0;
-  // utime .. map_version: 8 fields of 8 bytes; integrations_per_s .. auth_failures: 4.
-  if (!r.int64(fingerprint) || fingerprint != kFingerprint || !r.skip(64) ||
-      !r.int64(out.journal_sequence) || !r.skip(32) || !r.int32(num_robots) || num_robots < 0)
-    return false;
+  if (!readStatsHead(r, kFingerprint, out, num_robots)) return false;
   for (std::int32_t i = 0; i < num_robots; ++i) {
     robot_state_t s{};
     if (!r.string(s.robot_id) || !r.int64(s.last_seq) || !r.int64(s.last_scan_utime) ||
-        !r.int64(s.integrations) || !r.pose(s.last_pose))
+        !r.int64(s.integrations) || !r.message(s.last_pose))
       return false;
     out.robots.push_back(std::move(s));
   }
@@ -136,7 +162,8 @@ std::optional<SnapshotMetadata> decodeSnapshotMetadata(const std::string& blob) 
           rpc::safeDecodePrefix<map_stats_t>(blob.data(), static_cast<int>(end), &pos)) {
     metadata.robots = message->robots;
     metadata.journal_sequence = message->integrations;
-  } else if (!decodeStatsWithoutTracking(blob, end, metadata, pos)) {
+  } else if (!decodeStatsWithoutVersion(blob, end, metadata, pos) &&
+             !decodeStatsWithoutTracking(blob, end, metadata, pos)) {
     return std::nullopt;
   }
   if (pos < end && !decodeHistories(blob, pos, end, metadata.histories)) return std::nullopt;
