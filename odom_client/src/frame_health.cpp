@@ -7,12 +7,12 @@
 namespace socc::odom {
 namespace {
 
-// lambda_min / lambda_max of a symmetric 3x3 block (1 for an isotropic block, 0 when a direction
-// is unconstrained). Translation and rotation are judged apart: their units differ.
-double conditioning(const Eigen::Matrix3d& block) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(block, Eigen::EigenvaluesOnly);
-  const double hi = eig.eigenvalues()[2];
-  return hi > 0.0 ? std::max(0.0, eig.eigenvalues()[0]) / hi : 0.0;
+// The smallest eigenvalue of the point-to-plane system's translation block, with its direction:
+// about how many (weighted) planar correspondences pin the least constrained direction.
+void weakestDirection(const Eigen::Matrix3d& block, FrameHealth& h) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(block);  // ascending
+  h.weakest_constraint = std::max(0.0, eig.eigenvalues()[0]);
+  h.weakest_direction = eig.eigenvectors().col(0);
 }
 
 void fail(FrameHealth& h, const std::string& why) {
@@ -35,10 +35,8 @@ FrameHealth judgeRegistration(const RegistrationResult& r, std::size_t points, d
   FrameHealth h;
   h.inlier_fraction = points > 0 ? static_cast<double>(r.correspondences()) / points : 0.0;
   h.residual_ratio = sigma > 0.0 ? r.rms_residual / sigma : 0.0;
-  h.translation_conditioning = conditioning(r.information.topLeftCorner<3, 3>());
-  h.rotation_conditioning = conditioning(r.information.bottomRightCorner<3, 3>());
-  h.degenerate = h.translation_conditioning < limits.min_conditioning ||
-                 h.rotation_conditioning < limits.min_conditioning;
+  weakestDirection(r.planar_information.topLeftCorner<3, 3>(), h);
+  h.degenerate = h.weakest_constraint < limits.min_constraint;
   if (h.inlier_fraction < limits.min_inlier_fraction)
     fail(h, format("inlier fraction", h.inlier_fraction, "<", limits.min_inlier_fraction));
   if (h.residual_ratio > limits.max_residual_ratio)

@@ -12,7 +12,8 @@ FrameLog::FrameLog(const std::filesystem::path& csv_file) {
   if (!csv_) throw std::runtime_error(csv_file.string() + ": cannot open for writing");
   csv_ << "frame,preprocess_ms,fetch_ms,register_ms,integrate_ms,total_ms,corr_planar,"
           "corr_non_planar,alpha,iterations,chunk_voxels,bytes_received,sigma,points,"
-          "downsampled_points,deskew_passes,status,inlier_fraction,residual_ratio,conditioning,"
+          "downsampled_points,deskew_passes,status,inlier_fraction,residual_ratio,weakest_"
+          "constraint,"
           "speed,integrated,problem\n";
 }
 
@@ -40,7 +41,7 @@ void FrameLog::add(const FrameStats& s) {
        << s.iterations << ',' << s.chunk_voxels << ',' << s.bytes_received << ','
        << std::setprecision(4) << s.sigma << ',' << s.points << ',' << s.downsampled_points << ','
        << s.deskew_passes << ',' << s.status << ',' << s.inlier_fraction << ',' << s.residual_ratio
-       << ',' << s.conditioning << ',' << s.speed << ',' << (s.integrated ? 1 : 0) << ",\""
+       << ',' << s.weakest_constraint << ',' << s.speed << ',' << (s.integrated ? 1 : 0) << ",\""
        << s.problem << "\"\n";
   csv_.flush();  // a killed client still leaves a complete log
 }

@@ -27,7 +27,7 @@ const std::map<std::string, Field>& fields() {
       {"scan_time_in_sweep", &OdomConfig::scan_time_in_sweep},
       {"min_inlier_fraction", &OdomConfig::min_inlier_fraction},
       {"max_residual_ratio", &OdomConfig::max_residual_ratio},
-      {"min_conditioning", &OdomConfig::min_conditioning},
+      {"min_constraint", &OdomConfig::min_constraint},
       {"max_linear_speed", &OdomConfig::max_linear_speed},
       {"max_angular_speed", &OdomConfig::max_angular_speed},
       {"max_linear_acceleration", &OdomConfig::max_linear_acceleration},
@@ -133,7 +133,8 @@ std::string validate(const OdomConfig& c) {
   if (!unit(c.scan_time_in_sweep)) return "scan_time_in_sweep must be within [0, 1]";
   if (!unit(c.min_inlier_fraction)) return "min_inlier_fraction must be within [0, 1]";
   if (!finite_pos(c.max_residual_ratio)) return "max_residual_ratio must be > 0";
-  if (!unit(c.min_conditioning)) return "min_conditioning must be within [0, 1]";
+  if (!std::isfinite(c.min_constraint) || c.min_constraint < 0.0)
+    return "min_constraint must be >= 0";
   for (const double v : {c.max_linear_speed, c.max_angular_speed, c.max_linear_acceleration,
                          c.max_angular_acceleration})
     if (!finite_pos(v)) return "max_linear/angular_speed/acceleration must be > 0";

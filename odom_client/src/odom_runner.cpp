@@ -45,7 +45,7 @@ void addHealth(const FrameEstimate& e, FrameStats& stats) {
   stats.problem = e.health.problem;
   stats.inlier_fraction = e.health.inlier_fraction;
   stats.residual_ratio = e.health.residual_ratio;
-  stats.conditioning = std::min(e.health.translation_conditioning, e.health.rotation_conditioning);
+  stats.weakest_constraint = e.health.weakest_constraint;
   stats.speed = e.health.linear_speed;
 }
 

@@ -119,6 +119,7 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
         std::sqrt((sys.planar.squared_residuals + sys.point.squared_residuals) / total);
     const Matrix6d H = result.alpha * sys.planar.H + (1.0 - result.alpha) * sys.point.H;
     result.information = H;
+    result.planar_information = sys.planar.H;
     const Vector6d b = result.alpha * sys.planar.b + (1.0 - result.alpha) * sys.point.b;
     const Vector6d dx = H.ldlt().solve(-b);
     if (!dx.allFinite()) break;

@@ -15,13 +15,14 @@ RegistrationResult result(int correspondences, double rms, const Vector6d& infor
   r.planar = correspondences;
   r.rms_residual = rms;
   r.information = information_diag.asDiagonal();
+  r.planar_information = r.information;
   return r;
 }
 }  // namespace
 
 TEST(FrameHealth, JudgesInliersResidualAndDegeneracy) {
   const OdomConfig cfg;
-  const Vector6d ones = Vector6d::Ones();
+  const Vector6d ones = Vector6d::Constant(100.0);  // 100 planar pairs pin every direction
   FrameHealth h = judgeRegistration(result(900, 0.1, ones), 1000, 0.5, cfg);
   EXPECT_TRUE(h.healthy()) << h.problem;
   EXPECT_DOUBLE_EQ(h.inlier_fraction, 0.9);
@@ -38,7 +39,8 @@ TEST(FrameHealth, JudgesInliersResidualAndDegeneracy) {
                         cfg);
   EXPECT_TRUE(h.degenerate);
   EXPECT_TRUE(h.healthy());
-  EXPECT_LT(h.translation_conditioning, 1e-4);
+  EXPECT_LT(h.weakest_constraint, 1e-4);
+  EXPECT_NEAR(std::abs(h.weakest_direction.x()), 1.0, 1e-9);  // along the corridor
 }
 
 TEST(FrameHealth, JudgesSpeedAndAcceleration) {

@@ -11,14 +11,17 @@
 namespace socc::odom {
 
 struct FrameHealth {
-  double inlier_fraction = 1.0;           // correspondences / registered points
-  double residual_ratio = 0.0;            // RMS residual / sigma
-  double translation_conditioning = 1.0;  // lambda_min / lambda_max of the translation block
-  double rotation_conditioning = 1.0;     // same for the rotation block
-  double linear_speed = 0.0;              // [m/s]
-  double angular_speed = 0.0;             // [rad/s]
-  double linear_acceleration = 0.0;       // [m/s^2]
-  double angular_acceleration = 0.0;      // [rad/s^2]
+  double inlier_fraction = 1.0;  // correspondences / registered points
+  double residual_ratio = 0.0;   // RMS residual / sigma
+  // Planar correspondences (weighted) that constrain the least constrained direction of
+  // translation, and that direction (sensor frame). Point-to-point pairs do not count: a pair
+  // with a voxel's first point seems to pin every direction, also along a featureless wall.
+  double weakest_constraint = 0.0;
+  Eigen::Vector3d weakest_direction = Eigen::Vector3d::Zero();
+  double linear_speed = 0.0;          // [m/s]
+  double angular_speed = 0.0;         // [rad/s]
+  double linear_acceleration = 0.0;   // [m/s^2]
+  double angular_acceleration = 0.0;  // [rad/s^2]
   bool degenerate = false;  // a direction is barely constrained (flagged; not unhealthy alone)
   std::string problem;      // why the frame is unhealthy; empty when healthy
 

@@ -32,8 +32,8 @@ struct FrameStats {
   std::string problem;  // why the frame is unhealthy
   double inlier_fraction = 0.0;
   double residual_ratio = 0.0;
-  double conditioning = 1.0;  // min of the translation and rotation conditioning
-  double speed = 0.0;         // [m/s]
+  double weakest_constraint = 0.0;  // FrameHealth::weakest_constraint
+  double speed = 0.0;               // [m/s]
   bool integrated = false;
 };
 

@@ -28,10 +28,10 @@ struct OdomConfig {
 
   // Per-frame health (docs/robustness.md): an unhealthy frame is not integrated; after
   // max_unhealthy_frames of them in a row the robot declares itself lost.
-  double min_inlier_fraction = 0.2;         // correspondences / registered points
-  double max_residual_ratio = 1.0;          // RMS residual / sigma
-  double min_conditioning = 0.002;          // below: the frame is flagged degenerate
-  double max_linear_speed = 40.0;           // [m/s]
+  double min_inlier_fraction = 0.2;  // correspondences / registered points
+  double max_residual_ratio = 1.0;   // RMS residual / sigma
+  double min_constraint = 40.0;    // planar pairs pinning the weakest direction; below: degenerate
+  double max_linear_speed = 40.0;  // [m/s]
   double max_angular_speed = 360.0;         // [deg/s]
   double max_linear_acceleration = 20.0;    // [m/s^2]
   double max_angular_acceleration = 720.0;  // [deg/s^2]

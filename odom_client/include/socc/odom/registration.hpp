@@ -29,6 +29,9 @@ struct RegistrationResult {
   // Weighted normal matrix J^T W J of the last iteration (translation first): how well each
   // direction of the pose is constrained (degeneracy check).
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  // The point-to-plane part alone: a point-to-point pair with a voxel's first point seems to
+  // constrain every direction even on a plane, so only this part shows what the geometry pins.
+  Eigen::Matrix<double, 6, 6> planar_information = Eigen::Matrix<double, 6, 6>::Zero();
   int correspondences() const { return planar + non_planar; }
 };
 
