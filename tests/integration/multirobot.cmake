@@ -33,10 +33,10 @@ if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
              COMMAND bash ${_socc_mr_script} server_restart ${_socc_mr_bins}
                      --sim $<TARGET_FILE:socc-sim>)
     set_tests_properties(integration.odom_server_restart PROPERTIES LABELS integration TIMEOUT 180)
-    # A kidnapped robot (scans of another world from frame 15) gets lost, exits 3, is LOST on the
-    # server, and leaves the shared map as frames 0-14 alone made it.
+    # A kidnapped robot (scans of another world from frame 10) gets lost, exits 3, is LOST on the
+    # server, and leaves the shared map as frames 0-9 alone made it.
     add_test(NAME integration.odom_lost
              COMMAND bash ${_socc_mr_script} lost ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
-    set_tests_properties(integration.odom_lost PROPERTIES LABELS integration TIMEOUT 120)
+    set_tests_properties(integration.odom_lost PROPERTIES LABELS integration TIMEOUT 240)
   endif()
 endif()

@@ -26,10 +26,10 @@
 #              (chunk digest) as an undisturbed reference run; the poses equal the reference
 #              run's (max element difference 1e-6) and the server's pose history of the robot;
 #              the restarted server stops cleanly (exit 0).
-#   lost:      odom_client on a socc-sim street with motion distortion whose scans from frame 15 on
+#   lost:      odom_client on a socc-sim street with motion distortion whose scans from frame 10 on
 #              come from another world (a kidnapped robot / wrong sensor stream): its frames turn
 #              unhealthy, it declares itself lost, exits 3, the server lists it as LOST, and the
-#              map equals (chunk digest) a run on frames 0-14 alone: nothing of the lost robot
+#              map equals (chunk digest) a run on frames 0-9 alone: nothing of the lost robot
 #              reached the shared map.
 set -euo pipefail
 usage() { sed -n '2,33p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
@@ -380,12 +380,11 @@ server_restart() {
 
 lost() {
   [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
-  "$sim_bin" --out "$work/here" --frames 30 --distortion --seed 7 --quiet >/dev/null ||
-    fail "socc-sim failed"
-  "$sim_bin" --out "$work/elsewhere" --scene indoor --frames 30 --distortion --seed 8 --quiet \
-    >/dev/null || fail "socc-sim failed"
-  local f  # frames 15-29 of the sequence are scans of the other world
-  for f in $(seq -f %06g 15 29); do
+  local sim=("$sim_bin" --frames 20 --sensor vlp32 --distortion --quiet)
+  "${sim[@]}" --out "$work/here" --seed 7 >/dev/null || fail "socc-sim failed"
+  "${sim[@]}" --out "$work/elsewhere" --scene indoor --seed 8 >/dev/null || fail "socc-sim failed"
+  local f  # frames 10-19 of the sequence are scans of the other world
+  for f in $(seq -f %06g 10 19); do
     cp "$work/elsewhere/velodyne/$f.bin" "$work/here/velodyne/$f.bin"
     cp "$work/elsewhere/labels/$f.label" "$work/here/labels/$f.label"
     cp "$work/elsewhere/point_times/$f.bin" "$work/here/point_times/$f.bin"
@@ -393,7 +392,7 @@ lost() {
   map_digest() { cli chunk --sphere 0 0 0 150 --fields features stats free index --digest | sed -n 's/^digest=//p'; }
 
   start_server reference
-  "$client_bin" --lcm-url "$url" --kitti "$work/here" --robot-id car --last-frame 14 --quiet \
+  "$client_bin" --lcm-url "$url" --kitti "$work/here" --robot-id car --last-frame 9 --quiet \
     >"$work/reference.log" 2>&1 || fail "reference odom_client failed: $(tail -5 "$work/reference.log")"
   local reference; reference=$(map_digest)
   [[ -n $reference ]] || fail "reference chunk query failed"
@@ -409,7 +408,7 @@ lost() {
   cli stats | tee "$work/stats.txt" | sed 's/^/  stats: /'
   grep -q "tracking=LOST" "$work/stats.txt" || fail "the server does not list the robot as LOST"
   [[ $(map_digest) == "$reference" ]] || fail "the lost robot changed the shared map"
-  echo "lost robot: exit 3, LOST on the server, map identical to frames 0-14 alone"
+  echo "lost robot: exit 3, LOST on the server, map identical to frames 0-9 alone"
 }
 
 "$mode"

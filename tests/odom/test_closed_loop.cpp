@@ -57,9 +57,9 @@ TEST_P(ClosedLoopDistortion, ConvergesAndStaysCloseToGroundTruth) {
   std::printf("%s/%s/%s: %.1f m, end drift %.3f m (%.2f %%), worst step error %.3f m\n", c.scene,
               c.route, c.sensor, travelled, drift, 100.0 * drift / travelled, worst_step);
   EXPECT_LT(100.0 * drift / travelled, c.max_drift);
-  // The unstable loop's steps were off by 0.4-0.6 m; the start-up step in the office is ~0.1 m off
-  // (0.15 m true step, little constrains the corridor axis over one step).
-  EXPECT_LT(worst_step, 0.12) << "no oscillation of the estimated steps";
+  // The unstable loop's steps were off by 0.4-0.6 m. A sparse sensor's start-up step in the office
+  // is up to 0.13 m off (0.15 m true step; the slow-start limit, odom_client/README.md).
+  EXPECT_LT(worst_step, 0.15) << "no oscillation of the estimated steps";
 }
 
 // Short runs (CI time under ASan): the oscillation the iterated mid-sweep deskew removes used to
@@ -67,32 +67,32 @@ TEST_P(ClosedLoopDistortion, ConvergesAndStaysCloseToGroundTruth) {
 // speed: from "standing still" ICP alone converges to standing still there (first-motion search).
 INSTANTIATE_TEST_SUITE_P(
     Space, ClosedLoopDistortion,
-    ::testing::Values(Case{"street", "straight", "hdl64", 0.0, 40, 0.5},
-                      Case{"street", "straight", "vlp32", 14.0, 30, 1.0},
-                      Case{"street", "straight", "vlp32", 22.0, 30, 1.0},  // cold start
-                      Case{"street", "straight", "hdl64", 20.0, 30, 0.5},
-                      Case{"street", "circle", "vlp16", 9.0, 40, 1.0},
-                      Case{"zigzag", "auto", "vlp16", 0.0, 40, 3.0},  // degenerate
-                      Case{"indoor", "auto", "vlp32", 0.0, 40, 1.0},
-                      Case{"office", "auto", "hdl64", 0.0, 40, 1.0}));
+    ::testing::Values(Case{"street", "straight", "hdl64", 0.0, 25, 0.5},
+                      Case{"street", "straight", "vlp32", 14.0, 25, 1.0},
+                      Case{"street", "straight", "vlp32", 22.0, 25, 1.0},  // cold start
+                      Case{"street", "straight", "hdl64", 20.0, 20, 0.5},
+                      Case{"street", "circle", "vlp16", 9.0, 30, 1.0},
+                      Case{"zigzag", "auto", "vlp16", 0.0, 30, 3.0},  // degenerate
+                      Case{"indoor", "auto", "vlp32", 0.0, 25, 1.0},
+                      Case{"office", "auto", "vlp32", 0.0, 30, 1.0}));
 
 // A robot whose scans suddenly come from another place (a kidnapped robot, a wrong sensor
 // stream): its frames turn unhealthy, it declares itself lost, and nothing more is integrated.
 TEST(ClosedLoop, AKidnappedRobotGetsLostAndStopsIntegrating) {
   socc::sim::SceneOptions here;
-  here.frames = 40;
+  here.frames = 20;
   socc::sim::SceneOptions elsewhere = here;
   elsewhere.type = socc::sim::SceneType::kIndoor;
   const socc::sim::Scene scene = socc::sim::buildScene(here);
   const socc::sim::Scene other = socc::sim::buildScene(elsewhere);
-  const socc::sim::LidarModel lidar = socc::sim::lidarPreset("hdl64");
+  const socc::sim::LidarModel lidar = socc::sim::lidarPreset("vlp32");
   ClosedLoop loop(scene.trajectory.poseAt(0.0));
-  for (int k = 0; k < 15; ++k) loop.step(simulated(scene, lidar, k, true), k);
-  ASSERT_EQ(loop.integrated, 15);
+  for (int k = 0; k < 10; ++k) loop.step(simulated(scene, lidar, k, true), k);
+  ASSERT_EQ(loop.integrated, 10);
   const std::int64_t version = loop.map.version();
-  for (int k = 15; k < 30; ++k) loop.step(simulated(other, lidar, k, true), k);
+  for (int k = 10; k < 20; ++k) loop.step(simulated(other, lidar, k, true), k);
   EXPECT_EQ(loop.tracking.state(), TrackingState::kLost);
-  EXPECT_EQ(loop.integrated, 15) << "a frame of the other place entered the map";
+  EXPECT_EQ(loop.integrated, 10) << "a frame of the other place entered the map";
   EXPECT_EQ(loop.map.version(), version);
 }
 
