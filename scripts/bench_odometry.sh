@@ -2,7 +2,8 @@
 # Odometry benchmark report: starts a map_server, runs odom_client on a KITTI-layout directory,
 # evaluates against DIR/poses.txt (LiDAR frame; or --gt/--calib for KITTI camera-frame GT),
 # prints ONE markdown table (accuracy, per-stage timing, Hz, bytes/frame, server memory), and
-# writes trajectory/error plots (PNG) and a top-down map image coloured by class.
+# writes trajectory/error plots (PNG) and top-down map images (by class, by occupancy) with
+# a legend, a scale bar and both trajectories.
 #
 # Usage: scripts/bench_odometry.sh DIR [--build BUILD] [--out OUT] [--gt POSES] [--calib CALIB]
 #                                  [--lengths 100,200,...] [--no-semantics] [--frames N]
@@ -62,14 +63,22 @@ eval_args=(--gt "$gt" --est "$out/poses_kitti.txt" --truncate --json "$out/eval.
 
 stats="$("${cli[@]}" stats)"
 echo "$stats" >"$out/server_stats.txt"
-# Top-down map image of the whole run (bounding box of the trajectory + sensor range).
-box="$(awk '{x=$4; y=$8; if (NR==1||x<x0) x0=x; if (NR==1||x>x1) x1=x; if (NR==1||y<y0) y0=y;
-            if (NR==1||y>y1) y1=y} END {printf "%.1f %.1f -5 %.1f %.1f 30", x0-60, y0-60, x1+60, y1+60}' \
-      "$out/poses_kitti.txt")"
+# Top-down map images of the whole run (bounding box of the trajectory + sensor range). The
+# occupancy image is a slice from 1.2 m below to 2 m above the sensor path: obstacles and free
+# space at robot height, not the occupied ground every column holds.
+read -r box occ_box <<<"$(awk '{x=$4; y=$8; z=$12; if (NR==1||x<x0) x0=x; if (NR==1||x>x1) x1=x;
+            if (NR==1||y<y0) y0=y; if (NR==1||y>y1) y1=y; if (NR==1||z<z0) z0=z; if (NR==1||z>z1) z1=z}
+            END {printf "%.1f,%.1f,-5,%.1f,%.1f,30 %.1f,%.1f,%.1f,%.1f,%.1f,%.1f", x0-60, y0-60, x1+60,
+                 y1+60, x0-60, y0-60, z0-1.2, x1+60, y1+60, z1+2}' "$out/poses_kitti.txt")"
+# The estimate and the GT (moved to start where the estimate starts) drawn on both images.
+tracks=(--trajectory "$out/poses_kitti.txt" --gt "$gt")
+[ -n "$calib" ] && tracks+=(--gt-calib "$calib")
 # shellcheck disable=SC2086
-"${cli[@]}" render --box $box --mode 0 --out "$out/map_class.png" >/dev/null
+"${cli[@]}" render --box ${box//,/ } --mode 0 "${tracks[@]}" --title "$(basename "$dir"): classes" \
+  --out "$out/map_class.png" >/dev/null
 # shellcheck disable=SC2086
-"${cli[@]}" render --box $box --mode 1 --out "$out/map_occupancy.png" >/dev/null
+"${cli[@]}" render --box ${occ_box//,/ } --mode 1 "${tracks[@]}" \
+  --title "$(basename "$dir"): occupancy at robot height" --out "$out/map_occupancy.png" >/dev/null
 
 python3 - "$out" "$stats" <<'PY'
 import csv, json, re, sys

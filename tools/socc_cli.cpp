@@ -17,7 +17,9 @@
 #include "socc/kitti_io.hpp"
 #include "socc/labels.hpp"
 #include "socc/pose_conversion.hpp"
+#include "socc/rgb_image.hpp"
 #include "socc/rpc/map_client.hpp"
+#include "socc/tools/map_picture.hpp"
 #include "socc/version.hpp"
 
 namespace {
@@ -148,6 +150,97 @@ struct TrackingCommand {
   }
 };
 
+// Positions of a KITTI pose file; GT is moved so its first pose is the estimate's first pose
+// (both start where the robot started), from the camera frame first when a calib is given.
+std::vector<Eigen::Vector2d> trackXy(const std::string& file, const std::string& calib,
+                                     const socc::Poses* align_to) {
+  socc::Poses poses = socc::readKittiPoses(file);
+  if (!calib.empty()) poses = socc::cameraToLidarPoses(poses, socc::readKittiCalibTr(calib));
+  const Eigen::Isometry3d shift = align_to != nullptr && !align_to->empty() && !poses.empty()
+                                      ? align_to->front() * poses.front().inverse()
+                                      : Eigen::Isometry3d::Identity();
+  std::vector<Eigen::Vector2d> xy;
+  for (const auto& p : poses) xy.push_back((shift * p).translation().head<2>());
+  return xy;
+}
+
+// socc-cli render: the server draws the raster (RENDER), this client decorates it.
+struct RenderCommand {
+  CLI::App* command = nullptr;
+  std::vector<double> box;
+  std::string out = "map.png", trajectory, gt, gt_calib, title;
+  double pixel_size = 0.0;
+  int mode = 0;
+  bool plain = false;
+
+  void add(CLI::App& app) {
+    command = app.add_subcommand(
+        "render",
+        "top-down PNG of a box, with a title, a legend of the classes present (mode 0) or an "
+        "occupancy colour bar (mode 1), a scale bar and trajectories");
+    command->add_option("--box", box, "xmin ymin zmin xmax ymax zmax [m]")->expected(6)->required();
+    command->add_option("--out", out, "PNG file")->capture_default_str();
+    command->add_option("--pixel-size", pixel_size,
+                        "[m] (default: the box's long side in " +
+                            std::to_string(socc::tools::kMapLongSidePixels) + " pixels)");
+    command->add_option("--mode", mode, "0 class, 1 occupancy probability, 2 height")
+        ->check(CLI::Range(0, 2))
+        ->capture_default_str();
+    command->add_option("--trajectory", trajectory, "estimated poses (KITTI, map frame) to draw")
+        ->check(CLI::ExistingFile);
+    command
+        ->add_option("--gt", gt,
+                     "ground-truth poses (KITTI) to draw, moved to start at the first pose "
+                     "of --trajectory")
+        ->check(CLI::ExistingFile);
+    command->add_option("--gt-calib", gt_calib, "KITTI calib.txt: --gt is in the camera frame")
+        ->check(CLI::ExistingFile);
+    command->add_option("--title", title, "title line (default: the mode)");
+    command->add_flag("--plain", plain, "write the server's raster without any decoration");
+  }
+
+  socc::tools::PictureSpec spec(double pixel) const {
+    socc::tools::PictureSpec s;
+    s.mode = mode;
+    s.x_min = box[0];
+    s.y_min = box[1];
+    s.pixel_size = pixel;
+    s.title = !title.empty() ? title
+              : mode == 0    ? "socc map: classes"
+              : mode == 1    ? "socc map: occupancy"
+                             : "socc map: height";
+    const socc::Poses est = trajectory.empty() ? socc::Poses{} : socc::readKittiPoses(trajectory);
+    if (!gt.empty())
+      s.tracks.push_back({"ground truth", {255, 255, 255}, trackXy(gt, gt_calib, &est)});
+    if (!trajectory.empty())
+      s.tracks.push_back({"estimate", {0, 225, 255}, trackXy(trajectory, "", nullptr)});
+    return s;
+  }
+
+  bool run(MapClient& client) const {
+    socc::render_request_t request{};
+    for (int i = 0; i < 3; ++i) {
+      request.box_min[i] = box[i];
+      request.box_max[i] = box[i + 3];
+    }
+    request.pixel_size = pixel_size > 0.0
+                             ? pixel_size
+                             : socc::tools::autoPixelSize(box[3] - box[0], box[4] - box[1]);
+    request.mode = static_cast<std::int8_t>(mode);
+    request.occupancy_threshold = 0.5f;
+    const auto r = client.render(request);
+    if (!report(r, "render")) return false;
+    std::vector<std::uint8_t> png = r.reply->png;
+    if (!plain)
+      png =
+          socc::encodePng(socc::tools::decorateMap(socc::decodePng(png), spec(request.pixel_size)));
+    std::ofstream file(out, std::ios::binary);
+    file.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+    if (!file) throw std::runtime_error("cannot write " + out);
+    std::cout << out << ' ' << r.reply->width << 'x' << r.reply->height << " map pixels\n";
+    return true;
+  }
+};
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -192,14 +285,8 @@ int main(int argc, char** argv) {
   auto* clear = app.add_subcommand("clear", "clear the map and robot states");
 
   std::vector<double> box, sphere;
-  std::string out_png = "map.png";
-  double pixel_size = 0.0;
-  int mode = 0;
-  auto* render = app.add_subcommand("render", "top-down PNG of a box");
-  render->add_option("--box", box, "xmin ymin zmin xmax ymax zmax")->expected(6)->required();
-  render->add_option("--out", out_png, "PNG file")->capture_default_str();
-  render->add_option("--pixel-size", pixel_size, "[m] (0 = voxel size)");
-  render->add_option("--mode", mode, "0 class, 1 occupancy, 2 height")->check(CLI::Range(0, 2));
+  RenderCommand render;
+  render.add(app);
 
   std::vector<std::string> field_names{"features"};
   int limit = 0;
@@ -276,22 +363,8 @@ int main(int argc, char** argv) {
       if (!report(r, "command")) return 1;
       std::cout << r.reply->detail << " voxels=" << r.reply->num_voxels
                 << " bytes=" << r.reply->num_bytes << '\n';
-    } else if (render->parsed()) {
-      socc::render_request_t request{};
-      for (int i = 0; i < 3; ++i) {
-        request.box_min[i] = box[i];
-        request.box_max[i] = box[i + 3];
-      }
-      request.pixel_size = pixel_size;
-      request.mode = static_cast<std::int8_t>(mode);
-      request.occupancy_threshold = 0.5f;
-      const auto r = client.render(request);
-      if (!report(r, "render")) return 1;
-      std::ofstream out(out_png, std::ios::binary);
-      out.write(reinterpret_cast<const char*>(r.reply->png.data()),
-                static_cast<std::streamsize>(r.reply->png.size()));
-      if (!out) throw std::runtime_error("cannot write " + out_png);
-      std::cout << out_png << ' ' << r.reply->width << 'x' << r.reply->height << '\n';
+    } else if (render.command->parsed()) {
+      if (!render.run(client)) return 1;
     } else if (chunk->parsed()) {
       socc::chunk_request_t request = socc::rpc::sphereChunkRequest(Eigen::Vector3d::Zero(), 0.0);
       if (sphere.size() == 4) {

@@ -15,6 +15,16 @@ namespace {
 namespace fs = std::filesystem;
 using namespace socc::eval;
 
+// Installed, the gnuplot scripts are in <prefix>/share/socc/scripts next to bin/ (any prefix);
+// a build-tree binary uses the source tree's scripts/.
+fs::path defaultPlotScripts() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path installed = exe.parent_path().parent_path() / "share/socc/scripts";
+  if (!ec && fs::is_directory(installed, ec)) return installed;
+  return SOCC_SCRIPTS_DIR;
+}
+
 struct Arguments {
   fs::path gt;
   fs::path est;
@@ -26,7 +36,7 @@ struct Arguments {
   bool truncate = false;
   std::optional<fs::path> json;
   std::optional<fs::path> plot_dir;
-  fs::path plot_scripts = SOCC_SCRIPTS_DIR;
+  fs::path plot_scripts = defaultPlotScripts();
 };
 
 int run(const Arguments& a) {

@@ -1,5 +1,6 @@
 // Top-down rendering (render_request_t): each voxel is splatted onto the pixels its footprint
-// covers; a pixel keeps the top-most occupied voxel and whether it saw free space.
+// covers; a pixel keeps the top-most occupied voxel and the highest occupancy probability of
+// the observed voxels above it (the occupancy image: a wall shows even over free ground).
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -15,9 +16,9 @@ constexpr int kMaxImageSide = 4096;
 
 struct Column {
   double top_z = -std::numeric_limits<double>::infinity();
+  double max_probability = -1.0;  // < 0: no observed voxel in this column
   std::uint8_t label = kUnlabeled;
   bool occupied = false;
-  bool free = false;
 };
 
 Rgb heightColor(double t) {  // blue (low) -> green -> red (high)
@@ -28,14 +29,12 @@ Rgb heightColor(double t) {  // blue (low) -> green -> red (high)
 }
 
 Rgb pixelColor(const Column& c, int mode, double zmin, double zmax) {
-  if (mode == render_request_t::MODE_OCCUPANCY) {
-    if (c.occupied) return {40, 40, 40};
-    return c.free ? Rgb{230, 230, 230} : Rgb{128, 128, 128};
-  }
+  if (mode == render_request_t::MODE_OCCUPANCY)
+    return c.max_probability < 0.0 ? kUnknownSpaceColor : occupancyColor(c.max_probability);
   if (!c.occupied) return {0, 0, 0};
   if (mode == render_request_t::MODE_HEIGHT)
     return heightColor(zmax > zmin ? (c.top_z - zmin) / (zmax - zmin) : 0.5);
-  return c.label == kUnlabeled ? Rgb{128, 128, 128} : classColor(c.label);
+  return c.label == kUnlabeled ? kUnlabeledVoxelColor : classColor(c.label);
 }
 
 }  // namespace
@@ -80,7 +79,8 @@ SemanticOccupancyMap::Image SemanticOccupancyMap::render(const Eigen::Vector3d& 
       if (!block.observed[local]) continue;
       const VoxelIndex v = voxelOf(key, local);
       if ((v.array() < box.lo.array()).any() || (v.array() > box.hi.array()).any()) continue;
-      const bool occupied = probability(block.log_odds[local]) >= occupancy_threshold;
+      const double p = probability(block.log_odds[local]);
+      const bool occupied = p >= occupancy_threshold;
       const double z = (v.z() + 0.5) * vs;
       const VoxelStats* stats = block.statsOf(local);
       const auto [x0, x1] = pixelRange(v.x() * vs, (v.x() + 1) * vs, box_min.x(), img.width);
@@ -88,9 +88,8 @@ SemanticOccupancyMap::Image SemanticOccupancyMap::render(const Eigen::Vector3d& 
       for (int py = y0; py <= y1; ++py) {
         for (int px = x0; px <= x1; ++px) {
           Column& c = columns[static_cast<std::size_t>(img.height - 1 - py) * img.width + px];
-          if (!occupied) {
-            c.free = true;
-          } else if (z > c.top_z) {
+          c.max_probability = std::max(c.max_probability, p);
+          if (occupied && z > c.top_z) {
             c.top_z = z;
             c.occupied = true;
             c.label = stats != nullptr ? stats->label : std::uint8_t{kUnlabeled};
@@ -100,12 +99,11 @@ SemanticOccupancyMap::Image SemanticOccupancyMap::render(const Eigen::Vector3d& 
     }
   }
   img.rgb.resize(columns.size() * 3);
-  for (std::size_t i = 0; i < columns.size(); ++i) {
-    const Rgb c = pixelColor(columns[i], mode, box_min.z(), box_max.z());
-    img.rgb[3 * i] = c.r;
-    img.rgb[3 * i + 1] = c.g;
-    img.rgb[3 * i + 2] = c.b;
-  }
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      img.set(x, y,
+              pixelColor(columns[static_cast<std::size_t>(y) * img.width + x], mode, box_min.z(),
+                         box_max.z()));
   return img;
 }
 

@@ -60,7 +60,7 @@ render_reply_t MapService::render(const render_request_t& request) const {
         map_.render(Eigen::Vector3d(request.box_min[0], request.box_min[1], request.box_min[2]),
                     Eigen::Vector3d(request.box_max[0], request.box_max[1], request.box_max[2]),
                     pixel, request.mode, request.occupancy_threshold);
-    const std::vector<std::uint8_t> png = map::encodePng(image);
+    const std::vector<std::uint8_t> png = encodePng(image);
     reply.width = image.width;
     reply.height = image.height;
     reply.png = png;

@@ -12,14 +12,15 @@
 #include "socc/chunk_reply_t.hpp"
 #include "socc/map/map_config.hpp"
 #include "socc/point_cloud.hpp"
+#include "socc/rgb_image.hpp"
 
 namespace socc::map {
 
 struct IntegrationResult {
   std::int32_t voxels_touched = 0;  // voxels changed by hits or misses
   std::int32_t voxels_hit = 0;
-  std::int32_t voxels_freed = 0;    // voxels that turned free (statistics dropped)
-  std::int32_t points_used = 0;     // points within [min_range, max_range]
+  std::int32_t voxels_freed = 0;  // voxels that turned free (statistics dropped)
+  std::int32_t points_used = 0;   // points within [min_range, max_range]
 };
 
 struct ChunkQuery {
@@ -75,7 +76,8 @@ class SemanticOccupancyMap {
   void save(const std::filesystem::path& file, const std::string& metadata = {}) const;
   /// Loads a snapshot; on any error (missing, corrupt, wrong version or checksum) throws
   /// std::runtime_error and the current map stays unchanged.
-  static SemanticOccupancyMap load(const std::filesystem::path& file, std::string* metadata = nullptr);
+  static SemanticOccupancyMap load(const std::filesystem::path& file,
+                                   std::string* metadata = nullptr);
 
   /// Exports occupied voxels: OctoMap .bt (binary) or .ot (with colour = class colour),
   /// loadable by octovis; PCD (PointXYZRGBL: voxel centre, class colour, label).
@@ -86,10 +88,7 @@ class SemanticOccupancyMap {
   /// Top-down RGB image of [box_min, box_max] (x right, +y up), mode as render_request_t.
   /// pixel_size 0 = voxel size. Throws std::invalid_argument for a bad box, mode or threshold,
   /// or an image larger than 4096 x 4096.
-  struct Image {
-    int width = 0, height = 0;
-    std::vector<std::uint8_t> rgb;  // width * height * 3
-  };
+  using Image = RgbImage;
   Image render(const Eigen::Vector3d& box_min, const Eigen::Vector3d& box_max, double pixel_size,
                int mode, double occupancy_threshold) const;
 
@@ -97,8 +96,5 @@ class SemanticOccupancyMap {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-/// PNG encoding (libpng) of an RGB image; used by the render service and CLI tools.
-std::vector<std::uint8_t> encodePng(const SemanticOccupancyMap::Image& image);
 
 }  // namespace socc::map
