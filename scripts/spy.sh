@@ -25,6 +25,9 @@ if ! [[ "$url" =~ ^udpm://239\.[0-9]{1,3}\.[0-9]{1,3}\.[0-9]{1,3}:[0-9]{1,5}\?tt
   exit 2
 fi
 jar="$build/lcmtypes/socc_lcmtypes.jar"
+# Installed as <prefix>/bin/socc-spy, the jar is in <prefix>/share/socc/java.
+installed_jar="$root/share/socc/java/socc_lcmtypes.jar"
+[ ! -f "$jar" ] && [ -f "$installed_jar" ] && jar="$installed_jar"
 [ -f "$jar" ] || { echo "spy.sh: $jar not found: build socc first (or pass -b BUILD_DIR)" >&2; exit 1; }
 lcm_jar=/usr/share/java/lcm.jar
 [ -f "$lcm_jar" ] || { echo "spy.sh: $lcm_jar not found: apt-get install liblcm-java" >&2; exit 1; }
