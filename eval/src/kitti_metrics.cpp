@@ -97,4 +97,25 @@ KittiMetrics computeKittiMetrics(const Poses& gt, const Poses& est,
   return m;
 }
 
+std::vector<KittiSpeedError> kittiErrorsBySpeed(const KittiMetrics& metrics, double frame_period) {
+  if (!(frame_period > 0.0)) throw std::invalid_argument("KITTI speeds: frame period must be > 0");
+  std::vector<KittiSpeedError> out;
+  for (int centre = 2; centre < 25; centre += 2) {
+    KittiSpeedError bin;
+    bin.speed = centre;
+    for (const auto& s : metrics.segments) {
+      const double frames = static_cast<double>(s.last_frame - s.first_frame + 1);
+      if (std::abs(s.length / (frame_period * frames) - centre) >= 2.0) continue;
+      ++bin.segments;
+      bin.t_err_percent += s.t_err;
+      bin.r_err_deg_per_100m += s.r_err;
+    }
+    if (bin.segments == 0) continue;
+    bin.t_err_percent *= 100.0 / static_cast<double>(bin.segments);
+    bin.r_err_deg_per_100m *= 100.0 * kRadToDeg / static_cast<double>(bin.segments);
+    out.push_back(bin);
+  }
+  return out;
+}
+
 }  // namespace socc::eval

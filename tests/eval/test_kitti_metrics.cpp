@@ -45,6 +45,23 @@ TEST(KittiMetrics, ScaleDriftGivesKnownTranslationError) {
   EXPECT_EQ(m.per_length[0].segments, 90u);
 }
 
+TEST(KittiMetrics, ErrorsBySpeedBinTheSegmentsByDevkitSpeed) {
+  // 1 m per frame: a 10 m segment spans 12 frames (devkit: first frame past the length), so
+  // its speed is 10 / 1.2 = 8.33 m/s, inside the +-2 m/s windows of the 8 and 10 m/s bins.
+  const Poses gt = straightLine(101, 1.0);
+  const KittiMetrics m = computeKittiMetrics(gt, straightLine(101, 1.01), {10.0}, 1);
+  const std::vector<KittiSpeedError> bins = kittiErrorsBySpeed(m);
+  ASSERT_EQ(bins.size(), 2u);
+  EXPECT_EQ(bins[0].speed, 8.0);
+  EXPECT_EQ(bins[1].speed, 10.0);
+  for (const auto& b : bins) {
+    EXPECT_EQ(b.segments, m.segments.size());
+    EXPECT_NEAR(b.t_err_percent, m.t_err_percent, 1e-9);
+  }
+  EXPECT_EQ(kittiErrorsBySpeed(m, 0.05).front().speed, 16.0);  // 20 Hz: twice the speed
+  EXPECT_THROW(kittiErrorsBySpeed(m, 0.0), std::invalid_argument);
+}
+
 TEST(KittiMetrics, YawDriftGivesKnownRotationError) {
   // Each estimated pose is yawed by theta more than the previous one: a 101-frame segment has a
   // rotation error of 101 theta over 100 m.

@@ -34,6 +34,14 @@ struct KittiMetrics {
   bool valid() const { return !segments.empty(); }
 };
 
+/// Mean errors of the segments whose speed is within kittiSpeedWindow of a bin centre.
+struct KittiSpeedError {
+  double speed = 0.0;  // bin centre [m/s]
+  std::size_t segments = 0;
+  double t_err_percent = 0.0;
+  double r_err_deg_per_100m = 0.0;
+};
+
 std::vector<double> kittiDefaultLengths();  // 100, 200, ..., 800 m
 
 /// Cumulative ground-truth path length at every frame (dist[0] = 0).
@@ -44,6 +52,13 @@ std::vector<double> trajectoryDistances(const Poses& poses);
 /// non-orthonormality of text-file poses (angle ~ sqrt of the trace defect) near zero.
 /// Poses are assumed rigid (loadTrajectory orthonormalises them).
 double rotationAngle(const Eigen::Isometry3d& pose);
+
+/// The devkit's error-vs-speed: a segment's speed is length / (frame_period * frames) with
+/// frames = last - first + 1 (the devkit's 0.1 s per frame by default); bins centred at
+/// 2, 4, ..., 24 m/s take the segments within +-2 m/s (overlapping, as the devkit). Bins
+/// without segments are left out.
+std::vector<KittiSpeedError> kittiErrorsBySpeed(const KittiMetrics& metrics,
+                                                double frame_period = 0.1);
 
 /// gt and est must have the same size (std::invalid_argument otherwise); lengths must be > 0.
 KittiMetrics computeKittiMetrics(const Poses& gt, const Poses& est,

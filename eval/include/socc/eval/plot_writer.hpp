@@ -7,12 +7,14 @@
 
 namespace socc::eval {
 
-/// Writes trajectory.dat, errors.dat and kitti_lengths.dat into dir (created if needed).
+/// Writes trajectory.dat, errors.dat, kitti_lengths.dat and kitti_speeds.dat into dir (created
+/// if needed).
 void writePlotData(const std::filesystem::path& dir, const Poses& gt, const Poses& est,
                    const Evaluation& e);
 
-/// Runs gnuplot on plot_trajectory.gp, plot_errors.gp (and plot_kitti_lengths.gp when KITTI
-/// metrics exist) from script_dir, writing trajectory.png, errors.png, kitti_lengths.png.
+/// Runs gnuplot on plot_trajectory.gp, plot_errors.gp (and plot_kitti_lengths.gp,
+/// plot_kitti_speeds.gp when KITTI metrics exist) from script_dir, writing trajectory.png,
+/// errors.png, kitti_lengths.png, kitti_speeds.png.
 /// Throws std::runtime_error when a script is missing or gnuplot fails.
 void renderPlots(const std::filesystem::path& dir, const std::filesystem::path& script_dir,
                  const Evaluation& e);
