@@ -6,11 +6,17 @@ if(TARGET map_server AND TARGET odom_client)
   target_compile_definitions(test_odom_integration PRIVATE
     SOCC_SHARED_DATA_DIR="${SOCC_SHARED_DATA_DIR}"
     SOCC_MAP_SERVER_BIN="$<TARGET_FILE:map_server>"
-    SOCC_ODOM_CLIENT_BIN="$<TARGET_FILE:odom_client>")
-  add_dependencies(test_odom_integration map_server odom_client)
+    SOCC_ODOM_CLIENT_BIN="$<TARGET_FILE:odom_client>"
+    SOCC_SIM_BIN="$<TARGET_FILE:socc-sim>")
+  add_dependencies(test_odom_integration map_server odom_client socc-sim)
   socc_target_warnings(test_odom_integration)
-  add_test(NAME integration.odom COMMAND test_odom_integration)
-  # Every case skips (GTEST_SKIP) without the shared data: ctest must say skipped, not passed.
+  add_test(NAME integration.odom COMMAND test_odom_integration
+           --gtest_filter=-OdomOnSimulatedDrive.*)
+  # Every KITTI case skips (GTEST_SKIP) without the shared data: ctest must say skipped.
   set_tests_properties(integration.odom PROPERTIES LABELS integration TIMEOUT 240
                        SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]")
+  # Accuracy against socc-sim's exact GT: needs no shared data, never skips.
+  add_test(NAME integration.odom_sim COMMAND test_odom_integration
+           --gtest_filter=OdomOnSimulatedDrive.*)
+  set_tests_properties(integration.odom_sim PROPERTIES LABELS integration TIMEOUT 600)
 endif()

@@ -38,8 +38,11 @@ std::string readFile(const fs::path& p) {
 
 class OdomEndToEnd : public ::testing::Test {
  protected:
+  virtual bool needsKittiData() const { return true; }
+
   void SetUp() override {
-    if (!fs::exists(kData)) GTEST_SKIP() << "shared data folder absent: " << kData;
+    if (needsKittiData() && !fs::exists(kData))
+      GTEST_SKIP() << "shared data folder absent: " << kData;
     std::random_device rd;
     const unsigned seed = rd() ^ static_cast<unsigned>(::getpid());
     const int port = 40000 + static_cast<int>(seed % 10000);
@@ -72,11 +75,12 @@ class OdomEndToEnd : public ::testing::Test {
       std::cout << "work dir kept: " << work_ << "\n";
   }
 
-  // Runs odom_client to completion; returns its exit code.
-  int runClient(const std::string& robot, const fs::path& out, std::vector<std::string> extra) {
+  // Runs odom_client on a KITTI-layout directory to completion; returns its exit code.
+  int runClient(const std::string& robot, const fs::path& out, std::vector<std::string> extra,
+                const fs::path& data = kData) {
     std::vector<std::string> args{
-        SOCC_ODOM_CLIENT_BIN, "--kitti", kData.string(), "--lcm-url",  url_,
-        "--robot-id",         robot,     "--out-dir",    out.string(), "--quiet"};
+        SOCC_ODOM_CLIENT_BIN, "--kitti", data.string(), "--lcm-url",  url_,
+        "--robot-id",         robot,     "--out-dir",   out.string(), "--quiet"};
     args.insert(args.end(), extra.begin(), extra.end());
     socc::testing::ChildProcess c(args, out.string() + ".log");
     const int rc = c.wait(std::chrono::seconds(120));
@@ -124,7 +128,9 @@ void expectRelativeMotionMatchesPairwise(const socc::Poses& poses, int first_fra
 
 }  // namespace
 
-TEST_F(OdomEndToEnd, SixteenKittiFramesMatchPairwiseRegistration) {
+// Pipeline and formats on real KITTI scans. Accuracy is judged in OdomOnSimulatedDrive: the GT
+// of these frames is a constant-velocity fill (shared data README), not a reference.
+TEST_F(OdomEndToEnd, SixteenKittiFramesWriteEveryOutput) {
   const fs::path out = work_ / "run";
   ASSERT_EQ(runClient("robot1", out, {}), 0);
   const socc::Poses poses = socc::readKittiPoses(out / "poses_kitti.txt");
@@ -135,9 +141,6 @@ TEST_F(OdomEndToEnd, SixteenKittiFramesMatchPairwiseRegistration) {
   int rows = 0;
   for (std::string line; std::getline(csv, line);) ++rows;
   EXPECT_EQ(rows, 17);  // header + 16 frames
-  expectRelativeMotionMatchesPairwise(poses, 0);
-  // The car drives forward (+x of the LiDAR) about 12 m in these frames.
-  EXPECT_GT(poses.back().translation().x(), 9.0);
 
   const auto stats = client_->getStats();
   ASSERT_TRUE(stats.ok());
@@ -255,4 +258,56 @@ TEST_F(OdomEndToEnd, LiveScansOverLcm) {
   ASSERT_EQ(poses.size(), 4u);
   expectRelativeMotionMatchesPairwise(poses, 0);
   EXPECT_NE(readFile(log).find("skipping malformed scan"), std::string::npos);
+}
+
+namespace {
+
+// A socc-sim drive (exact LiDAR-frame GT, independent of the registration code) through the
+// whole pipeline: odom_client and map_server over LCM.
+class OdomOnSimulatedDrive : public OdomEndToEnd {
+ protected:
+  bool needsKittiData() const override { return false; }
+};
+
+// Per-step error of the estimate against the GT (both relative to their first pose).
+struct StepError {
+  double translation_m, rotation_deg;
+};
+StepError stepError(const socc::Poses& gt, const socc::Poses& est, std::size_t k) {
+  const Eigen::Isometry3d e =
+      (gt[k - 1].inverse() * gt[k]).inverse() * (est[k - 1].inverse() * est[k]);
+  return {e.translation().norm(), Eigen::AngleAxisd(e.linear()).angle() * 180.0 / M_PI};
+}
+
+}  // namespace
+
+// 40 frames (36 m at 9 m/s) of the street scene on a figure-eight route (a steady turn), HDL-64.
+// Measured: steps <= 1.7 cm / 0.05 deg after the start, 6.2 cm at the cold start (the first
+// motion is found from standing still), end drift 2 cm (0.05 %). A 2 % scale error moves every
+// 0.9 m step by 1.8 cm and the end by 0.7 m: both limits catch it.
+TEST_F(OdomOnSimulatedDrive, StepsAndEndDriftMatchExactGroundTruth) {
+  const fs::path seq = work_ / "sim";
+  socc::testing::ChildProcess sim({SOCC_SIM_BIN, "--out", seq.string(), "--frames", "40",
+                                   "--trajectory", "figure8", "--seed", "3", "--quiet"},
+                                  work_ / "sim.log");
+  ASSERT_EQ(sim.wait(std::chrono::seconds(300)), 0) << readFile(work_ / "sim.log");
+  const fs::path out = work_ / "run";
+  ASSERT_EQ(runClient("sim", out, {}, seq), 0);
+  const socc::Poses est = socc::readKittiPoses(out / "poses_kitti.txt");
+  socc::Poses gt = socc::readKittiPoses(seq / "poses.txt");  // LiDAR frame (calib Tr = I)
+  ASSERT_EQ(est.size(), gt.size());
+  const Eigen::Isometry3d gt0_inv = gt.front().inverse();
+  for (auto& p : gt) p = gt0_inv * p;
+
+  constexpr std::size_t kStartUp = 5;  // cold start: frames 1-4 find the first motion
+  double path = 0.0;
+  for (std::size_t k = 1; k < gt.size(); ++k) {
+    path += (gt[k].translation() - gt[k - 1].translation()).norm();
+    const StepError e = stepError(gt, est, k);
+    EXPECT_LT(e.translation_m, k < kStartUp ? 0.08 : 0.02) << "step " << k - 1 << "->" << k;
+    EXPECT_LT(e.rotation_deg, 0.15) << "step " << k - 1 << "->" << k;
+  }
+  ASSERT_GT(path, 30.0);
+  const double drift = (est.back().translation() - gt.back().translation()).norm();
+  EXPECT_LT(drift, 0.01 * path) << "end drift " << drift << " m over " << path << " m";
 }
