@@ -126,8 +126,12 @@ cli stats >"$out/server_stats.txt"
 box="$(cat "$out"/together/robot*/poses_kitti.txt | awk '{x=$4; y=$8;
   if (NR==1||x<x0) x0=x; if (NR==1||x>x1) x1=x; if (NR==1||y<y0) y0=y; if (NR==1||y>y1) y1=y}
   END {printf "%.1f %.1f -5 %.1f %.1f 30", x0-40, y0-40, x1+40, y1+40}')"
+# Every robot's estimate over the whole sequence's GT (the map frame is the GT frame).
+tracks=(--gt "$seq_dir/poses.txt")
+for ((i = 0; i < robots; i++)); do tracks+=(--trajectory "$out/together/robot$i/poses_kitti.txt"); done
 # shellcheck disable=SC2086
-cli --attempts 3 --timeout-ms 10000 render --box $box --mode 0 --pixel-size 0.25 --out "$out/map_class.png" >/dev/null
+cli --attempts 3 --timeout-ms 10000 render --box $box --mode 0 "${tracks[@]}" \
+  --title "$robots robots, one map" --out "$out/map_class.png" >/dev/null
 stop_server
 for ((i = 0; i < robots; i++)); do evaluate "$i" "$out/together/robot$i"; done
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -24,6 +25,7 @@
 
 namespace {
 
+namespace fs = std::filesystem;
 using socc::rpc::MapClient;
 
 template <typename Reply>
@@ -168,7 +170,8 @@ std::vector<Eigen::Vector2d> trackXy(const std::string& file, const std::string&
 struct RenderCommand {
   CLI::App* command = nullptr;
   std::vector<double> box;
-  std::string out = "map.png", trajectory, gt, gt_calib, title;
+  std::string out = "map.png", gt, gt_calib, title;
+  std::vector<std::string> trajectories;
   double pixel_size = 0.0;
   int mode = 0;
   bool plain = false;
@@ -186,12 +189,15 @@ struct RenderCommand {
     command->add_option("--mode", mode, "0 class, 1 occupancy probability, 2 height")
         ->check(CLI::Range(0, 2))
         ->capture_default_str();
-    command->add_option("--trajectory", trajectory, "estimated poses (KITTI, map frame) to draw")
+    command
+        ->add_option("--trajectory", trajectories,
+                     "estimated poses (KITTI, map frame) to draw; repeat it for several robots "
+                     "(then named by their file's directory)")
         ->check(CLI::ExistingFile);
     command
         ->add_option("--gt", gt,
                      "ground-truth poses (KITTI) to draw, moved to start at the first pose "
-                     "of --trajectory")
+                     "of the first --trajectory")
         ->check(CLI::ExistingFile);
     command->add_option("--gt-calib", gt_calib, "KITTI calib.txt: --gt is in the camera frame")
         ->check(CLI::ExistingFile);
@@ -209,11 +215,17 @@ struct RenderCommand {
               : mode == 0    ? "socc map: classes"
               : mode == 1    ? "socc map: occupancy"
                              : "socc map: height";
-    const socc::Poses est = trajectory.empty() ? socc::Poses{} : socc::readKittiPoses(trajectory);
+    const socc::Poses est =
+        trajectories.empty() ? socc::Poses{} : socc::readKittiPoses(trajectories.front());
     if (!gt.empty())
-      s.tracks.push_back({"ground truth", {255, 255, 255}, trackXy(gt, gt_calib, &est)});
-    if (!trajectory.empty())
-      s.tracks.push_back({"estimate", {0, 225, 255}, trackXy(trajectory, "", nullptr)});
+      s.tracks.push_back({"ground truth", {255, 255, 255}, trackXy(gt, gt_calib, &est), 3.4});
+    constexpr std::array<socc::Rgb, 4> kColors{
+        {{0, 225, 255}, {255, 255, 0}, {255, 120, 0}, {150, 255, 150}}};
+    for (std::size_t i = 0; i < trajectories.size(); ++i) {
+      const std::string dir = fs::path(trajectories[i]).parent_path().filename().string();
+      s.tracks.push_back({trajectories.size() == 1 || dir.empty() ? "estimate" : dir,
+                          kColors[i % kColors.size()], trackXy(trajectories[i], "", nullptr)});
+    }
     return s;
   }
 

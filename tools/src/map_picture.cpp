@@ -60,14 +60,9 @@ void drawPolyline(RgbImage& canvas, const Rect& clip, const std::vector<Eigen::V
   }
 }
 
-// Earlier tracks are drawn wider, so a later track lying exactly on one (an estimate on its
-// ground truth) leaves it visible as a casing.
-double trackRadius(std::size_t index, std::size_t count) {
-  return 1.8 + 1.6 * static_cast<double>(count - 1 - index);
-}
-
 void drawTrack(RgbImage& canvas, const Rect& map, const PictureSpec& spec,
-               const PictureTrack& track, double radius) {
+               const PictureTrack& track) {
+  const double radius = track.radius;
   std::vector<Eigen::Vector2d> px;
   px.reserve(track.xy.size());
   for (const Eigen::Vector2d& p : track.xy)
@@ -135,15 +130,14 @@ int drawTrackLegend(RgbImage& canvas, int x, int y, const std::vector<PictureTra
   if (tracks.empty()) return y;
   drawText(canvas, x, y, "TRAJECTORIES", kInk, kTextScale);
   y += kRowPitch + 4;
-  for (std::size_t i = 0; i < tracks.size(); ++i) {
+  for (const PictureTrack& t : tracks) {
     const Rect clip{x, y, kSwatch + 14, kSwatch};
     const std::vector<Eigen::Vector2d> line{{x + 6.0, y + kSwatch / 2.0},
                                             {x + kSwatch + 6.0, y + kSwatch / 2.0}};
-    const double radius = trackRadius(i, tracks.size());
-    drawPolyline(canvas, clip, line, radius + 1.2, kInk);
-    drawPolyline(canvas, clip, line, radius, tracks[i].color);
-    drawText(canvas, x + kSwatch + 22, y + (kSwatch - textHeight(kTextScale)) / 2, tracks[i].name,
-             kInk, kTextScale);
+    drawPolyline(canvas, clip, line, t.radius + 1.2, kInk);
+    drawPolyline(canvas, clip, line, t.radius, t.color);
+    drawText(canvas, x + kSwatch + 22, y + (kSwatch - textHeight(kTextScale)) / 2, t.name, kInk,
+             kTextScale);
     y += kRowPitch;
   }
   drawText(canvas, x, y, "(disc: start)", kInk, kTextScale);
@@ -179,8 +173,7 @@ RgbImage decorateMap(const RgbImage& raster, const PictureSpec& spec) {
   drawText(canvas, kMargin, 18, spec.title, kInk, kTitleScale);
   canvas.fillRect(map.x - 1, map.y - 1, map.w + 2, map.h + 2, kInk);
   canvas.paste(raster, map.x, map.y);
-  for (std::size_t i = 0; i < spec.tracks.size(); ++i)
-    drawTrack(canvas, map, spec, spec.tracks[i], trackRadius(i, spec.tracks.size()));
+  for (const PictureTrack& t : spec.tracks) drawTrack(canvas, map, spec, t);
   if (spec.pixel_size > 0.0) drawScaleBar(canvas, map, spec.pixel_size);
   char note[96];
   std::snprintf(note, sizeof(note), "X RIGHT, Y UP. %.3f M/PIXEL. CORNER (%.1f, %.1f) M",

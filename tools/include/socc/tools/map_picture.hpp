@@ -29,11 +29,13 @@ void drawText(RgbImage& image, int x, int y, std::string_view text, Rgb color, i
 /// unlabelled occupied voxels are shown.
 std::vector<std::uint8_t> presentClasses(const RgbImage& class_render);
 
-/// A trajectory to draw: xy positions in the map frame.
+/// A trajectory to draw: xy positions in the map frame. A reference drawn wider under an
+/// estimate stays visible as a casing where the estimate lies exactly on it.
 struct PictureTrack {
   std::string name;
   Rgb color;
   std::vector<Eigen::Vector2d> xy;
+  double radius = 1.8;  // [px] half the line width
 };
 
 struct PictureSpec {
