@@ -78,33 +78,34 @@ void appendOccupied(chunk_reply_t& out, const VoxelIndex& v, const Eigen::Vector
   }
 }
 
-}  // namespace
+// The query's box or sphere: the voxel-index bounds to visit and the test of a voxel centre.
+class QueryRegion {
+ public:
+  QueryRegion(const ChunkQuery& q, double voxel_size)
+      : q_(q), sphere_(q.shape == ChunkQuery::Shape::kSphere), r2_(q.radius * q.radius) {
+    const Eigen::Vector3d rmin = sphere_ ? (q.center.array() - q.radius).matrix() : q.box_min;
+    const Eigen::Vector3d rmax = sphere_ ? (q.center.array() + q.radius).matrix() : q.box_max;
+    box = IndexBox::of(rmin, rmax, voxel_size);
+  }
 
-void SemanticOccupancyMap::queryChunk(const ChunkQuery& query, chunk_reply_t& out) const {
-  checkQuery(query);
-  const Impl& m = *impl_;
-  const double vs = m.config.voxel_size;
-  const bool sphere = query.shape == ChunkQuery::Shape::kSphere;
-  const Eigen::Vector3d rmin =
-      sphere ? (query.center.array() - query.radius).matrix() : query.box_min;
-  const Eigen::Vector3d rmax =
-      sphere ? (query.center.array() + query.radius).matrix() : query.box_max;
-  const IndexBox box = IndexBox::of(rmin, rmax, vs);
-  const double r2 = query.radius * query.radius;
-  const auto inside = [&](const Eigen::Vector3d& c) {
-    if (sphere) return (c - query.center).squaredNorm() <= r2;
-    return (c.array() >= query.box_min.array()).all() && (c.array() <= query.box_max.array()).all();
-  };
+  bool covers(const VoxelIndex& v) const {
+    return (v.array() >= box.lo.array()).all() && (v.array() <= box.hi.array()).all();
+  }
+  bool contains(const Eigen::Vector3d& c) const {
+    if (sphere_) return (c - q_.center).squaredNorm() <= r2_;
+    return (c.array() >= q_.box_min.array()).all() && (c.array() <= q_.box_max.array()).all();
+  }
 
-  const std::int32_t fields =
-      query.fields & (chunk_request_t::FIELD_FEATURES | chunk_request_t::FIELD_STATS |
-                      chunk_request_t::FIELD_FREE | chunk_request_t::FIELD_INDEX);
-  const std::size_t limit =
-      query.limit > 0 ? static_cast<std::size_t>(query.limit) : static_cast<std::size_t>(-1);
-  out.voxel_size = vs;
-  out.map_version = m.version;
-  out.fields = fields;
-  out.truncated = false;
+  IndexBox box;
+
+ private:
+  const ChunkQuery& q_;
+  bool sphere_;
+  double r2_;
+};
+
+// Empties every column (keeping capacity) with as many rows as decode() yields.
+void resetColumns(chunk_reply_t& out, std::int32_t fields) {
   resetRows(out.index, 3);
   resetRows(out.first_point, 3);
   resetRows(out.normal, 3);
@@ -118,16 +119,44 @@ void SemanticOccupancyMap::queryChunk(const ChunkQuery& query, chunk_reply_t& ou
   out.log_odds.clear();
   resetRows(out.class_prob, (fields & chunk_request_t::FIELD_STATS) ? kNumClasses : 0);
   resetRows(out.free_index, 3);
+}
+
+void setCounts(chunk_reply_t& out, std::size_t occupied) {
+  out.num_voxels = static_cast<std::int32_t>(occupied);
+  out.n_index = static_cast<std::int32_t>(out.index[0].size());
+  out.n_features = static_cast<std::int32_t>(out.occupancy.size());
+  out.n_stats = static_cast<std::int32_t>(out.count.size());
+  out.num_classes = out.n_stats > 0 ? kNumClasses : 0;
+  if (out.n_stats == 0) out.class_prob.clear();  // decode() yields num_classes rows
+  out.n_free = static_cast<std::int32_t>(out.free_index[0].size());
+}
+
+}  // namespace
+
+void SemanticOccupancyMap::queryChunk(const ChunkQuery& query, chunk_reply_t& out) const {
+  checkQuery(query);
+  const Impl& m = *impl_;
+  const QueryRegion region(query, m.config.voxel_size);
+  const std::int32_t fields =
+      query.fields & (chunk_request_t::FIELD_FEATURES | chunk_request_t::FIELD_STATS |
+                      chunk_request_t::FIELD_FREE | chunk_request_t::FIELD_INDEX);
+  const std::size_t limit =
+      query.limit > 0 ? static_cast<std::size_t>(query.limit) : static_cast<std::size_t>(-1);
+  out.voxel_size = m.config.voxel_size;
+  out.map_version = m.version;
+  out.fields = fields;
+  out.truncated = false;
+  resetColumns(out, fields);
 
   std::size_t occupied = 0;
-  for (const BlockKey& key : m.grid.blocksIn(box.blockLo(), box.blockHi())) {
+  for (const BlockKey& key : m.grid.blocksIn(region.box.blockLo(), region.box.blockHi())) {
     const Block& block = *m.grid.find(key);
     for (int local = 0; local < kBlockVoxels; ++local) {
       if (!block.observed[local]) continue;
       const VoxelIndex v = voxelOf(key, local);
-      if ((v.array() < box.lo.array()).any() || (v.array() > box.hi.array()).any()) continue;
+      if (!region.covers(v)) continue;
       const Eigen::Vector3d c = m.centre(v);
-      if (!inside(c)) continue;
+      if (!region.contains(c)) continue;
       const float l = block.log_odds[local];
       if (probability(l) >= query.occupancy_threshold) {
         if (occupied == limit) {
@@ -145,13 +174,7 @@ void SemanticOccupancyMap::queryChunk(const ChunkQuery& query, chunk_reply_t& ou
       }
     }
   }
-  out.num_voxels = static_cast<std::int32_t>(occupied);
-  out.n_index = static_cast<std::int32_t>(out.index[0].size());
-  out.n_features = static_cast<std::int32_t>(out.occupancy.size());
-  out.n_stats = static_cast<std::int32_t>(out.count.size());
-  out.num_classes = out.n_stats > 0 ? kNumClasses : 0;
-  if (out.n_stats == 0) out.class_prob.clear();  // decode() yields num_classes rows
-  out.n_free = static_cast<std::int32_t>(out.free_index[0].size());
+  setCounts(out, occupied);
 }
 
 }  // namespace socc::map

@@ -82,77 +82,65 @@ std::unique_ptr<socc::service::RequestGate> makeGate(const socc::service::Server
   return gate;
 }
 
-int run(const Options& options) {
-  // SIGINT/SIGTERM are blocked and polled, so shutdown happens between two requests and the
-  // final snapshot never races a handler. Blocked first thing: threads inherit the mask, and the
-  // integrator's TBB workers are created by the first integration, i.e. by a journal replay in
-  // restoreState(); a worker that did not block them took SIGTERM and killed the process without
-  // the final snapshot. A signal during the restore is handled once it has finished.
+// SIGINT/SIGTERM are blocked and polled, so shutdown happens between two requests and the
+// final snapshot never races a handler. Called first thing: threads inherit the mask, and the
+// integrator's TBB workers are created by the first integration, i.e. by a journal replay in
+// restoreState(); a worker that did not block them took SIGTERM and killed the process without
+// the final snapshot. A signal during the restore is handled once it has finished.
+sigset_t blockStopSignals() {
   sigset_t stop_signals;
   sigemptyset(&stop_signals);
   sigaddset(&stop_signals, SIGINT);
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  return stop_signals;
+}
 
+// --config with the command line's overrides; nullopt (after saying why) when they are invalid.
+std::optional<socc::service::ServerConfig> serverConfig(const Options& options) {
   socc::service::ServerConfig config;
   try {
     if (!options.config_file.empty()) config = socc::service::loadServerConfig(options.config_file);
   } catch (const std::exception& e) {
     std::cerr << "map_server: bad config: " << e.what() << '\n';
-    return 2;
+    return std::nullopt;
   }
   if (!options.file_dir.empty()) config.file_dir = options.file_dir;
   if (!options.key_file.empty()) config.key_file = options.key_file;
   config.auth_queries = config.auth_queries || options.auth_queries;
   if (config.auth_queries && config.key_file.empty()) {
     std::cerr << "map_server: --auth-queries needs a key (--key-file or key_file: in --config)\n";
-    return 2;
+    return std::nullopt;
   }
   if (!options.journal.empty() && options.snapshot_dir.empty()) {
     std::cerr << "map_server: --journal needs --snapshot-dir (the journal restarts after each "
                  "snapshot)\n";
-    return 2;
+    return std::nullopt;
   }
-  if (!options.snapshot_dir.empty()) fs::create_directories(options.snapshot_dir);
+  return config;
+}
 
-  socc::service::MapService service(config);
-  std::unique_ptr<socc::service::RequestGate> gate;
-  try {
-    gate = makeGate(config, service);
-  } catch (const std::exception& e) {
-    std::cerr << "map_server: " << e.what() << '\n';
-    return 2;
-  }
-  try {
-    restoreState(service, options);
-  } catch (const std::exception& e) {
-    std::cerr << "map_server: cannot restore: " << e.what()
-              << "\n(use --ignore-corrupt-snapshot to start with an empty map instead)\n";
-    return 1;
-  }
+void announce(const Options& options, const socc::service::ServerConfig& config,
+              const socc::service::MapService& service) {
+  if (options.quiet) return;
+  if (!config.key_file.empty())
+    std::cerr << "map_server: requests must be signed (" << config.key_file.string() << "; "
+              << (config.auth_queries ? "all services" : "state-changing services") << ")\n";
+  std::cerr << "map_server: ready on " << options.lcm_url << " ("
+            << service.map().stats().num_voxels << " voxels, " << service.robots().size()
+            << " robots)\n";
+}
 
-  lcm::LCM lcm(options.lcm_url);
-  if (!lcm.good()) {
-    std::cerr << "map_server: cannot open LCM on " << options.lcm_url
-              << " (multicast routed to lo? `ip route replace 224.0.0.0/4 dev lo`)\n";
-    return 1;
-  }
-  socc::service::RequestRouter router(lcm, service, *gate, !options.quiet);
+// Handles requests until a stop signal, publishing the status and writing periodic snapshots
+// in between. Returns 0, or 1 when LCM fails.
+int serve(lcm::LCM& lcm, socc::service::RequestRouter& router, socc::service::MapService& service,
+          const Options& options, const sigset_t& stop_signals) {
   const timespec no_wait{0, 0};
-
   const auto status_period = std::chrono::duration<double>(options.status_period);
   const auto snapshot_period = std::chrono::duration<double>(options.snapshot_period);
   const bool periodic_snapshots = !options.snapshot_dir.empty() && options.snapshot_period > 0;
   auto next_status = Clock::now();
   auto next_snapshot = Clock::now() + snapshot_period;
-  if (!options.quiet && !config.key_file.empty())
-    std::cerr << "map_server: requests must be signed (" << config.key_file.string() << "; "
-              << (config.auth_queries ? "all services" : "state-changing services") << ")\n";
-  if (!options.quiet)
-    std::cerr << "map_server: ready on " << options.lcm_url << " ("
-              << service.map().stats().num_voxels << " voxels, " << service.robots().size()
-              << " robots)\n";
-
   while (sigtimedwait(&stop_signals, nullptr, &no_wait) < 0) {
     if (lcm.handleTimeout(50) < 0) {
       std::cerr << "map_server: LCM receive failed\n";
@@ -172,6 +160,40 @@ int run(const Options& options) {
       next_snapshot = now + std::chrono::duration_cast<Clock::duration>(snapshot_period);
     }
   }
+  return 0;
+}
+
+int run(const Options& options) {
+  const sigset_t stop_signals = blockStopSignals();
+  const std::optional<socc::service::ServerConfig> config = serverConfig(options);
+  if (!config) return 2;
+  if (!options.snapshot_dir.empty()) fs::create_directories(options.snapshot_dir);
+
+  socc::service::MapService service(*config);
+  std::unique_ptr<socc::service::RequestGate> gate;
+  try {
+    gate = makeGate(*config, service);
+  } catch (const std::exception& e) {
+    std::cerr << "map_server: " << e.what() << '\n';
+    return 2;
+  }
+  try {
+    restoreState(service, options);
+  } catch (const std::exception& e) {
+    std::cerr << "map_server: cannot restore: " << e.what()
+              << "\n(use --ignore-corrupt-snapshot to start with an empty map instead)\n";
+    return 1;
+  }
+
+  lcm::LCM lcm(options.lcm_url);
+  if (!lcm.good()) {
+    std::cerr << "map_server: cannot open LCM on " << options.lcm_url
+              << " (multicast routed to lo? `ip route replace 224.0.0.0/4 dev lo`)\n";
+    return 1;
+  }
+  socc::service::RequestRouter router(lcm, service, *gate, !options.quiet);
+  announce(options, *config, service);
+  if (const int rc = serve(lcm, router, service, options, stop_signals); rc != 0) return rc;
   if (!options.snapshot_dir.empty()) service.checkpoint();
   if (!options.quiet) std::cerr << "map_server: stopped\n";
   return 0;

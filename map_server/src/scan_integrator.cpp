@@ -185,6 +185,55 @@ const RayFootprint& traverseRays(const Eigen::Vector3d& origin, double voxel_siz
   return all;
 }
 
+/// Creates the hit voxels' blocks serially (the grid's hash map is not thread-safe) in a fixed
+/// order, then applies the partitions' hits in parallel. Hits go first: they mark their
+/// voxels, which the misses then skip.
+Tally integrateHits(const SemanticVoxelBehaviour& behaviour, Grid::Accessor& access,
+                    ScanScratch& s) {
+  for (HitPartition& part : s.partitions) {
+    part.blocks.resize(part.voxels.size());
+    for (std::size_t i = 0; i < part.voxels.size(); ++i)
+      part.blocks[i] = &access.block(blockOf(part.voxels[i]));
+  }
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, ScanScratch::kHitPartitions, 1), Tally{},
+      [&](const tbb::blocked_range<std::size_t>& r, Tally t) {
+        for (std::size_t p = r.begin(); p != r.end(); ++p)
+          t += applyHits(behaviour, s.partitions[p]);
+        return t;
+      },
+      [](Tally x, const Tally& y) { return x += y; });
+}
+
+/// One miss for every voxel that a ray from origin to a ray end crosses and the scan did not
+/// hit. Blocks are created serially, misses applied in parallel by block: a voxel lives in one
+/// block and a miss's effect does not depend on the order of other voxels' misses.
+Tally integrateMisses(const SemanticVoxelBehaviour& behaviour, Grid::Accessor& access,
+                      const Eigen::Vector3d& origin, double voxel_size, ScanScratch& s) {
+  collectRayEnds(voxel_size, s);
+  const RayFootprint& footprint = traverseRays(origin, voxel_size, s);
+  s.miss_blocks.resize(footprint.numBlocks());
+  for (std::size_t i = 0; i < footprint.numBlocks(); ++i)
+    s.miss_blocks[i] = &access.block(footprint.key(i));
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, footprint.numBlocks(), 32), Tally{},
+      [&](const tbb::blocked_range<std::size_t>& r, Tally t) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i)
+          applyMisses(behaviour, *s.miss_blocks[i], footprint.mask(i), t);
+        return t;
+      },
+      [](Tally x, const Tally& y) { return x += y; });
+}
+
+/// Clears the per-scan hit marks of the blocks the hits touched.
+void clearScanMarks(ScanScratch& s) {
+  for (HitPartition& part : s.partitions)
+    for (Block* block : part.touched) {
+      block->scan_mark.reset();
+      block->in_scan = false;
+    }
+}
+
 }  // namespace
 
 IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& sensor_pose,
@@ -193,59 +242,21 @@ IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& senso
     throw std::invalid_argument(err);
   Impl& m = *impl_;
   ScanScratch& s = m.scratch;
-  const SemanticVoxelBehaviour& behaviour = m.behaviour;
-  const double vs = m.config.voxel_size;
   Grid::Accessor access(m.grid);
-  constexpr std::size_t kParts = ScanScratch::kHitPartitions;
   IntegrationResult result;
   Tally tally;
-
   m.arena.execute([&] {
     classifyPoints(sensor_pose, cloud, m.config, s);
-    tbb::parallel_for(std::size_t{0}, kParts,
+    tbb::parallel_for(std::size_t{0}, ScanScratch::kHitPartitions,
                       [&](std::size_t p) { aggregatePartition(p, cloud, s); });
-
-    // Blocks are created serially (the grid's hash map is not thread-safe), in a fixed order.
-    for (HitPartition& part : s.partitions) {
-      part.blocks.resize(part.voxels.size());
-      for (std::size_t i = 0; i < part.voxels.size(); ++i)
-        part.blocks[i] = &access.block(blockOf(part.voxels[i]));
-    }
-    // Hits first: they mark their voxels, which the misses below then skip.
-    tally = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, kParts, 1), Tally{},
-        [&](const tbb::blocked_range<std::size_t>& r, Tally t) {
-          for (std::size_t p = r.begin(); p != r.end(); ++p)
-            t += applyHits(behaviour, s.partitions[p]);
-          return t;
-        },
-        [](Tally x, const Tally& y) { return x += y; });
+    tally = integrateHits(m.behaviour, access, s);
     result.voxels_hit = static_cast<std::int32_t>(tally.touched);
-
-    if (m.config.raycast) {
-      collectRayEnds(vs, s);
-      const RayFootprint& footprint = traverseRays(sensor_pose.translation(), vs, s);
-      s.miss_blocks.resize(footprint.numBlocks());
-      for (std::size_t i = 0; i < footprint.numBlocks(); ++i)
-        s.miss_blocks[i] = &access.block(footprint.key(i));
-      // Misses in parallel by block: a voxel lives in one block and a miss's effect does not
-      // depend on the order of other voxels' misses.
-      tally += tbb::parallel_reduce(
-          tbb::blocked_range<std::size_t>(0, footprint.numBlocks(), 32), Tally{},
-          [&](const tbb::blocked_range<std::size_t>& r, Tally t) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i)
-              applyMisses(behaviour, *s.miss_blocks[i], footprint.mask(i), t);
-            return t;
-          },
-          [](Tally x, const Tally& y) { return x += y; });
-    }
+    if (m.config.raycast)
+      tally +=
+          integrateMisses(m.behaviour, access, sensor_pose.translation(), m.config.voxel_size, s);
   });
+  clearScanMarks(s);
 
-  for (HitPartition& part : s.partitions)
-    for (Block* block : part.touched) {
-      block->scan_mark.reset();
-      block->in_scan = false;
-    }
   m.num_observed += tally.newly_observed;
   m.num_occupied += tally.occupied_delta;
   result.voxels_touched = static_cast<std::int32_t>(tally.touched);

@@ -144,6 +144,62 @@ void writeFileAtomically(const std::filesystem::path& file, const std::string& b
   }
 }
 
+/// The whole snapshot file (header + payload) once its header and payload checksums, format
+/// version and size are verified; throws std::runtime_error prefixed by where otherwise.
+std::string readVerifiedSnapshot(const std::filesystem::path& file, const std::string& where) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error(where + "cannot open (missing or unreadable)");
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw std::runtime_error(where + "read error");
+  if (bytes.size() < kHeaderSize) throw std::runtime_error(where + "too short for a header");
+  if (std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
+    throw std::runtime_error(where + "not a socc map snapshot (bad magic)");
+  ByteReader hr(bytes.data() + sizeof(kMagic), kHeaderSize - sizeof(kMagic));
+  const auto version = hr.get<std::uint32_t>();
+  hr.get<std::uint32_t>();
+  const auto payload_size = hr.get<std::uint64_t>();
+  const auto payload_crc = hr.get<std::uint32_t>();
+  const auto header_crc = hr.get<std::uint32_t>();
+  if (crc(bytes.data(), kHeaderSize - 4) != header_crc)
+    throw std::runtime_error(where + "header checksum mismatch (corrupt file)");
+  if (version != kFormatVersion)
+    throw std::runtime_error(where + "unsupported format version " + std::to_string(version) +
+                             " (expected " + std::to_string(kFormatVersion) + ")");
+  if (payload_size != bytes.size() - kHeaderSize)
+    throw std::runtime_error(where + "size mismatch (truncated or extended file)");
+  if (crc(bytes.data() + kHeaderSize, payload_size) != payload_crc)
+    throw std::runtime_error(where + "payload checksum mismatch (corrupt file)");
+  return bytes;
+}
+
+/// Reads one block as save() writes it into grid; coord_limit bounds |key| in voxels.
+void readBlock(ByteReader& r, double coord_limit, Grid& grid) {
+  BlockKey key;
+  for (int i = 0; i < 3; ++i) key[i] = r.get<std::int32_t>();
+  if ((key.cast<double>().cwiseAbs().array() * kBlockDim > coord_limit + kBlockDim).any())
+    throw std::runtime_error("block coordinate out of range");
+  if (grid.find(key) != nullptr) throw std::runtime_error("duplicate block");
+  Block& b = grid.getOrCreate(key);
+  for (int word = 0; word < kBlockVoxels / 64; ++word) {
+    const auto bits = r.get<std::uint64_t>();
+    for (int j = 0; j < 64; ++j) b.observed[word * 64 + j] = ((bits >> j) & 1u) != 0;
+  }
+  for (int local = 0; local < kBlockVoxels; ++local) {
+    if (!b.observed[local]) continue;
+    const auto l = r.get<float>();
+    if (!std::isfinite(l)) throw std::runtime_error("non-finite log-odds");
+    b.log_odds[local] = l;
+  }
+  const auto with_stats = r.get<std::uint32_t>();
+  if (with_stats > kBlockVoxels) throw std::runtime_error("too many statistics in a block");
+  for (std::uint32_t k = 0; k < with_stats; ++k) {
+    const auto local = r.get<std::uint16_t>();
+    if (local >= kBlockVoxels || !b.observed[local] || b.statsOf(local) != nullptr)
+      throw std::runtime_error("statistics for an invalid voxel");
+    b.acquireStats(local) = readStats(r);
+  }
+}
+
 }  // namespace
 
 void SemanticOccupancyMap::save(const std::filesystem::path& file,
@@ -196,32 +252,9 @@ void SemanticOccupancyMap::save(const std::filesystem::path& file,
 SemanticOccupancyMap SemanticOccupancyMap::load(const std::filesystem::path& file,
                                                 std::string* metadata) {
   const std::string where = "snapshot " + file.string() + ": ";
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(where + "cannot open (missing or unreadable)");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw std::runtime_error(where + "read error");
-  if (bytes.size() < kHeaderSize) throw std::runtime_error(where + "too short for a header");
-  if (std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
-    throw std::runtime_error(where + "not a socc map snapshot (bad magic)");
-  ByteReader hr(bytes.data() + sizeof(kMagic), kHeaderSize - sizeof(kMagic));
-  const auto version = hr.get<std::uint32_t>();
-  hr.get<std::uint32_t>();
-  const auto payload_size = hr.get<std::uint64_t>();
-  const auto payload_crc = hr.get<std::uint32_t>();
-  const auto header_crc = hr.get<std::uint32_t>();
-  if (crc(bytes.data(), kHeaderSize - 4) != header_crc)
-    throw std::runtime_error(where + "header checksum mismatch (corrupt file)");
-  if (version != kFormatVersion)
-    throw std::runtime_error(where + "unsupported format version " + std::to_string(version) +
-                             " (expected " + std::to_string(kFormatVersion) + ")");
-  if (payload_size != bytes.size() - kHeaderSize)
-    throw std::runtime_error(where + "size mismatch (truncated or extended file)");
-  const char* payload = bytes.data() + kHeaderSize;
-  if (crc(payload, payload_size) != payload_crc)
-    throw std::runtime_error(where + "payload checksum mismatch (corrupt file)");
-
+  const std::string bytes = readVerifiedSnapshot(file, where);
   try {
-    ByteReader r(payload, payload_size);
+    ByteReader r(bytes.data() + kHeaderSize, bytes.size() - kHeaderSize);
     SemanticOccupancyMap map(readConfig(r));
     Impl& m = *map.impl_;
     m.version = r.get<std::int64_t>();
@@ -230,32 +263,7 @@ SemanticOccupancyMap SemanticOccupancyMap::load(const std::filesystem::path& fil
     // Every block takes at least 48 bytes: a lying count fails here, not in an allocation.
     if (num_blocks > r.remaining() / 48) throw std::runtime_error("block count exceeds file size");
     const double limit = (m.config.max_abs_coordinate + m.config.max_range) / m.config.voxel_size;
-    for (std::uint64_t n = 0; n < num_blocks; ++n) {
-      BlockKey key;
-      for (int i = 0; i < 3; ++i) key[i] = r.get<std::int32_t>();
-      if ((key.cast<double>().cwiseAbs().array() * kBlockDim > limit + kBlockDim).any())
-        throw std::runtime_error("block coordinate out of range");
-      if (m.grid.find(key) != nullptr) throw std::runtime_error("duplicate block");
-      Block& b = m.grid.getOrCreate(key);
-      for (int word = 0; word < kBlockVoxels / 64; ++word) {
-        const auto bits = r.get<std::uint64_t>();
-        for (int j = 0; j < 64; ++j) b.observed[word * 64 + j] = ((bits >> j) & 1u) != 0;
-      }
-      for (int local = 0; local < kBlockVoxels; ++local) {
-        if (!b.observed[local]) continue;
-        const auto l = r.get<float>();
-        if (!std::isfinite(l)) throw std::runtime_error("non-finite log-odds");
-        b.log_odds[local] = l;
-      }
-      const auto with_stats = r.get<std::uint32_t>();
-      if (with_stats > kBlockVoxels) throw std::runtime_error("too many statistics in a block");
-      for (std::uint32_t k = 0; k < with_stats; ++k) {
-        const auto local = r.get<std::uint16_t>();
-        if (local >= kBlockVoxels || !b.observed[local] || b.statsOf(local) != nullptr)
-          throw std::runtime_error("statistics for an invalid voxel");
-        b.acquireStats(local) = readStats(r);
-      }
-    }
+    for (std::uint64_t n = 0; n < num_blocks; ++n) readBlock(r, limit, m.grid);
     if (r.remaining() != 0) throw std::runtime_error("trailing bytes");
     m.recount();
     if (metadata != nullptr) *metadata = std::move(meta);

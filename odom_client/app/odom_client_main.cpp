@@ -26,6 +26,61 @@ void onSignal(int) {
   g_stop = true;
 }
 
+// The command line as parsed.
+struct Args {
+  std::string input, pcd_dir, config_file, out_dir, initial_pose, key_file;
+  std::string robot_id = "robot1";
+  std::string lcm_url{socc::channels::kDefaultLcmUrl};
+  bool live = false, no_semantics = false, resume = false, quiet = false;
+  std::int64_t first = 0, last = -1;
+  double idle_timeout_s = 5.0;
+};
+
+void addOptions(CLI::App& app, Args& a) {
+  auto* in_opt = app.add_option(
+      "--kitti", a.input,
+      "KITTI-layout directory (velodyne/*.bin, optional labels/, times.txt, point_times/)");
+  auto* pcd_opt =
+      app.add_option("--pcd-dir", a.pcd_dir, "directory of .pcd/.ply scans (sorted by name)");
+  auto* live_opt =
+      app.add_flag("--live", a.live,
+                   "read socc::scan_t from SOCC/SCAN/<robot-id> over LCM (e.g. lcm-logplayer)");
+  in_opt->excludes(pcd_opt, live_opt);
+  pcd_opt->excludes(live_opt);
+  app.add_option("--robot-id", a.robot_id, "robot / client id (several robots share one map)")
+      ->capture_default_str();
+  app.add_option("--lcm-url", a.lcm_url, "LCM URL: udpm://239.x.y.z:port?ttl=0 only")
+      ->capture_default_str();
+  app.add_option("--config", a.config_file,
+                 "YAML parameters (odom_client/config/default.yaml documents each)");
+  app.add_option("--out-dir", a.out_dir,
+                 "write poses_kitti.txt, poses_tum.txt and frames.csv here");
+  app.add_option("--initial-pose", a.initial_pose,
+                 "pose of the first scan in the map frame: \"x y z roll pitch yaw\" [m, rad]; "
+                 "taken as exact unless refine_initial_pose is set in --config");
+  app.add_option("--first-frame", a.first, "first frame index of a directory input")
+      ->capture_default_str();
+  app.add_option("--last-frame", a.last, "last frame index (inclusive); -1 = all")
+      ->capture_default_str();
+  app.add_flag("--resume", a.resume,
+               "continue from the pose/seq the server holds for --robot-id (GET_ROBOT_POSE)");
+  app.add_flag("--no-semantics", a.no_semantics, "ignore labels (all points unlabeled)");
+  app.add_option("--idle-timeout", a.idle_timeout_s,
+                 "--live: stop after this many seconds without scans")
+      ->capture_default_str();
+  app.add_option("--key-file", a.key_file,
+                 "shared key for signed requests (if the server requires it)");
+  app.add_flag("--quiet", a.quiet, "no progress bar");
+}
+
+void checkArgs(const Args& a) {
+  if (a.input.empty() && a.pcd_dir.empty() && !a.live)
+    throw std::runtime_error("no input: give --kitti <dir>, --pcd-dir <dir> or --live");
+  if (const std::string why = socc::checkLcmUrl(a.lcm_url); !why.empty())
+    throw std::runtime_error("--lcm-url " + a.lcm_url + ": " + why);
+  if (a.robot_id.empty()) throw std::runtime_error("--robot-id must not be empty");
+}
+
 Eigen::Isometry3d parsePose(const std::string& text) {
   std::istringstream in(text);
   double v[6];
@@ -43,10 +98,75 @@ Eigen::Isometry3d parsePose(const std::string& text) {
   return pose;
 }
 
+socc::rpc::ClientOptions clientOptions(const Args& a, const OdomConfig& config) {
+  socc::rpc::ClientOptions client_options;
+  client_options.lcm_url = a.lcm_url;
+  client_options.client_id = a.robot_id;
+  client_options.timeout = std::chrono::milliseconds(config.timeout_ms);
+  client_options.max_attempts = config.max_attempts;
+  client_options.key_file = a.key_file;
+  return client_options;
+}
+
+// --resume: starts after the last scan the server integrated for this robot (advances
+// a.first); a robot the server does not know starts fresh.
+void resumeFromServer(socc::rpc::MapClient& client, Args& a, RunOptions& options) {
+  const auto reply = client.getRobotPose(a.robot_id);
+  if (reply.ok()) {
+    const socc::robot_state_t& state = reply.reply->state;
+    options.initial_pose = socc::fromLcm(state.last_pose);
+    options.initial_pose_known = false;  // the pose of the last scan, not of the next one
+    options.skip_until_seq = state.last_seq;
+    a.first = std::max<std::int64_t>(a.first, state.last_seq + 1);
+    std::cerr << "odom_client: resuming " << a.robot_id << " after seq " << state.last_seq << "\n";
+  } else if (reply.error.status == socc::reply_header_t::NOT_FOUND) {
+    std::cerr << "odom_client: the server does not know " << a.robot_id << " yet: starting fresh\n";
+  } else {
+    throw std::runtime_error("GET_ROBOT_POSE failed: " + reply.error.message);
+  }
+}
+
+std::unique_ptr<ScanSource> openSource(const Args& a, const OdomConfig& config) {
+  if (!a.input.empty()) return openKittiDirectory(a.input, {a.first, a.last});
+  if (!a.pcd_dir.empty())
+    return openPointCloudDirectory(a.pcd_dir, {a.first, a.last}, config.frame_period);
+  auto source = openLcmScans(a.lcm_url, a.robot_id,
+                             std::chrono::milliseconds(static_cast<int>(a.idle_timeout_s * 1000)));
+  // Scans published before this line are not received: start lcm-logplayer after it.
+  std::cerr << "odom_client: listening for scans on " << socc::channels::scan(a.robot_id)
+            << std::endl;
+  return source;
+}
+
 void writeOutputs(const fs::path& out_dir, const Trajectory& t) {
   if (out_dir.empty()) return;
   socc::writeKittiPoses(out_dir / "poses_kitti.txt", t.poses);
   socc::writeTumPoses(out_dir / "poses_tum.txt", t.poses, t.stamps);
+}
+
+// Registers every scan of the source; the outputs are written even when a frame fails.
+// Returns the exit code: 0, 1 (error) or 3 (the run ended LOST).
+int runOdometry(const Args& a, const OdomConfig& config, socc::rpc::MapClient& client,
+                const RunOptions& options, ScanSource& source) {
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  FrameLog log(a.out_dir.empty() ? fs::path{} : fs::path(a.out_dir) / "frames.csv");
+  OdomRunner runner(config, client, options);
+  int rc = 0;
+  try {
+    runner.run(source, log);
+  } catch (const std::exception& e) {
+    std::cerr << "odom_client: error: " << e.what() << "\n";
+    rc = 1;
+  }
+  writeOutputs(a.out_dir, runner.trajectory());
+  std::cout << log.summary(runner.wallSeconds());
+  if (rc == 0 && runner.trackingState() == TrackingState::kLost) {
+    std::cerr << "odom_client: error: the run ended LOST: frames after the robot lost track "
+                 "were not integrated (frames.csv status column)\n";
+    rc = 3;
+  }
+  return rc;
 }
 
 }  // namespace
@@ -59,126 +179,32 @@ int main(int argc, char** argv) {
       "predicted pose, point-to-plane/point-to-point ICP with occupancy and semantic weights,\n"
       "then INTEGRATE of the full scan at the estimated pose. Needs a running map_server."};
   app.set_version_flag("--version", socc::versionLine("odom_client"));
-  std::string input, pcd_dir, config_file, out_dir, initial_pose, key_file;
-  std::string robot_id = "robot1";
-  std::string lcm_url(socc::channels::kDefaultLcmUrl);
-  bool live = false, no_semantics = false, resume = false, quiet = false;
-  std::int64_t first = 0, last = -1;
-  double idle_timeout_s = 5.0;
-  auto* in_opt = app.add_option(
-      "--kitti", input,
-      "KITTI-layout directory (velodyne/*.bin, optional labels/, times.txt, point_times/)");
-  auto* pcd_opt =
-      app.add_option("--pcd-dir", pcd_dir, "directory of .pcd/.ply scans (sorted by name)");
-  auto* live_opt = app.add_flag(
-      "--live", live, "read socc::scan_t from SOCC/SCAN/<robot-id> over LCM (e.g. lcm-logplayer)");
-  in_opt->excludes(pcd_opt, live_opt);
-  pcd_opt->excludes(live_opt);
-  app.add_option("--robot-id", robot_id, "robot / client id (several robots share one map)")
-      ->capture_default_str();
-  app.add_option("--lcm-url", lcm_url, "LCM URL: udpm://239.x.y.z:port?ttl=0 only")
-      ->capture_default_str();
-  app.add_option("--config", config_file,
-                 "YAML parameters (odom_client/config/default.yaml documents each)");
-  app.add_option("--out-dir", out_dir, "write poses_kitti.txt, poses_tum.txt and frames.csv here");
-  app.add_option("--initial-pose", initial_pose,
-                 "pose of the first scan in the map frame: \"x y z roll pitch yaw\" [m, rad]; "
-                 "taken as exact unless refine_initial_pose is set in --config");
-  app.add_option("--first-frame", first, "first frame index of a directory input")
-      ->capture_default_str();
-  app.add_option("--last-frame", last, "last frame index (inclusive); -1 = all")
-      ->capture_default_str();
-  app.add_flag("--resume", resume,
-               "continue from the pose/seq the server holds for --robot-id (GET_ROBOT_POSE)");
-  app.add_flag("--no-semantics", no_semantics, "ignore labels (all points unlabeled)");
-  app.add_option("--idle-timeout", idle_timeout_s,
-                 "--live: stop after this many seconds without scans")
-      ->capture_default_str();
-  app.add_option("--key-file", key_file,
-                 "shared key for signed requests (if the server requires it)");
-  app.add_flag("--quiet", quiet, "no progress bar");
+  Args args;
+  addOptions(app, args);
   CLI11_PARSE(app, argc, argv);
 
   try {
-    if (input.empty() && pcd_dir.empty() && !live)
-      throw std::runtime_error("no input: give --kitti <dir>, --pcd-dir <dir> or --live");
-    if (const std::string why = socc::checkLcmUrl(lcm_url); !why.empty())
-      throw std::runtime_error("--lcm-url " + lcm_url + ": " + why);
-    if (robot_id.empty()) throw std::runtime_error("--robot-id must not be empty");
-    OdomConfig config = config_file.empty() ? OdomConfig{} : loadOdomConfig(config_file);
-    if (no_semantics) config.use_semantics = false;
-    if (!out_dir.empty()) fs::create_directories(out_dir);
-
-    socc::rpc::ClientOptions client_options;
-    client_options.lcm_url = lcm_url;
-    client_options.client_id = robot_id;
-    client_options.timeout = std::chrono::milliseconds(config.timeout_ms);
-    client_options.max_attempts = config.max_attempts;
-    client_options.key_file = key_file;
-    socc::rpc::MapClient client(client_options);
+    checkArgs(args);
+    OdomConfig config = args.config_file.empty() ? OdomConfig{} : loadOdomConfig(args.config_file);
+    if (args.no_semantics) config.use_semantics = false;
+    if (!args.out_dir.empty()) fs::create_directories(args.out_dir);
+    socc::rpc::MapClient client(clientOptions(args, config));
 
     RunOptions options;
-    options.progress = !quiet;
+    options.progress = !args.quiet;
     options.stop = &g_stop;
-    if (!initial_pose.empty()) {
-      options.initial_pose = parsePose(initial_pose);
+    if (!args.initial_pose.empty()) {
+      options.initial_pose = parsePose(args.initial_pose);
       options.initial_pose_known = true;
     }
-    if (resume) {
-      const auto reply = client.getRobotPose(robot_id);
-      if (reply.ok()) {
-        const socc::robot_state_t& state = reply.reply->state;
-        options.initial_pose = socc::fromLcm(state.last_pose);
-        options.initial_pose_known = false;  // the pose of the last scan, not of the next one
-        options.skip_until_seq = state.last_seq;
-        first = std::max<std::int64_t>(first, state.last_seq + 1);
-        std::cerr << "odom_client: resuming " << robot_id << " after seq " << state.last_seq
-                  << "\n";
-      } else if (reply.error.status == socc::reply_header_t::NOT_FOUND) {
-        std::cerr << "odom_client: the server does not know " << robot_id
-                  << " yet: starting fresh\n";
-      } else {
-        throw std::runtime_error("GET_ROBOT_POSE failed: " + reply.error.message);
-      }
-    }
-
-    if (resume && !input.empty() &&
-        first >= static_cast<std::int64_t>(socc::listKittiSequence(input).scans.size())) {
-      std::cout << "odom_client: every frame of " << input << " was integrated already\n";
+    if (args.resume) resumeFromServer(client, args, options);
+    if (args.resume && !args.input.empty() &&
+        args.first >= static_cast<std::int64_t>(socc::listKittiSequence(args.input).scans.size())) {
+      std::cout << "odom_client: every frame of " << args.input << " was integrated already\n";
       return 0;
     }
-    std::unique_ptr<ScanSource> source;
-    if (!input.empty())
-      source = openKittiDirectory(input, {first, last});
-    else if (!pcd_dir.empty())
-      source = openPointCloudDirectory(pcd_dir, {first, last}, config.frame_period);
-    else {
-      source = openLcmScans(lcm_url, robot_id,
-                            std::chrono::milliseconds(static_cast<int>(idle_timeout_s * 1000)));
-      // Scans published before this line are not received: start lcm-logplayer after it.
-      std::cerr << "odom_client: listening for scans on " << socc::channels::scan(robot_id)
-                << std::endl;
-    }
-
-    std::signal(SIGINT, onSignal);
-    std::signal(SIGTERM, onSignal);
-    FrameLog log(out_dir.empty() ? fs::path{} : fs::path(out_dir) / "frames.csv");
-    OdomRunner runner(config, client, options);
-    int rc = 0;
-    try {
-      runner.run(*source, log);
-    } catch (const std::exception& e) {
-      std::cerr << "odom_client: error: " << e.what() << "\n";
-      rc = 1;
-    }
-    writeOutputs(out_dir, runner.trajectory());
-    std::cout << log.summary(runner.wallSeconds());
-    if (rc == 0 && runner.trackingState() == TrackingState::kLost) {
-      std::cerr << "odom_client: error: the run ended LOST: frames after the robot lost track "
-                   "were not integrated (frames.csv status column)\n";
-      rc = 3;
-    }
-    return rc;
+    const std::unique_ptr<ScanSource> source = openSource(args, config);
+    return runOdometry(args, config, client, options, *source);
   } catch (const std::exception& e) {
     std::cerr << "odom_client: error: " << e.what() << "\n";
     return 1;

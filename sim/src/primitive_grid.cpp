@@ -4,8 +4,111 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 namespace socc::sim {
+
+namespace {
+
+// A direction component below this counts as parallel to the axis.
+constexpr double kParallelEps = 1e-12;
+
+// [t_enter, t_leave] of the 2D ray o + t d inside the box [lo, hi], within [0, max_range].
+std::optional<std::pair<double, double>> clipToFootprint(const Eigen::Vector2d& o,
+                                                         const Eigen::Vector2d& d,
+                                                         const Eigen::Vector2d& lo,
+                                                         const Eigen::Vector2d& hi,
+                                                         double max_range) {
+  double t_enter = 0.0;
+  double t_leave = max_range;
+  for (int a = 0; a < 2; ++a) {
+    if (std::abs(d[a]) < kParallelEps) {
+      if (o[a] < lo[a] || o[a] > hi[a]) return std::nullopt;
+      continue;
+    }
+    double t0 = (lo[a] - o[a]) / d[a];
+    double t1 = (hi[a] - o[a]) / d[a];
+    if (t0 > t1) std::swap(t0, t1);
+    t_enter = std::max(t_enter, t0);
+    t_leave = std::min(t_leave, t1);
+  }
+  if (t_enter > t_leave) return std::nullopt;
+  return std::make_pair(t_enter, t_leave);
+}
+
+// 2D DDA (Amanatides & Woo) over an nx x ny grid of square cells from lo: the current cell and
+// the ray parameters at which the next x and y cell boundaries are crossed.
+struct CellWalk {
+  CellWalk(const Eigen::Vector2d& o, const Eigen::Vector2d& d, const Eigen::Vector2d& lo,
+           double cell_size, double t_start, int nx, int ny) {
+    const Eigen::Vector2d start = o + t_start * d;
+    ix = std::clamp(static_cast<int>(std::floor((start.x() - lo.x()) / cell_size)), 0, nx - 1);
+    iy = std::clamp(static_cast<int>(std::floor((start.y() - lo.y()) / cell_size)), 0, ny - 1);
+    step_x = d.x() > 0 ? 1 : -1;
+    step_y = d.y() > 0 ? 1 : -1;
+    const auto next_boundary = [&](int i, int step, int axis) {
+      if (std::abs(d[axis]) < kParallelEps) return kInf;
+      const double edge = lo[axis] + cell_size * (i + (step > 0 ? 1 : 0));
+      return (edge - o[axis]) / d[axis];
+    };
+    t_next_x = next_boundary(ix, step_x, 0);
+    t_next_y = next_boundary(iy, step_y, 1);
+    dt_x = std::abs(d.x()) < kParallelEps ? kInf : cell_size / std::abs(d.x());
+    dt_y = std::abs(d.y()) < kParallelEps ? kInf : cell_size / std::abs(d.y());
+  }
+
+  double exit() const { return std::min(t_next_x, t_next_y); }
+
+  // Steps into the next cell; false when that leaves the grid.
+  bool advance(int nx, int ny) {
+    if (t_next_x < t_next_y) {
+      ix += step_x;
+      t_next_x += dt_x;
+      return ix >= 0 && ix < nx;
+    }
+    iy += step_y;
+    t_next_y += dt_y;
+    return iy >= 0 && iy < ny;
+  }
+
+  int ix = 0, iy = 0, step_x = 1, step_y = 1;
+  double t_next_x = kInf, t_next_y = kInf, dt_x = kInf, dt_y = kInf;
+};
+
+// Large primitives span several cells: remembers the last few tested to skip repeats.
+class RecentIds {
+ public:
+  // True when id was tested already; otherwise remembers it.
+  bool testedBefore(std::uint32_t id) {
+    for (std::size_t k = 0; k < std::min(n_, kSize); ++k)
+      if (ids_[k] == id) return true;
+    ids_[n_++ % kSize] = id;
+    return false;
+  }
+
+ private:
+  static constexpr std::size_t kSize = 16;
+  std::uint32_t ids_[kSize];
+  std::size_t n_ = 0;
+};
+
+// Intersects the ray with the cell's primitives not tested yet; true when one is nearer than
+// best (which it then replaces).
+bool nearerHitInCell(const Ray& ray, const std::vector<std::uint32_t>& cell,
+                     const std::vector<Primitive>& primitives, RecentIds& tested, Hit& best) {
+  bool nearer = false;
+  for (const std::uint32_t i : cell) {
+    if (tested.testedBefore(i)) continue;
+    const auto t = intersect(ray, primitives[i].shape);
+    if (t && *t < best.range) {
+      best = {*t, primitives[i].label};
+      nearer = true;
+    }
+  }
+  return nearer;
+}
+
+}  // namespace
 
 PrimitiveGrid::PrimitiveGrid(std::vector<Primitive> primitives, double cell_size)
     : primitives_(std::move(primitives)), cell_size_(cell_size) {
@@ -46,80 +149,27 @@ std::optional<Hit> PrimitiveGrid::cast(const Ray& ray, double max_range) const {
   if (cells_.empty()) return std::nullopt;
   const Eigen::Vector2d o = ray.origin.head<2>();
   const Eigen::Vector2d d = ray.direction.head<2>();
-  const Eigen::Vector2d lo = origin_;
   const Eigen::Vector2d hi = origin_ + cell_size_ * Eigen::Vector2d(nx_, ny_);
+  const auto span = clipToFootprint(o, d, origin_, hi, max_range);
+  if (!span) return std::nullopt;
+  const auto [t_enter, t_leave] = *span;
 
-  // Clip the ray to the grid's footprint.
-  double t_enter = 0.0;
-  double t_leave = max_range;
-  for (int a = 0; a < 2; ++a) {
-    if (std::abs(d[a]) < 1e-12) {
-      if (o[a] < lo[a] || o[a] > hi[a]) return std::nullopt;
-      continue;
-    }
-    double t0 = (lo[a] - o[a]) / d[a];
-    double t1 = (hi[a] - o[a]) / d[a];
-    if (t0 > t1) std::swap(t0, t1);
-    t_enter = std::max(t_enter, t0);
-    t_leave = std::min(t_leave, t1);
-  }
-  if (t_enter > t_leave) return std::nullopt;
-
-  const Eigen::Vector2d start = o + t_enter * d;
-  int ix = std::clamp(static_cast<int>(std::floor((start.x() - lo.x()) / cell_size_)), 0, nx_ - 1);
-  int iy = std::clamp(static_cast<int>(std::floor((start.y() - lo.y()) / cell_size_)), 0, ny_ - 1);
-  const int step_x = d.x() > 0 ? 1 : -1;
-  const int step_y = d.y() > 0 ? 1 : -1;
-  const auto next_boundary = [&](int i, int step, int axis) {
-    if (std::abs(d[axis]) < 1e-12) return kInf;
-    const double edge = lo[axis] + cell_size_ * (i + (step > 0 ? 1 : 0));
-    return (edge - o[axis]) / d[axis];
-  };
-  double t_next_x = next_boundary(ix, step_x, 0);
-  double t_next_y = next_boundary(iy, step_y, 1);
-  const double dt_x = std::abs(d.x()) < 1e-12 ? kInf : cell_size_ / std::abs(d.x());
-  const double dt_y = std::abs(d.y()) < 1e-12 ? kInf : cell_size_ / std::abs(d.y());
-
+  CellWalk walk(o, d, origin_, cell_size_, t_enter, nx_, ny_);
   Hit best{max_range, 0};
   bool found = false;
-  // Large primitives span several cells: remember the last few tested to skip repeats.
-  constexpr std::size_t kMailbox = 16;
-  std::uint32_t tested[kMailbox];
-  std::size_t n_tested = 0;
-  const auto already_tested = [&](std::uint32_t id) {
-    for (std::size_t k = 0; k < std::min(n_tested, kMailbox); ++k)
-      if (tested[k] == id) return true;
-    tested[n_tested++ % kMailbox] = id;
-    return false;
-  };
+  RecentIds tested;
   double cell_entry = t_enter;
   while (true) {
-    const double cell_exit = std::min(t_next_x, t_next_y);
-    const std::size_t c = cellIndex(ix, iy);
+    const double cell_exit = walk.exit();
+    const std::size_t c = cellIndex(walk.ix, walk.iy);
     const double z_low =
         ray.origin.z() +
         std::min(cell_entry * ray.direction.z(), std::min(cell_exit, t_leave) * ray.direction.z());
-    if (z_low <= cell_top_[c]) {
-      for (const std::uint32_t i : cells_[c]) {
-        if (already_tested(i)) continue;
-        const auto t = intersect(ray, primitives_[i].shape);
-        if (t && *t < best.range) {
-          best = {*t, primitives_[i].label};
-          found = true;
-        }
-      }
-    }
+    if (z_low <= cell_top_[c] && nearerHitInCell(ray, cells_[c], primitives_, tested, best))
+      found = true;
     cell_entry = cell_exit;
     if ((found && best.range <= cell_exit) || cell_exit > t_leave) break;
-    if (t_next_x < t_next_y) {
-      ix += step_x;
-      t_next_x += dt_x;
-      if (ix < 0 || ix >= nx_) break;
-    } else {
-      iy += step_y;
-      t_next_y += dt_y;
-      if (iy < 0 || iy >= ny_) break;
-    }
+    if (!walk.advance(nx_, ny_)) break;
   }
   if (!found) return std::nullopt;
   return best;

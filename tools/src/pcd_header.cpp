@@ -12,6 +12,9 @@ namespace socc::tools {
 
 namespace {
 
+// Key -> values of each header line up to DATA.
+using PcdHeader = std::map<std::string, std::vector<std::string>>;
+
 [[noreturn]] void headerError(const std::filesystem::path& file, const std::string& why) {
   throw std::runtime_error(file.string() + ": " + why);
 }
@@ -23,15 +26,14 @@ bool parseCount(const std::string& text, unsigned long long& value) {
   return true;
 }
 
-}  // namespace
-
-void checkPcdHeader(const std::filesystem::path& file) {
+// The header lines up to DATA (at most 64, known keys only); header_bytes is their size.
+PcdHeader readHeaderLines(const std::filesystem::path& file, std::uintmax_t& header_bytes) {
   std::ifstream in(file, std::ios::binary);
   if (!in) headerError(file, "cannot open");
   static const char* const kKeys[] = {"VERSION", "FIELDS", "SIZE",      "TYPE",   "COUNT",
                                       "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
-  std::map<std::string, std::vector<std::string>> header;
-  std::uintmax_t header_bytes = 0;
+  PcdHeader header;
+  header_bytes = 0;
   std::string line;
   for (int n = 0; n < 64 && header.count("DATA") == 0 && std::getline(in, line); ++n) {
     header_bytes += line.size() + 1;
@@ -46,11 +48,15 @@ void checkPcdHeader(const std::filesystem::path& file) {
   for (const char* key : {"FIELDS", "SIZE", "TYPE", "WIDTH", "POINTS", "DATA"})
     if (header.count(key) == 0)
       headerError(file, std::string("PCD header has no ") + key + " line");
+  return header;
+}
 
+// Bytes per point, once FIELDS, SIZE, TYPE and COUNT agree and hold valid values.
+unsigned long long pointBytes(const std::filesystem::path& file, PcdHeader& header) {
   const std::size_t num_fields = header["FIELDS"].size();
+  const bool has_count = header.count("COUNT") != 0;
   if (num_fields == 0 || header["SIZE"].size() != num_fields ||
-      header["TYPE"].size() != num_fields ||
-      (header.count("COUNT") != 0 && header["COUNT"].size() != num_fields))
+      header["TYPE"].size() != num_fields || (has_count && header["COUNT"].size() != num_fields))
     headerError(file, "PCD header: FIELDS, SIZE, TYPE and COUNT disagree");
   unsigned long long point_bytes = 0;
   for (std::size_t i = 0; i < num_fields; ++i) {
@@ -59,11 +65,15 @@ void checkPcdHeader(const std::filesystem::path& file) {
     if (!parseCount(header["SIZE"][i], size) ||
         (size != 1 && size != 2 && size != 4 && size != 8) ||
         (type != "I" && type != "U" && type != "F") ||
-        (header.count("COUNT") != 0 &&
-         (!parseCount(header["COUNT"][i], count) || count == 0 || count > 1024)))
+        (has_count && (!parseCount(header["COUNT"][i], count) || count == 0 || count > 1024)))
       headerError(file, "PCD header: bad SIZE/TYPE/COUNT of field " + header["FIELDS"][i]);
     point_bytes += size * count;
   }
+  return point_bytes;
+}
+
+// POINTS, once WIDTH * HEIGHT equals it.
+unsigned long long pointCount(const std::filesystem::path& file, PcdHeader& header) {
   unsigned long long width = 0, height = 1, points = 0;
   if (header["WIDTH"].size() != 1 || !parseCount(header["WIDTH"][0], width) ||
       header["POINTS"].size() != 1 || !parseCount(header["POINTS"][0], points) ||
@@ -71,6 +81,16 @@ void checkPcdHeader(const std::filesystem::path& file) {
        (header["HEIGHT"].size() != 1 || !parseCount(header["HEIGHT"][0], height))) ||
       height == 0 || points % height != 0 || points / height != width)  // no overflow
     headerError(file, "PCD header: WIDTH * HEIGHT must equal POINTS");
+  return points;
+}
+
+}  // namespace
+
+void checkPcdHeader(const std::filesystem::path& file) {
+  std::uintmax_t header_bytes = 0;
+  PcdHeader header = readHeaderLines(file, header_bytes);
+  const unsigned long long point_bytes = pointBytes(file, header);
+  const unsigned long long points = pointCount(file, header);
   const std::vector<std::string>& data = header["DATA"];
   if (data.size() != 1 ||
       (data[0] != "ascii" && data[0] != "binary" && data[0] != "binary_compressed"))
