@@ -33,6 +33,14 @@ std::string statusOf(const FrameEstimate& e, TrackingState state) {
   return e.health.degenerate ? "degenerate" : "ok";
 }
 
+std::string progressText(const FrameStats& stats, TrackingState state) {
+  std::ostringstream out;
+  out.precision(1);
+  out << std::fixed << "register " << stats.register_ms << " ms, " << stats.chunk_voxels
+      << " voxels, " << trackingStateName(state);
+  return out.str();
+}
+
 void addHealth(const FrameEstimate& e, FrameStats& stats) {
   stats.planar = e.registration.planar;
   stats.non_planar = e.registration.non_planar;
@@ -64,37 +72,38 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
     std::optional<Scan> scan = source.next();
     if (!scan) break;
     if (scan->seq <= options_.skip_until_seq) continue;  // integrated before a restart
-    FrameStats stats;
-    stats.frame = scan->seq;
-    PreparedScan prepared;
-    try {
-      prepared = odometry.prepare(scan->cloud, scan->seq, scan->utime);
-    } catch (const std::invalid_argument& e) {
-      std::cerr << "odom_client: skipping " << scan->name << ": " << e.what() << "\n";
-      continue;
-    }
-    stats.preprocess_ms = msSince(frame_start);
-    const LocalMap map = fetchMap(odometry.predictedPose(prepared).translation(), stats);
-
-    const Clock::time_point register_start = Clock::now();
-    FrameEstimate estimate = odometry.registerFrame(prepared, map);
-    stats.register_ms = msSince(register_start);
-    stats.total_ms = msSince(frame_start);
-    if (std::optional<FrameEstimate> first = odometry.takeReleasedFrame()) {
-      FrameStats first_stats;  // its time was spent when it arrived
-      first_stats.frame = first->seq;
-      submit(std::move(*first), first_stats);
-    }
-    if (!estimate.held) submit(std::move(estimate), stats);
-    std::ostringstream extra;
-    extra.precision(1);
-    extra << std::fixed << "register " << stats.register_ms << " ms, " << map.size() << " voxels, "
-          << trackingStateName(tracking_.state());
-    bar.tick(extra.str());
+    if (const std::optional<FrameStats> stats = processScan(odometry, *scan, frame_start))
+      bar.tick(progressText(*stats, tracking_.state()));
   }
   finishPending();
   bar.finish();
   wall_seconds_ = std::chrono::duration<double>(Clock::now() - run_start).count();
+}
+
+std::optional<FrameStats> OdomRunner::processScan(Odometry& odometry, const Scan& scan,
+                                                  Clock::time_point start) {
+  FrameStats stats;
+  stats.frame = scan.seq;
+  PreparedScan prepared;
+  try {
+    prepared = odometry.prepare(scan.cloud, scan.seq, scan.utime);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "odom_client: skipping " << scan.name << ": " << e.what() << "\n";
+    return std::nullopt;
+  }
+  stats.preprocess_ms = msSince(start);
+  const LocalMap map = fetchMap(odometry.predictedPose(prepared).translation(), stats);
+  const Clock::time_point register_start = Clock::now();
+  FrameEstimate estimate = odometry.registerFrame(prepared, map);
+  stats.register_ms = msSince(register_start);
+  stats.total_ms = msSince(start);
+  if (std::optional<FrameEstimate> first = odometry.takeReleasedFrame()) {
+    FrameStats first_stats;  // its time was spent when it arrived
+    first_stats.frame = first->seq;
+    submit(std::move(*first), first_stats);
+  }
+  if (!estimate.held) submit(std::move(estimate), stats);
+  return stats;
 }
 
 rpc::Result<chunk_reply_t> OdomRunner::fetchChunk(const Eigen::Vector3d& center) {

@@ -10,12 +10,14 @@
 // Stateless between frames apart from the odometry state: no map is kept beyond one chunk.
 #include <Eigen/Geometry>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <future>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "socc/kitti_io.hpp"
 #include "socc/odom/frame_log.hpp"
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/odometry.hpp"
@@ -33,11 +35,7 @@ struct RunOptions {
   const std::atomic<bool>* stop = nullptr;  // set (e.g. by SIGINT) to end after the current frame
 };
 
-struct Trajectory {
-  std::vector<std::int64_t> seqs;
-  std::vector<double> stamps;            // [s]
-  std::vector<Eigen::Isometry3d> poses;  // map_T_sensor
-};
+using socc::Trajectory;  // poses: map_T_sensor per processed scan, with its stamp and seq
 
 class OdomRunner {
  public:
@@ -61,6 +59,9 @@ class OdomRunner {
     FrameStats stats;
   };
 
+  /// One scan through the pipeline; its stats, or nullopt when the scan was unusable (skipped).
+  std::optional<FrameStats> processScan(Odometry& odometry, const Scan& scan,
+                                        std::chrono::steady_clock::time_point start);
   LocalMap fetchMap(const Eigen::Vector3d& center, FrameStats& stats);
   rpc::Result<chunk_reply_t> fetchChunk(const Eigen::Vector3d& center);
   /// Waits for the Integrate in flight, logs its frame; returns the map version it produced
