@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "socc/labels.hpp"
+#include "socc/pcd_header.hpp"
 
 namespace socc::odom {
 namespace {
@@ -57,34 +58,21 @@ double readValue(const pcl::PCLPointCloud2& blob, const pcl::PCLPointField& f, s
   }
 }
 
-// PCL crashes on some malformed headers (e.g. a PCD without points), so the header is checked
-// here first: PCD needs FIELDS, POINTS/WIDTH and DATA lines, PLY "ply" ... "end_header".
-std::string headerProblem(const std::filesystem::path& file, const std::string& ext) {
+// PCL crashes on some malformed headers, so they are checked first: PCD files by
+// checkPcdHeader, PLY files here ("ply" ... "element vertex" ... "end_header").
+std::string plyHeaderProblem(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return "cannot open";
   std::string line;
-  bool fields = false, points = false, data = false, ply = false;
+  bool ply = false, vertices = false;
   for (int i = 0; i < 200 && std::getline(in, line); ++i) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    const auto starts = [&line](const char* key) { return line.rfind(key, 0) == 0; };
-    if (ext == ".ply") {
-      if (i == 0) ply = line == "ply";
-      if (starts("element vertex")) points = true;
-      if (starts("end_header")) return ply && points ? "" : "PLY header without vertices";
-    } else {
-      fields = fields || starts("FIELDS");
-      points = points || ((starts("POINTS") || starts("WIDTH")) &&
-                          line.find_first_of("123456789") != std::string::npos);
-      if (starts("DATA")) {
-        data = true;
-        break;
-      }
-    }
+    if (i == 0) ply = line == "ply";
+    if (line.rfind("element vertex", 0) == 0) vertices = true;
+    if (line.rfind("end_header", 0) == 0)
+      return ply && vertices ? "" : "PLY header without vertices";
   }
-  if (ext == ".ply") return "not a PLY file (no 'ply' ... 'end_header' header)";
-  if (!fields || !data) return "not a PCD file (no FIELDS / DATA header lines)";
-  if (!points) return "PCD file without points";
-  return {};
+  return "not a PLY file (no 'ply' ... 'end_header' header)";
 }
 
 }  // namespace
@@ -99,7 +87,9 @@ LabeledCloud loadPointCloudFile(const std::filesystem::path& file) {
   if (!std::filesystem::is_regular_file(file)) throw std::runtime_error(where + "no such file");
   const std::string ext = lowerExtension(file);
   if (ext != ".pcd" && ext != ".ply") throw std::runtime_error(where + "not a .pcd or .ply file");
-  if (const std::string problem = headerProblem(file, ext); !problem.empty())
+  if (ext == ".pcd")
+    checkPcdHeader(file);
+  else if (const std::string problem = plyHeaderProblem(file); !problem.empty())
     throw std::runtime_error(where + problem);
   pcl::PCLPointCloud2 blob;
   int rc = -1;

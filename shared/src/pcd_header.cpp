@@ -1,4 +1,4 @@
-#include "socc/tools/pcd_header.hpp"
+#include "socc/pcd_header.hpp"
 
 #include <algorithm>
 #include <fstream>
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace socc::tools {
+namespace socc {
 
 namespace {
 
@@ -108,4 +108,4 @@ void checkPcdHeader(const std::filesystem::path& file) {
     headerError(file, "PCD file is too short for its POINTS");
 }
 
-}  // namespace socc::tools
+}  // namespace socc

@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "socc/labels.hpp"
-#include "socc/tools/pcd_header.hpp"
+#include "socc/pcd_header.hpp"
 #include "socc/tools/scan_directory.hpp"
 
 namespace socc::tools {

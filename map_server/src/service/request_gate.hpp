@@ -1,7 +1,7 @@
 #pragma once
-// The single admission point every decoded request passes before its handler runs. The
-// authentication module (HMAC of state-changing requests, socc/auth/) plugs in here by
-// implementing RequestGate; until then the server uses AllowAllGate.
+// The single admission point every decoded request passes before its handler runs.
+// map_server uses AuthGate (auth_gate.hpp: HMAC-signed requests, socc/auth/) when it has a key
+// and AllowAllGate otherwise.
 #include <cstdint>
 #include <string>
 #include <string_view>

@@ -16,6 +16,14 @@ namespace socc {
 
 using Poses = std::vector<Eigen::Isometry3d>;
 
+/// Poses with what is known of them: the odometry's output and the trajectories socc-eval
+/// reads. stamps [s] and seqs (scan sequence numbers) are empty when unknown (KITTI files).
+struct Trajectory {
+  Poses poses;
+  std::vector<double> stamps;
+  std::vector<std::int64_t> seqs;
+};
+
 /// Reads x, y, z of a KITTI .bin (4 floats per point); reflectance is returned if asked.
 Points readKittiBin(const std::filesystem::path& file, std::vector<float>* reflectance = nullptr);
 /// Reads a raw float32 x, y, z file (3 floats per point).

@@ -15,10 +15,7 @@ enum class TrajectoryFormat { kAuto, kKitti, kTum };
 /// "auto", "kitti" or "tum"; throws std::invalid_argument otherwise.
 TrajectoryFormat parseTrajectoryFormat(const std::string& name);
 
-struct Trajectory {
-  Poses poses;
-  std::vector<double> stamps;  // TUM stamps; empty for KITTI files
-};
+using socc::Trajectory;  // stamps from TUM files; seqs stay empty
 
 /// kAuto decides from the first data line (12 numbers: KITTI, 8: TUM). With a calib file the
 /// poses are taken to be KITTI camera-frame poses and moved to the LiDAR frame
