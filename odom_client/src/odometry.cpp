@@ -34,6 +34,17 @@ LocalMap withCloud(const LocalMap& map, const LabeledCloud& cloud) {
   return LocalMap(std::move(voxels));
 }
 
+// Points of cloud (sensor frame) within kNearMap of the map at pose: how much of a scan a pose
+// explains.
+constexpr double kNearMap = 0.5;  // [m] the map's resolution
+std::size_t pointsNearMap(const LabeledCloud& cloud, const LocalMap& map,
+                          const Eigen::Isometry3d& pose) {
+  std::size_t n = 0;
+  for (const Eigen::Vector3f& p : cloud.points)
+    n += map.nearest(pose * p.cast<double>(), kNearMap) ? 1 : 0;
+  return n;
+}
+
 LabeledCloud transformed(LabeledCloud cloud, const Eigen::Isometry3d& pose) {
   for (auto& p : cloud.points) p = (pose * p.cast<double>()).cast<float>();
   return cloud;
@@ -179,19 +190,25 @@ Eigen::Isometry3d Odometry::searchFirstMotion(const PreparedScan& scan, const Lo
                                               double sigma) {
   // The first motion of a run has no prior, and ICP started at "standing still" converges to
   // standing still on a straight street at speed: the along-track features are metres off and
-  // get no kernel weight, while road and facades already fit. So several speeds along the
-  // sensor's x axis (the direction vehicles and most robots move in) are each registered, and
-  // the one that explains most of the scan wins (ties: the slower one).
+  // get no kernel weight, while road and facades already fit. So speeds along the sensor's x axis
+  // (the direction vehicles and most robots move in), 0.7 m per 10 Hz frame apart (well inside
+  // the 2 m threshold's basin), are each registered coarsely; the pose that puts most points
+  // near the map wins (ties: the first, slower one) and is refined by the caller.
+  downsample(scan.cloud);  // settles v_adapt: every hypothesis is scored on the same grid
   Eigen::Isometry3d best = from;
-  int best_count = -1;
-  for (const double speed : {0.0, 2.0, -2.0, 5.0, 10.0, 15.0, 20.0, 30.0}) {
+  double best_score = -1.0;
+  for (const double speed : {0.0, 7.0, 14.0, 21.0, 28.0, 35.0, -7.0}) {
     if (std::abs(speed) > config_.max_linear_speed) continue;
     Vector6d twist = Vector6d::Zero();
     twist[0] = speed;
-    const Sweep s = registerSweep(scan, map, from * expSe3(twist * dt), twist, sigma);
-    if (s.registration.correspondences() > best_count) {
-      best_count = s.registration.correspondences();
-      best = s.registration.pose;
+    const LabeledCloud down = semanticVoxelDownsample(deskew(scan.cloud, twist, scan.mid_time),
+                                                      voxel_size_.size(), class_factor_);
+    const Eigen::Isometry3d pose =
+        registerScan(down, map, from * expSe3(twist * dt), sigma, params_).pose;
+    const double score = static_cast<double>(pointsNearMap(down, map, pose)) / down.size();
+    if (score > best_score) {
+      best_score = score;
+      best = pose;
     }
   }
   return best;

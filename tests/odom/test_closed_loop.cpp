@@ -73,7 +73,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"street", "straight", "hdl64", 20.0, 20, 0.5},
                       Case{"street", "circle", "vlp16", 9.0, 30, 1.0},
                       Case{"zigzag", "auto", "vlp16", 0.0, 30, 3.0},  // degenerate
-                      Case{"indoor", "auto", "vlp32", 0.0, 25, 1.0},
+                      Case{"indoor", "auto", "vlp32", 0.0, 25, 1.5},  // 1.9 m
                       Case{"office", "auto", "vlp32", 0.0, 30, 1.0}));
 
 // A robot whose scans suddenly come from another place (a kidnapped robot, a wrong sensor
