@@ -1,12 +1,11 @@
 // SemanticOccupancyMap::queryChunk: voxels of a box or sphere in the column layout of
-// chunk_reply_t. Blocks are visited in lexicographic key order and voxels in local order, so
+// ChunkVoxels. Blocks are visited in lexicographic key order and voxels in local order, so
 // answers are deterministic (identical after a snapshot round trip).
 #include <cmath>
 #include <stdexcept>
 
 #include "map_impl.hpp"
 #include "region.hpp"
-#include "socc/chunk_request_t.hpp"
 #include "socc/map/voxel_features.hpp"
 
 namespace socc::map {
@@ -29,29 +28,23 @@ void checkQuery(const ChunkQuery& q) {
   if (q.limit < 0) throw std::invalid_argument("chunk query: limit must be >= 0");
 }
 
-// Rows of chunk_reply_t's structure-of-arrays fields ([component][voxel]): as many rows as
-// decode() yields, emptied but keeping their capacity for the next query into the same reply.
+// Appends one voxel's 3 components to a [component][voxel] field (values not deduced: the
+// row type decides).
 template <typename T>
-void resetRows(std::vector<std::vector<T>>& rows, std::size_t n) {
-  rows.resize(n);
-  for (auto& row : rows) row.clear();
-}
-
-template <typename T>
-void push3(std::vector<std::vector<T>>& rows, typename std::vector<T>::value_type x,
+void push3(std::array<std::vector<T>, 3>& rows, typename std::vector<T>::value_type x,
            typename std::vector<T>::value_type y, typename std::vector<T>::value_type z) {
   rows[0].push_back(x);
   rows[1].push_back(y);
   rows[2].push_back(z);
 }
 
-void appendOccupied(chunk_reply_t& out, const VoxelIndex& v, const Eigen::Vector3d& centre,
+void appendOccupied(ChunkVoxels& out, const VoxelIndex& v, const Eigen::Vector3d& centre,
                     float log_odds, const VoxelStats* stats, std::int32_t fields) {
-  if (fields & chunk_request_t::FIELD_INDEX) push3(out.index, v.x(), v.y(), v.z());
+  if (fields & ChunkQuery::kIndex) push3(out.index, v.x(), v.y(), v.z());
   const VoxelStats empty;
   const VoxelStats& s = stats != nullptr ? *stats : empty;
   const Eigen::Vector3f centref = centre.cast<float>();
-  if (fields & chunk_request_t::FIELD_FEATURES) {
+  if (fields & ChunkQuery::kFeatures) {
     if (stats != nullptr)
       push3(out.first_point, s.first_point[0], s.first_point[1], s.first_point[2]);
     else  // occupied without statistics (only below the map's threshold): use the centre
@@ -64,7 +57,7 @@ void appendOccupied(chunk_reply_t& out, const VoxelIndex& v, const Eigen::Vector
     out.label.push_back(s.label);
     out.label_prob.push_back(s.has_semantics ? toByte(s.prob(s.label)) : 0);
   }
-  if (fields & chunk_request_t::FIELD_STATS) {
+  if (fields & ChunkQuery::kStats) {
     if (stats != nullptr)
       push3(out.mean, s.mean[0], s.mean[1], s.mean[2]);
     else
@@ -104,49 +97,19 @@ class QueryRegion {
   double r2_;
 };
 
-// Empties every column (keeping capacity) with as many rows as decode() yields.
-void resetColumns(chunk_reply_t& out, std::int32_t fields) {
-  resetRows(out.index, 3);
-  resetRows(out.first_point, 3);
-  resetRows(out.normal, 3);
-  out.planarity.clear();
-  out.occupancy.clear();
-  out.label.clear();
-  out.label_prob.clear();
-  resetRows(out.mean, 3);
-  resetRows(out.covariance, 6);
-  out.count.clear();
-  out.log_odds.clear();
-  resetRows(out.class_prob, (fields & chunk_request_t::FIELD_STATS) ? kNumClasses : 0);
-  resetRows(out.free_index, 3);
-}
-
-void setCounts(chunk_reply_t& out, std::size_t occupied) {
-  out.num_voxels = static_cast<std::int32_t>(occupied);
-  out.n_index = static_cast<std::int32_t>(out.index[0].size());
-  out.n_features = static_cast<std::int32_t>(out.occupancy.size());
-  out.n_stats = static_cast<std::int32_t>(out.count.size());
-  out.num_classes = out.n_stats > 0 ? kNumClasses : 0;
-  if (out.n_stats == 0) out.class_prob.clear();  // decode() yields num_classes rows
-  out.n_free = static_cast<std::int32_t>(out.free_index[0].size());
-}
-
 }  // namespace
 
-void SemanticOccupancyMap::queryChunk(const ChunkQuery& query, chunk_reply_t& out) const {
+ChunkVoxels SemanticOccupancyMap::queryChunk(const ChunkQuery& query) const {
   checkQuery(query);
   const Impl& m = *impl_;
   const QueryRegion region(query, m.config.voxel_size);
-  const std::int32_t fields =
-      query.fields & (chunk_request_t::FIELD_FEATURES | chunk_request_t::FIELD_STATS |
-                      chunk_request_t::FIELD_FREE | chunk_request_t::FIELD_INDEX);
+  const std::int32_t fields = query.fields & (ChunkQuery::kFeatures | ChunkQuery::kStats |
+                                              ChunkQuery::kFree | ChunkQuery::kIndex);
   const std::size_t limit =
       query.limit > 0 ? static_cast<std::size_t>(query.limit) : static_cast<std::size_t>(-1);
-  out.voxel_size = m.config.voxel_size;
-  out.map_version = m.version;
+  ChunkVoxels out;
   out.fields = fields;
-  out.truncated = false;
-  resetColumns(out, fields);
+  if (fields & ChunkQuery::kStats) out.class_prob.resize(kNumClasses);
 
   std::size_t occupied = 0;
   for (const BlockKey& key : m.grid.blocksIn(region.box.blockLo(), region.box.blockHi())) {
@@ -165,7 +128,7 @@ void SemanticOccupancyMap::queryChunk(const ChunkQuery& query, chunk_reply_t& ou
         }
         ++occupied;
         appendOccupied(out, v, c, l, block.statsOf(local), fields);
-      } else if (fields & chunk_request_t::FIELD_FREE) {
+      } else if (fields & ChunkQuery::kFree) {
         if (out.free_index[0].size() == limit) {
           out.truncated = true;
           continue;
@@ -174,7 +137,9 @@ void SemanticOccupancyMap::queryChunk(const ChunkQuery& query, chunk_reply_t& ou
       }
     }
   }
-  setCounts(out, occupied);
+  out.num_occupied = static_cast<std::int32_t>(occupied);
+  if (out.count.empty()) out.class_prob.clear();  // class rows only with statistics
+  return out;
 }
 
 }  // namespace socc::map

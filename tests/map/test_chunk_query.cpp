@@ -164,17 +164,16 @@ TEST_F(ChunkQueryTest, NoStatsMeansNoClasses) {
 }
 
 TEST_F(ChunkQueryTest, RejectsBadQueries) {
-  chunk_reply_t r{};
   ChunkQuery q;
   q.radius = std::nan("");
-  EXPECT_THROW(map_.queryChunk(q, r), std::invalid_argument);
+  EXPECT_THROW(map_.queryChunk(q), std::invalid_argument);
   q.radius = 1.0;
   q.occupancy_threshold = 2.0;
-  EXPECT_THROW(map_.queryChunk(q, r), std::invalid_argument);
+  EXPECT_THROW(map_.queryChunk(q), std::invalid_argument);
   q = ChunkQuery{};
   q.shape = ChunkQuery::Shape::kBox;
   q.box_min = Eigen::Vector3d(1, 1, 1);
-  EXPECT_THROW(map_.queryChunk(q, r), std::invalid_argument);
+  EXPECT_THROW(map_.queryChunk(q), std::invalid_argument);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <random>
 
+#include "service/chunk_reply.hpp"
 #include "socc/labels.hpp"
 #include "socc/map/semantic_occupancy_map.hpp"
 
@@ -38,10 +39,9 @@ inline LabeledCloud randomCloud(std::size_t n, double half, std::uint32_t seed) 
   return c;
 }
 
+/// The query's answer in its wire form, as GET_CHUNK sends it.
 inline chunk_reply_t query(const SemanticOccupancyMap& map, const ChunkQuery& q) {
-  chunk_reply_t r{};
-  map.queryChunk(q, r);
-  return r;
+  return service::queryChunkReply(map, q);
 }
 
 }  // namespace socc::map::test

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 
+#include "service/chunk_reply.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/kitti_io.hpp"
 #include "socc/labels.hpp"
@@ -35,8 +36,7 @@ TEST(KittiMap, RoadVoxelsArePlanarWithVerticalNormals) {
   q.center = poses[0].translation();
   q.radius = 40.0;
   q.fields = chunk_request_t::FIELD_FEATURES;
-  chunk_reply_t r{};
-  map.queryChunk(q, r);
+  const chunk_reply_t r = service::queryChunkReply(map, q);
   int road = 0, with_features = 0, planar = 0, vertical = 0;
   for (int i = 0; i < r.num_voxels; ++i) {
     if (r.label[i] != kRoad) continue;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "service/chunk_reply.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/labels.hpp"
 #include "socc/map/semantic_occupancy_map.hpp"
@@ -37,9 +38,7 @@ inline LocalMap chunkAround(const socc::map::SemanticOccupancyMap& map,
   query.radius = cfg.chunk_radius;
   query.occupancy_threshold = cfg.occupancy_threshold;
   query.fields = socc::chunk_request_t::FIELD_FEATURES;
-  socc::chunk_reply_t reply;
-  map.queryChunk(query, reply);
-  return LocalMap::fromChunk(reply, cfg.occupancy_threshold);
+  return LocalMap::fromChunk(socc::service::queryChunkReply(map, query), cfg.occupancy_threshold);
 }
 
 // What odom_client does per scan, against an in-process grid. Collects the estimated poses.

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "chunk_reply.hpp"
 #include "map_service.hpp"
 #include "request_checks.hpp"
 
@@ -32,7 +33,7 @@ chunk_reply_t MapService::getChunk(const chunk_request_t& request) const {
   query.limit = static_cast<std::int32_t>(
       request.limit == 0 ? server_max : std::min<std::int64_t>(request.limit, server_max));
 
-  map_.queryChunk(query, reply);
+  toChunkReply(map_.queryChunk(query), reply);
   reply.voxel_size = map_.config().voxel_size;
   reply.map_version = map_.version();
   if (reply.getEncodedSize() > config_.limits.max_reply_bytes) {

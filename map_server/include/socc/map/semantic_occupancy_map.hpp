@@ -1,15 +1,16 @@
 #pragma once
 // The server's single semantic occupancy grid: the facade used by the LCM service.
-// Data flows scan -> integrate() -> grid; grid -> queryChunk() -> chunk_reply_t.
+// Data flows scan -> integrate() -> grid; grid -> queryChunk() -> ChunkVoxels (the service
+// turns them into chunk_reply_t: the map knows nothing of the wire format).
 // Not thread-safe: the service serialises access.
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "socc/chunk_reply_t.hpp"
 #include "socc/map/map_config.hpp"
 #include "socc/point_cloud.hpp"
 #include "socc/rgb_image.hpp"
@@ -30,8 +31,37 @@ struct ChunkQuery {
   Eigen::Vector3d box_min = Eigen::Vector3d::Zero();  // box
   Eigen::Vector3d box_max = Eigen::Vector3d::Zero();
   double occupancy_threshold = 0.5;
-  std::int32_t fields = 1;  // chunk_request_t::FIELD_* bit set
-  std::int32_t limit = 0;   // 0 = unlimited
+  // What to return per voxel (bit set; the values of chunk_request_t::FIELD_*).
+  static constexpr std::int32_t kFeatures = 1;  // first point, normal, planarity, p_occ, label
+  static constexpr std::int32_t kStats = 2;     // mean, covariance, count, log-odds, classes
+  static constexpr std::int32_t kFree = 4;      // also the indices of free voxels
+  static constexpr std::int32_t kIndex = 8;     // voxel index of each occupied voxel
+  std::int32_t fields = kFeatures;
+  std::int32_t limit = 0;  // 0 = unlimited
+};
+
+/// The answer to a ChunkQuery, column-wise as chunk_reply_t holds it (docs/lcm.md): row k of
+/// a multi-component field is component k of every voxel, entry i of each row is the i-th
+/// occupied voxel; a field not asked for has empty rows.
+struct ChunkVoxels {
+  std::int32_t fields = 0;  // the ChunkQuery::k* bits answered
+  bool truncated = false;   // the limit was reached: more voxels matched than returned
+  std::int32_t num_occupied = 0;
+  std::array<std::vector<std::int32_t>, 3> index;  // kIndex
+  // kFeatures
+  std::array<std::vector<float>, 3> first_point;    // map frame [m]
+  std::array<std::vector<std::int16_t>, 3> normal;  // unit normal * 32767
+  std::vector<float> planarity;
+  std::vector<std::uint8_t> occupancy;  // round(p_occ * 255)
+  std::vector<std::uint8_t> label;
+  std::vector<std::uint8_t> label_prob;  // round(p_label * 255)
+  // kStats
+  std::array<std::vector<float>, 3> mean;
+  std::array<std::vector<float>, 6> covariance;  // xx xy xz yy yz zz
+  std::vector<std::int32_t> count;
+  std::vector<float> log_odds;
+  std::vector<std::vector<float>> class_prob;           // [class][voxel]; no rows without kStats
+  std::array<std::vector<std::int32_t>, 3> free_index;  // kFree
 };
 
 struct MapStats {
@@ -61,11 +91,11 @@ class SemanticOccupancyMap {
   /// invalid input throws std::invalid_argument and leaves the map unchanged.
   IntegrationResult integrate(const Eigen::Isometry3d& sensor_pose, const LabeledCloud& cloud);
 
-  /// Fills the voxel arrays of out (not its header) for the occupied (and, with FIELD_FREE,
-  /// free) voxels inside the query region (voxel centre inside; blocks in key order, so answers
-  /// are deterministic). Throws std::invalid_argument for a malformed query (non-finite values,
-  /// negative radius, box_min > box_max, threshold outside [0, 1], negative limit).
-  void queryChunk(const ChunkQuery& query, chunk_reply_t& out) const;
+  /// The occupied (and, with kFree, free) voxels inside the query region (voxel centre
+  /// inside; blocks in key order, so answers are deterministic). Throws std::invalid_argument
+  /// for a malformed query (non-finite values, negative radius, box_min > box_max, threshold
+  /// outside [0, 1], negative limit).
+  ChunkVoxels queryChunk(const ChunkQuery& query) const;
 
   MapStats stats() const;
   std::int64_t version() const;  // increases with every change
