@@ -9,7 +9,8 @@
 # between runs with N robots).
 #
 # Usage: scripts/demo_multirobot.sh [--robots N] [--frames F] [--build DIR] [--out DIR]
-#                                   [--seed S] [--speed V] [--scene S]
+#                                   [--seed S] [--speed V] [--scene S] [--trajectory R]
+#                                   [--distortion]
 #   --robots N   number of robots (default 3)
 #   --frames F   frames per robot (default 25; the sequence has N*F frames)
 #   --build DIR  build directory with all binaries (default build/)
@@ -17,11 +18,14 @@
 #   --seed S     socc-sim world seed (default 1)
 #   --speed V    socc-sim speed [m/s] (default 9, the street's)
 #   --scene S    socc-sim scene (default street; indoor has no moving objects)
+#   --trajectory R  socc-sim route (straight, circle, figure8, zigzag; default: the scene's)
+#   --distortion socc-sim moves the sensor during each sweep (per-point times; deskewed)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 robots=3 frames=25 build="$root/build" out="$root/out/multirobot" seed=1 scene=street speed=9
+sim_extra=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --robots) robots="$2"; shift 2 ;;
@@ -31,6 +35,8 @@ while [ $# -gt 0 ]; do
     --seed) seed="$2"; shift 2 ;;
     --scene) scene="$2"; shift 2 ;;
     --speed) speed="$2"; shift 2 ;;
+    --trajectory) sim_extra+=(--trajectory "$2"); shift 2 ;;
+    --distortion) sim_extra+=(--distortion); shift ;;
     -h|--help) usage 0 ;;
     *) echo "demo_multirobot: unknown argument $1" >&2; usage 2 ;;
   esac
@@ -80,7 +86,7 @@ seq_dir="$out/sim"
 log "socc-sim: $total frames ($scene, $speed m/s, seed $seed) -> $seq_dir"
 rm -rf "$seq_dir"
 "$build/sim/socc-sim" --out "$seq_dir" --scene "$scene" --frames "$total" --seed "$seed" \
-  --speed "$speed" --quiet >/dev/null
+  --speed "$speed" "${sim_extra[@]}" --quiet >/dev/null
 
 first_of() { echo $(($1 * frames)); }
 # GT segment of robot i (poses in the map = GT frame) and its first pose as "x y z roll pitch yaw"

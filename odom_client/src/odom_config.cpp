@@ -50,6 +50,7 @@ const std::map<std::string, Field>& fields() {
       {"occupancy_threshold", &OdomConfig::occupancy_threshold},
       {"min_map_points", &OdomConfig::min_map_points},
       {"planarity_threshold", &OdomConfig::planarity_threshold},
+      {"point_to_plane", &OdomConfig::point_to_plane},
       {"gamma", &OdomConfig::gamma},
       {"w_lower", &OdomConfig::w_lower},
       {"max_iterations", &OdomConfig::max_iterations},

@@ -70,7 +70,7 @@ Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t
                                       const MapVoxel& voxel, double sigma,
                                       const RegistrationParams& params) {
   Correspondence c;
-  c.planar = isPlanar(voxel, params.planarity_threshold);
+  c.planar = params.point_to_plane && isPlanar(voxel, params.planarity_threshold);
   const Eigen::Vector3d d = point - voxel.point;
   const double e = c.planar ? voxel.normal.dot(d) : 0.0;
   c.squared_residual = c.planar ? e * e : d.squaredNorm();

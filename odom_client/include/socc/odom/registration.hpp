@@ -15,6 +15,7 @@ struct RegistrationParams {
   double w_lower = 0.25;
   int max_iterations = 100;
   double convergence = 1e-4;  // ||dx|| below this stops
+  bool point_to_plane = true;  // false: point-to-point only (a KISS-ICP-like baseline)
 };
 
 struct RegistrationResult {
