@@ -60,7 +60,25 @@ install(FILES ${PROJECT_SOURCE_DIR}/map_server/config/server.yaml
               ${PROJECT_SOURCE_DIR}/map_server/config/default.yaml
         DESTINATION ${SOCC_DATA_DIR}/map_server)
 install(FILES ${PROJECT_SOURCE_DIR}/odom_client/config/default.yaml
+              ${PROJECT_SOURCE_DIR}/odom_client/config/baseline.yaml
         DESTINATION ${SOCC_DATA_DIR}/odom_client)
+
+# Manual pages made from each binary's --help and --version (help2man), so `man map_server`
+# works where the package is installed.
+find_program(SOCC_HELP2MAN help2man)
+if(SOCC_HELP2MAN)
+  set(_socc_pages)
+  foreach(exe map_server odom_client socc-cli socc-eval socc-sim socc-to-lcmlog socc-loadtest)
+    set(_page ${PROJECT_BINARY_DIR}/man/${exe}.1)
+    add_custom_command(OUTPUT ${_page}
+      COMMAND ${SOCC_HELP2MAN} --no-info --no-discard-stderr --name "${exe} (socc)"
+              --output ${_page} $<TARGET_FILE:${exe}>
+      DEPENDS ${exe} COMMENT "Manual page of ${exe}" VERBATIM)
+    list(APPEND _socc_pages ${_page})
+  endforeach()
+  add_custom_target(socc_man_pages ALL DEPENDS ${_socc_pages})
+  install(FILES ${_socc_pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
+endif()
 file(GLOB _socc_gnuplot ${PROJECT_SOURCE_DIR}/scripts/plot_*.gp)
 install(FILES ${_socc_gnuplot} DESTINATION ${SOCC_DATA_DIR}/scripts)
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/spy.sh DESTINATION ${CMAKE_INSTALL_BINDIR}

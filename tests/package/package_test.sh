@@ -21,7 +21,9 @@ cmake --install "$build" --prefix "$prefix" >"$work/install.log" || fail "cmake 
 for f in bin/map_server bin/socc-cli include/socc/rpc/map_client.hpp include/socc/map_stats_t.hpp \
   include/socc/version.hpp lib/cmake/socc/soccConfig.cmake lib/pkgconfig/socc.pc \
   share/socc/lcmtypes/map_stats_t.lcm share/socc/map_server/server.yaml etc/socc/server.yaml \
-  share/socc/odom_client/default.yaml lib/systemd/system/socc-map-server.service; do
+  share/socc/odom_client/default.yaml share/socc/odom_client/baseline.yaml \
+  share/man/man1/map_server.1 share/man/man1/odom_client.1 \
+  lib/systemd/system/socc-map-server.service; do
   [ -e "$prefix/$f" ] || fail "not installed: $f"
 done
 grep -q "^ExecStart=$prefix/bin/map_server " "$prefix/lib/systemd/system/socc-map-server.service" ||
