@@ -51,6 +51,7 @@ const std::map<std::string, Field>& fields() {
       {"min_map_points", &OdomConfig::min_map_points},
       {"planarity_threshold", &OdomConfig::planarity_threshold},
       {"point_to_plane", &OdomConfig::point_to_plane},
+      {"sparse_voxel_pairs", &OdomConfig::sparse_voxel_pairs},
       {"gamma", &OdomConfig::gamma},
       {"w_lower", &OdomConfig::w_lower},
       {"max_iterations", &OdomConfig::max_iterations},

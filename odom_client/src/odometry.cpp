@@ -62,7 +62,7 @@ Odometry::Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_po
     : config_(config),
       class_factor_(classFactors(config)),
       params_{config.planarity_threshold, config.gamma, config.w_lower, config.max_iterations,
-              config.convergence, config.point_to_plane},
+              config.convergence, config.point_to_plane, config.sparse_voxel_pairs},
       threshold_(config.initial_threshold, config.min_motion, config.max_range),
       voxel_size_(config.initial_voxel_size, config.min_voxel_size, config.max_voxel_size,
                   config.target_points),

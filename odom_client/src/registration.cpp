@@ -74,6 +74,8 @@ Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t
   const Eigen::Vector3d d = point - voxel.point;
   const double e = c.planar ? voxel.normal.dot(d) : 0.0;
   c.squared_residual = c.planar ? e * e : d.squaredNorm();
+  const bool known_geometry = voxel.planarity >= 0.f;
+  if (!known_geometry && !params.sparse_voxel_pairs) return c;  // weight 0
   c.weight = gemanMcClureWeight(c.squared_residual, sigma / 3.0) *
              occupancyWeight(voxel.occupancy, params.gamma) *
              semanticWeight(label, voxel.label, voxel.label_prob, params.w_lower);

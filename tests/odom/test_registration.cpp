@@ -47,9 +47,12 @@ socc::LabeledCloud registrationCloud(const socc::LabeledCloud& scan, double min_
   return out;
 }
 
+// The paper's registration: every voxel paired, also those of fewer than 5 points (the maps
+// here are built from one scan; the pipeline's own pairs are tested in test_grid_registration).
 RegistrationParams paperParams() {
   const OdomConfig cfg;
-  return {cfg.planarity_threshold, cfg.gamma, cfg.w_lower, cfg.max_iterations, cfg.convergence};
+  return {cfg.planarity_threshold, cfg.gamma,          cfg.w_lower, cfg.max_iterations,
+          cfg.convergence,         cfg.point_to_plane, true};
 }
 
 }  // namespace
