@@ -195,6 +195,11 @@ Eigen::Isometry3d Odometry::searchFirstMotion(const PreparedScan& scan, const Lo
   // the 2 m threshold's basin), are each registered coarsely; the pose that puts most points
   // near the map wins (ties: the first, slower one) and is refined by the caller.
   downsample(scan.cloud);  // settles v_adapt: every hypothesis is scored on the same grid
+  // Finding the basin needs every constraint a young map offers, also the sparse voxels' pairs
+  // (biased by centimetres towards standing still, not by metres); the refinement that follows
+  // drops them again (sparse_voxel_pairs).
+  RegistrationParams search = params_;
+  search.sparse_voxel_pairs = true;
   Eigen::Isometry3d best = from;
   double best_score = -1.0;
   for (const double speed : {0.0, 7.0, 14.0, 21.0, 28.0, 35.0, -7.0}) {
@@ -204,7 +209,7 @@ Eigen::Isometry3d Odometry::searchFirstMotion(const PreparedScan& scan, const Lo
     const LabeledCloud down = semanticVoxelDownsample(deskew(scan.cloud, twist, scan.mid_time),
                                                       voxel_size_.size(), class_factor_);
     const Eigen::Isometry3d pose =
-        registerScan(down, map, from * expSe3(twist * dt), sigma, params_).pose;
+        registerScan(down, map, from * expSe3(twist * dt), sigma, search).pose;
     const double score = static_cast<double>(pointsNearMap(down, map, pose)) / down.size();
     if (score > best_score) {
       best_score = score;

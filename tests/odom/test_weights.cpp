@@ -90,12 +90,11 @@ TEST(Weights, VoxelsOfUnknownGeometryArePairedOnlyWhenAskedFor) {
   MapVoxel sparse;  // fewer than 5 points: no planarity, no normal
   sparse.point = Eigen::Vector3d(1.0, 0.0, 0.0);
   sparse.occupancy = 1.f;
-  RegistrationParams params;
+  RegistrationParams params;  // the paper's default: paired
   const Eigen::Vector3d p(1.1, 0.0, 0.0);
-  EXPECT_EQ(evaluateCorrespondence(p, 0, sparse, 1.0, params).weight, 0.0);
-  params.sparse_voxel_pairs = true;
   EXPECT_GT(evaluateCorrespondence(p, 0, sparse, 1.0, params).weight, 0.5);
-  sparse.planarity = 0.2f;  // known, non-planar geometry: point-to-point as in the paper
   params.sparse_voxel_pairs = false;
+  EXPECT_EQ(evaluateCorrespondence(p, 0, sparse, 1.0, params).weight, 0.0);
+  sparse.planarity = 0.2f;  // known, non-planar geometry: point-to-point as in the paper
   EXPECT_GT(evaluateCorrespondence(p, 0, sparse, 1.0, params).weight, 0.5);
 }

@@ -64,7 +64,7 @@ struct OdomConfig {
   // Registration.
   double planarity_threshold = 0.1;  // tau < this (and n >= 5) => point-to-plane
   bool point_to_plane = true;        // false: point-to-point only (the demo's baseline)
-  bool sparse_voxel_pairs = false;   // pairs with voxels of < 5 points (see RegistrationParams)
+  bool sparse_voxel_pairs = true;    // pairs with voxels of < 5 points (see RegistrationParams)
   double gamma = 1.5;                // w_occ = p_occ^gamma
   double w_lower = 0.25;             // semantic weight of non-matching labels
   int max_iterations = 100;

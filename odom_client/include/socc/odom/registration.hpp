@@ -16,10 +16,11 @@ struct RegistrationParams {
   int max_iterations = 100;
   double convergence = 1e-4;   // ||dx|| below this stops
   bool point_to_plane = true;  // false: point-to-point only (a KISS-ICP-like baseline)
-  // Pairs with voxels of unknown geometry (fewer than 5 points: planarity < 0). Their first point
-  // is one sample of an unknown surface, and pulling a sparse scan's rings onto the map's rings
-  // favours standing still: off (weight 0) unless asked for (the paper keeps them).
-  bool sparse_voxel_pairs = false;
+  // Pairs with voxels of unknown geometry (fewer than 5 points: planarity < 0), as the paper
+  // does. Their first point is one sample of an unknown surface, and pulling a sparse scan's rings
+  // onto the map's rings favours standing still; but on a degenerate street a VLP-16 needs them
+  // (docs/robustness.md). false: weight 0.
+  bool sparse_voxel_pairs = true;
 };
 
 struct RegistrationResult {
