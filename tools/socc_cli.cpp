@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -253,6 +254,252 @@ struct RenderCommand {
     return true;
   }
 };
+// socc-cli stats: map statistics and every robot's state.
+struct StatsCommand {
+  CLI::App* command = nullptr;
+
+  void add(CLI::App& app) {
+    command = app.add_subcommand("stats", "print map statistics and robot states");
+  }
+
+  bool run(MapClient& client) const {
+    const auto r = client.getStats();
+    if (!report(r, "stats")) return false;
+    const auto& s = r.reply->stats;
+    std::cout << "server=" << s.server_version << " voxels=" << s.num_voxels
+              << " occupied=" << s.num_occupied << " free=" << s.num_free
+              << " blocks=" << s.num_blocks << " memory_bytes=" << s.memory_bytes
+              << " version=" << s.map_version << " integrations=" << s.integrations
+              << " rate=" << s.integrations_per_s << "/s requests=" << s.requests
+              << " rejected=" << s.rejected_requests << " auth_failures=" << s.auth_failures
+              << " robots=" << s.num_robots << '\n';
+    for (const auto& state : s.robots) printPose(state);
+    return true;
+  }
+};
+
+// socc-cli pose ROBOT: the last pose the server holds, optionally the whole history.
+struct PoseCommand {
+  CLI::App* command = nullptr;
+  std::string robot, history_kitti, history_tum;
+
+  void add(CLI::App& app) {
+    command = app.add_subcommand("pose", "print the last pose the server holds for a robot");
+    command->add_option("robot", robot, "robot id")->required();
+    command->add_option("--history", history_kitti,
+                        "also fetch the robot's whole pose history (one pose per applied "
+                        "INTEGRATE, seq order) and write it here as KITTI poses (3x4 per line)");
+    command->add_option("--history-tum", history_tum,
+                        "the same as TUM (scan time [s] tx ty tz qx qy qz qw)");
+  }
+
+  bool run(MapClient& client) const {
+    const auto r = client.getRobotPose(robot);
+    if (!report(r, "pose")) return false;
+    printPose(r.reply->state);
+    if (history_kitti.empty() && history_tum.empty()) return true;
+    socc::Poses poses;
+    std::vector<double> stamps;
+    if (!fetchHistory(client, robot, poses, stamps)) return false;
+    if (!history_kitti.empty()) socc::writeKittiPoses(history_kitti, poses);
+    if (!history_tum.empty()) socc::writeTumPoses(history_tum, poses, stamps);
+    std::cout << "history: " << poses.size() << " poses\n";
+    return true;
+  }
+};
+
+// socc-cli save|load|export|clear: MAP_COMMAND (paths are on the server).
+struct MapCommand {
+  CLI::App *save = nullptr, *load = nullptr, *exp = nullptr, *clear = nullptr;
+  std::string path, format;
+  float threshold = 0.5f;
+
+  void add(CLI::App& app) {
+    save = app.add_subcommand("save", "save a snapshot (path on the server)");
+    save->add_option("path", path)->required();
+    load = app.add_subcommand("load", "load a snapshot (path on the server)");
+    load->add_option("path", path)->required();
+    exp = app.add_subcommand("export", "export occupied voxels (OctoMap .bt/.ot or PCD)");
+    exp->add_option("format", format)->required()->check(CLI::IsMember({"bt", "ot", "pcd"}));
+    exp->add_option("path", path)->required();
+    exp->add_option("--threshold", threshold, "occupancy threshold")->capture_default_str();
+    clear = app.add_subcommand("clear", "clear the map and robot states");
+  }
+
+  bool parsed() const {
+    return save->parsed() || load->parsed() || exp->parsed() || clear->parsed();
+  }
+
+  bool run(MapClient& client) const {
+    socc::map_command_request_t request{};
+    request.path = path;
+    request.occupancy_threshold = threshold;
+    using C = socc::map_command_request_t;
+    if (save->parsed()) request.command = C::SAVE;
+    if (load->parsed()) request.command = C::LOAD;
+    if (clear->parsed()) request.command = C::CLEAR;
+    if (exp->parsed())
+      request.command = format == "bt"   ? C::EXPORT_OCTOMAP_BT
+                        : format == "ot" ? C::EXPORT_OCTOMAP_OT
+                                         : C::EXPORT_PCD;
+    const auto r = client.command(request);
+    if (!report(r, "command")) return false;
+    std::cout << r.reply->detail << " voxels=" << r.reply->num_voxels
+              << " bytes=" << r.reply->num_bytes << '\n';
+    return true;
+  }
+};
+
+// socc-cli chunk: GET_CHUNK of a sphere or a box; counts, bytes and optionally a digest.
+struct ChunkCommand {
+  CLI::App* command = nullptr;
+  std::vector<double> box, sphere;
+  std::vector<std::string> field_names{"features"};
+  int limit = 0;
+  float threshold = 0.5f;
+  bool digest = false;
+
+  void add(CLI::App& app) {
+    command = app.add_subcommand("chunk", "fetch a chunk; prints counts and bytes");
+    auto* sphere_opt = command->add_option("--sphere", sphere, "x y z r")->expected(4);
+    command->add_option("--box", box, "xmin ymin zmin xmax ymax zmax")
+        ->expected(6)
+        ->excludes(sphere_opt);
+    command->add_option("--fields", field_names, "features stats free index")
+        ->check(CLI::IsMember({"features", "stats", "free", "index"}))
+        ->capture_default_str();
+    command->add_option("--limit", limit, "max voxels (0 = server max)");
+    command->add_option("--threshold", threshold, "occupancy threshold")->capture_default_str();
+    command->add_flag("--digest", digest, "also print a SHA-256 of the voxel content");
+  }
+
+  // The request, or nullopt when neither --sphere nor --box was given.
+  std::optional<socc::chunk_request_t> request() const {
+    socc::chunk_request_t r = socc::rpc::sphereChunkRequest(Eigen::Vector3d::Zero(), 0.0);
+    if (sphere.size() == 4) {
+      r = socc::rpc::sphereChunkRequest({sphere[0], sphere[1], sphere[2]}, sphere[3]);
+    } else if (box.size() == 6) {
+      r.shape = socc::chunk_request_t::SHAPE_BOX;
+      for (int i = 0; i < 3; ++i) {
+        r.box_min[i] = box[i];
+        r.box_max[i] = box[i + 3];
+      }
+    } else {
+      return std::nullopt;
+    }
+    r.fields = parseFields(field_names);
+    r.limit = limit;
+    r.occupancy_threshold = threshold;
+    return r;
+  }
+
+  int run(MapClient& client) const {
+    const std::optional<socc::chunk_request_t> req = request();
+    if (!req) {
+      std::cerr << "socc-cli chunk: give --sphere x y z r or --box ...\n";
+      return 2;
+    }
+    const auto r = client.getChunk(*req);
+    if (!report(r, "chunk")) return 1;
+    std::cout << "voxels=" << r.reply->num_voxels << " free=" << r.reply->n_free
+              << " truncated=" << (r.reply->truncated ? 1 : 0) << " bytes=" << r.bytes_received
+              << " version=" << r.reply->map_version << '\n';
+    if (digest) std::cout << "digest=" << contentDigest(*r.reply) << '\n';
+    return 0;
+  }
+};
+
+// socc-cli integrate: one scan (synthetic, or a KITTI .bin with labels) at a given pose.
+struct IntegrateCommand {
+  CLI::App* command = nullptr;
+  std::int64_t seq = 0;
+  std::vector<double> xyz_yaw{0, 0, 0, 0};
+  std::string bin_file, label_file;
+  std::uint32_t seed = 1;
+
+  void add(CLI::App& app) {
+    command = app.add_subcommand("integrate", "integrate one scan (synthetic or KITTI .bin)");
+    command->add_option("--seq", seq, "per-robot sequence number")->required();
+    command->add_option("--pose", xyz_yaw, "sensor x y z yaw[deg]")->expected(4);
+    command->add_option("--bin", bin_file, "KITTI velodyne .bin (default: synthetic scene)")
+        ->check(CLI::ExistingFile);
+    command->add_option("--labels", label_file, "SemanticKITTI .label for --bin")
+        ->check(CLI::ExistingFile);
+    command->add_option("--seed", seed, "seed of the synthetic scene")->capture_default_str();
+  }
+
+  socc::LabeledCloud cloud() const {
+    if (bin_file.empty()) return syntheticCloud(seed);
+    socc::LabeledCloud c;
+    c.points = socc::readKittiBin(bin_file);
+    if (!label_file.empty())
+      for (const std::uint32_t raw : socc::readSemanticKittiLabels(label_file))
+        c.labels.push_back(socc::mapSemanticKittiLabel(raw));
+    return c;
+  }
+
+  bool run(MapClient& client) const {
+    Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
+    sensor.translation() = Eigen::Vector3d(xyz_yaw[0], xyz_yaw[1], xyz_yaw[2]);
+    sensor.linear() =
+        Eigen::AngleAxisd(xyz_yaw[3] * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const auto r =
+        client.integrate(socc::rpc::makeIntegrateRequest(seq, seq * 100000, sensor, cloud()));
+    if (!report(r, "integrate")) return false;
+    std::cout << "seq=" << r.reply->seq << (r.reply->duplicate ? " duplicate" : " applied")
+              << " touched=" << r.reply->voxels_touched << " hit=" << r.reply->voxels_hit
+              << " freed=" << r.reply->voxels_freed << " version=" << r.reply->map_version
+              << " attempts=" << r.attempts << '\n';
+    return true;
+  }
+};
+
+// Every subcommand; exactly one is parsed.
+struct Commands {
+  StatsCommand stats;
+  PoseCommand pose;
+  MapCommand map;
+  RenderCommand render;
+  ChunkCommand chunk;
+  IntegrateCommand integrate;
+  TrackingCommand tracking;
+
+  void add(CLI::App& app) {
+    stats.add(app);
+    pose.add(app);
+    map.add(app);
+    render.add(app);
+    chunk.add(app);
+    integrate.add(app);
+    tracking.add(app);
+  }
+
+  // The process exit code of the parsed subcommand.
+  int run(MapClient& client) const {
+    const auto code = [](bool ok) { return ok ? 0 : 1; };
+    if (stats.command->parsed()) return code(stats.run(client));
+    if (pose.command->parsed()) return code(pose.run(client));
+    if (map.parsed()) return code(map.run(client));
+    if (render.command->parsed()) return code(render.run(client));
+    if (chunk.command->parsed()) return chunk.run(client);
+    if (tracking.command->parsed()) return code(tracking.run(client));
+    if (integrate.command->parsed()) return code(integrate.run(client));
+    return 2;
+  }
+};
+
+void addClientOptions(CLI::App& app, socc::rpc::ClientOptions& options, int& timeout_ms) {
+  app.add_option("--lcm-url", options.lcm_url,
+                 "LCM URL (udpm://239.x.y.z:port?ttl=0); add &recv_buf_size=67108864 for big "
+                 "chunks")
+      ->capture_default_str();
+  app.add_option("--client-id", options.client_id, "client / robot id")->capture_default_str();
+  app.add_option("--timeout-ms", timeout_ms, "per attempt")->capture_default_str();
+  app.add_option("--attempts", options.max_attempts, "attempts per call")->capture_default_str();
+  app.add_option("--key-file", options.key_file,
+                 "shared key (mode 0600) to sign requests with, if map_server has --key-file");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -263,170 +510,16 @@ int main(int argc, char** argv) {
   options.lcm_url = std::string(socc::channels::kDefaultLcmUrl);
   options.client_id = "socc-cli";
   int timeout_ms = 2000;
-  app.add_option("--lcm-url", options.lcm_url,
-                 "LCM URL (udpm://239.x.y.z:port?ttl=0); add &recv_buf_size=67108864 for big "
-                 "chunks")
-      ->capture_default_str();
-  app.add_option("--client-id", options.client_id, "client / robot id")->capture_default_str();
-  app.add_option("--timeout-ms", timeout_ms, "per attempt")->capture_default_str();
-  app.add_option("--attempts", options.max_attempts, "attempts per call")->capture_default_str();
-  app.add_option("--key-file", options.key_file,
-                 "shared key (mode 0600) to sign requests with, if map_server has --key-file");
-
-  auto* stats = app.add_subcommand("stats", "print map statistics and robot states");
-  std::string robot;
-  auto* pose = app.add_subcommand("pose", "print the last pose the server holds for a robot");
-  pose->add_option("robot", robot, "robot id")->required();
-  std::string history_kitti, history_tum;
-  pose->add_option("--history", history_kitti,
-                   "also fetch the robot's whole pose history (one pose per applied INTEGRATE, "
-                   "seq order) and write it here as KITTI poses (3x4 per line)");
-  pose->add_option("--history-tum", history_tum,
-                   "the same as TUM (scan time [s] tx ty tz qx qy qz qw)");
-  std::string path;
-  auto* save = app.add_subcommand("save", "save a snapshot (path on the server)");
-  save->add_option("path", path)->required();
-  auto* load = app.add_subcommand("load", "load a snapshot (path on the server)");
-  load->add_option("path", path)->required();
-  std::string format;
-  float threshold = 0.5f;
-  auto* exp = app.add_subcommand("export", "export occupied voxels (OctoMap .bt/.ot or PCD)");
-  exp->add_option("format", format)->required()->check(CLI::IsMember({"bt", "ot", "pcd"}));
-  exp->add_option("path", path)->required();
-  exp->add_option("--threshold", threshold, "occupancy threshold")->capture_default_str();
-  auto* clear = app.add_subcommand("clear", "clear the map and robot states");
-
-  std::vector<double> box, sphere;
-  RenderCommand render;
-  render.add(app);
-
-  std::vector<std::string> field_names{"features"};
-  int limit = 0;
-  bool digest = false;
-  auto* chunk = app.add_subcommand("chunk", "fetch a chunk; prints counts and bytes");
-  auto* sphere_opt = chunk->add_option("--sphere", sphere, "x y z r")->expected(4);
-  chunk->add_option("--box", box, "xmin ymin zmin xmax ymax zmax")
-      ->expected(6)
-      ->excludes(sphere_opt);
-  chunk->add_option("--fields", field_names, "features stats free index")
-      ->check(CLI::IsMember({"features", "stats", "free", "index"}))
-      ->capture_default_str();
-  chunk->add_option("--limit", limit, "max voxels (0 = server max)");
-  chunk->add_option("--threshold", threshold, "occupancy threshold")->capture_default_str();
-  chunk->add_flag("--digest", digest, "also print a SHA-256 of the voxel content");
-
-  std::int64_t seq = 0;
-  std::vector<double> xyz_yaw{0, 0, 0, 0};
-  std::string bin_file, label_file;
-  std::uint32_t seed = 1;
-  auto* integrate = app.add_subcommand("integrate", "integrate one scan (synthetic or KITTI .bin)");
-  integrate->add_option("--seq", seq, "per-robot sequence number")->required();
-  integrate->add_option("--pose", xyz_yaw, "sensor x y z yaw[deg]")->expected(4);
-  integrate->add_option("--bin", bin_file, "KITTI velodyne .bin (default: synthetic scene)")
-      ->check(CLI::ExistingFile);
-  integrate->add_option("--labels", label_file, "SemanticKITTI .label for --bin")
-      ->check(CLI::ExistingFile);
-  integrate->add_option("--seed", seed, "seed of the synthetic scene")->capture_default_str();
-
-  TrackingCommand tracking;
-  tracking.add(app);
-
+  addClientOptions(app, options, timeout_ms);
+  Commands commands;
+  commands.add(app);
   CLI11_PARSE(app, argc, argv);
   options.timeout = std::chrono::milliseconds(timeout_ms);
-
   try {
     MapClient client(options);
-    if (stats->parsed()) {
-      const auto r = client.getStats();
-      if (!report(r, "stats")) return 1;
-      const auto& s = r.reply->stats;
-      std::cout << "server=" << s.server_version << " voxels=" << s.num_voxels
-                << " occupied=" << s.num_occupied << " free=" << s.num_free
-                << " blocks=" << s.num_blocks << " memory_bytes=" << s.memory_bytes
-                << " version=" << s.map_version << " integrations=" << s.integrations
-                << " rate=" << s.integrations_per_s << "/s requests=" << s.requests
-                << " rejected=" << s.rejected_requests << " auth_failures=" << s.auth_failures
-                << " robots=" << s.num_robots << '\n';
-      for (const auto& state : s.robots) printPose(state);
-    } else if (pose->parsed()) {
-      const auto r = client.getRobotPose(robot);
-      if (!report(r, "pose")) return 1;
-      printPose(r.reply->state);
-      if (!history_kitti.empty() || !history_tum.empty()) {
-        socc::Poses poses;
-        std::vector<double> stamps;
-        if (!fetchHistory(client, robot, poses, stamps)) return 1;
-        if (!history_kitti.empty()) socc::writeKittiPoses(history_kitti, poses);
-        if (!history_tum.empty()) socc::writeTumPoses(history_tum, poses, stamps);
-        std::cout << "history: " << poses.size() << " poses\n";
-      }
-    } else if (save->parsed() || load->parsed() || exp->parsed() || clear->parsed()) {
-      socc::map_command_request_t request{};
-      request.path = path;
-      request.occupancy_threshold = threshold;
-      if (save->parsed()) request.command = socc::map_command_request_t::SAVE;
-      if (load->parsed()) request.command = socc::map_command_request_t::LOAD;
-      if (clear->parsed()) request.command = socc::map_command_request_t::CLEAR;
-      if (exp->parsed())
-        request.command = format == "bt"   ? socc::map_command_request_t::EXPORT_OCTOMAP_BT
-                          : format == "ot" ? socc::map_command_request_t::EXPORT_OCTOMAP_OT
-                                           : socc::map_command_request_t::EXPORT_PCD;
-      const auto r = client.command(request);
-      if (!report(r, "command")) return 1;
-      std::cout << r.reply->detail << " voxels=" << r.reply->num_voxels
-                << " bytes=" << r.reply->num_bytes << '\n';
-    } else if (render.command->parsed()) {
-      if (!render.run(client)) return 1;
-    } else if (chunk->parsed()) {
-      socc::chunk_request_t request = socc::rpc::sphereChunkRequest(Eigen::Vector3d::Zero(), 0.0);
-      if (sphere.size() == 4) {
-        request = socc::rpc::sphereChunkRequest({sphere[0], sphere[1], sphere[2]}, sphere[3]);
-      } else if (box.size() == 6) {
-        request.shape = socc::chunk_request_t::SHAPE_BOX;
-        for (int i = 0; i < 3; ++i) {
-          request.box_min[i] = box[i];
-          request.box_max[i] = box[i + 3];
-        }
-      } else {
-        std::cerr << "socc-cli chunk: give --sphere x y z r or --box ...\n";
-        return 2;
-      }
-      request.fields = parseFields(field_names);
-      request.limit = limit;
-      request.occupancy_threshold = threshold;
-      const auto r = client.getChunk(request);
-      if (!report(r, "chunk")) return 1;
-      std::cout << "voxels=" << r.reply->num_voxels << " free=" << r.reply->n_free
-                << " truncated=" << (r.reply->truncated ? 1 : 0) << " bytes=" << r.bytes_received
-                << " version=" << r.reply->map_version << '\n';
-      if (digest) std::cout << "digest=" << contentDigest(*r.reply) << '\n';
-    } else if (tracking.command->parsed()) {
-      if (!tracking.run(client)) return 1;
-    } else if (integrate->parsed()) {
-      socc::LabeledCloud cloud;
-      if (bin_file.empty()) {
-        cloud = syntheticCloud(seed);
-      } else {
-        cloud.points = socc::readKittiBin(bin_file);
-        if (!label_file.empty())
-          for (const std::uint32_t raw : socc::readSemanticKittiLabels(label_file))
-            cloud.labels.push_back(socc::mapSemanticKittiLabel(raw));
-      }
-      Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
-      sensor.translation() = Eigen::Vector3d(xyz_yaw[0], xyz_yaw[1], xyz_yaw[2]);
-      sensor.linear() =
-          Eigen::AngleAxisd(xyz_yaw[3] * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-      const auto r =
-          client.integrate(socc::rpc::makeIntegrateRequest(seq, seq * 100000, sensor, cloud));
-      if (!report(r, "integrate")) return 1;
-      std::cout << "seq=" << r.reply->seq << (r.reply->duplicate ? " duplicate" : " applied")
-                << " touched=" << r.reply->voxels_touched << " hit=" << r.reply->voxels_hit
-                << " freed=" << r.reply->voxels_freed << " version=" << r.reply->map_version
-                << " attempts=" << r.attempts << '\n';
-    }
+    return commands.run(client);
   } catch (const std::exception& e) {
     std::cerr << "socc-cli: " << e.what() << '\n';
     return 1;
   }
-  return 0;
 }
