@@ -61,8 +61,9 @@ Odometry::Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_po
                    bool initial_pose_known)
     : config_(config),
       class_factor_(classFactors(config)),
-      params_{config.planarity_threshold, config.gamma, config.w_lower, config.max_iterations,
-              config.convergence, config.point_to_plane, config.sparse_voxel_pairs},
+      params_{config.planarity_threshold, config.gamma,       config.w_lower,
+              config.max_iterations,      config.convergence, config.point_to_plane,
+              config.sparse_voxel_pairs},
       threshold_(config.initial_threshold, config.min_motion, config.max_range),
       voxel_size_(config.initial_voxel_size, config.min_voxel_size, config.max_voxel_size,
                   config.target_points),
@@ -110,8 +111,7 @@ FrameEstimate Odometry::registerFrame(const PreparedScan& scan, const LocalMap& 
   if (held_) return bootstrap(scan, map);
   const bool keep = keep_first_pose_ && !has_motion_model_;
   const Eigen::Isometry3d prediction = predictedPose(scan);
-  if (keep || map.size() < static_cast<std::size_t>(std::max(config_.min_map_points, 1)))
-    return unregistered(scan, prediction);
+  if (keep || !registrable(map)) return unregistered(scan, prediction);
 
   FrameEstimate out = estimate(scan, map, threshold_.sigma());
   if (!out.health.healthy()) {
@@ -135,10 +135,13 @@ FrameEstimate Odometry::registerFrame(const PreparedScan& scan, const LocalMap& 
   return out;
 }
 
+bool Odometry::registrable(const LocalMap& map) const {
+  return map.size() >= static_cast<std::size_t>(std::max(config_.min_map_points, 1));
+}
+
 FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, double sigma) {
   FrameEstimate out;
   out.sigma = sigma;
-  out.voxel_size = voxel_size_.size();
   Eigen::Isometry3d mid = predictedPose(scan);
   Vector6d twist = twist_;
   const bool anchored = time_ >= 0.0 && scan.time() > time_;
@@ -158,7 +161,7 @@ FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, 
     twist = next;
     if (done) break;
   }
-  out.registration.pose = mid;
+  out.voxel_size = voxel_size_.size();  // as the passes used it (the first may have adapted it)
   finish(scan, mid, twist, out);
   out.registered = true;
   judge(scan, out);
@@ -232,8 +235,7 @@ LabeledCloud Odometry::downsample(const LabeledCloud& cloud) {
 FrameEstimate Odometry::bootstrap(const PreparedScan& scan, const LocalMap& map) {
   const PreparedScan first = std::move(*held_);
   held_.reset();
-  const bool register_first =
-      !keep_first_pose_ && map.size() >= static_cast<std::size_t>(config_.min_map_points);
+  const bool register_first = !keep_first_pose_ && registrable(map);
   const double sigma = threshold_.sigma();
   const double dt = scan.time() > first.time() ? scan.time() - first.time() : config_.frame_period;
   Vector6d twist = Vector6d::Zero();

@@ -81,6 +81,7 @@ class Odometry {
   Sweep registerSweep(const PreparedScan& scan, const LocalMap& map, const Eigen::Isometry3d& guess,
                       const Vector6d& twist, double sigma);
   LabeledCloud downsample(const LabeledCloud& cloud);  // semantic, adaptive voxel size
+  bool registrable(const LocalMap& map) const;         // holds at least min_map_points
   Eigen::Isometry3d searchFirstMotion(const PreparedScan& scan, const LocalMap& map,
                                       const Eigen::Isometry3d& from, double dt, double sigma);
   FrameEstimate estimate(const PreparedScan& scan, const LocalMap& map, double sigma);
