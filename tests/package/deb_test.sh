@@ -21,14 +21,8 @@ for dep in liblcm1 libyaml-cpp libssl3 libstdc++6 libpcl-io; do
 done
 dpkg-deb -x "$deb" "$work/root"
 root="$work/root"
-for f in etc/socc/server.yaml usr/lib/systemd/system/socc-map-server.service \
-  usr/include/socc/rpc/map_client.hpp usr/lib/cmake/socc/soccConfig.cmake; do
-  [ -e "$root/$f" ] || fail "not in the package: /$f"
-done
-grep -q "^ExecStart=/usr/bin/map_server " "$root/usr/lib/systemd/system/socc-map-server.service" ||
-  fail "unit: ExecStart is not /usr/bin/map_server"
-for exe in map_server odom_client socc-cli socc-eval socc-sim socc-to-lcmlog socc-loadtest; do
-  "$root/usr/bin/$exe" --version | grep -qx "$exe (socc) $version" || fail "$exe --version"
-  "$root/usr/bin/$exe" --help >/dev/null || fail "$exe --help"
-done
+source "$(dirname "$0")/installed_tree.sh"
+check_installed_tree "$root/usr/lib/systemd/system/socc-map-server.service" /usr/bin \
+  "$root/usr/bin" "$version" "$root/etc/socc/server.yaml" \
+  "$root/usr/include/socc/rpc/map_client.hpp" "$root/usr/lib/cmake/socc/soccConfig.cmake"
 echo "deb: $(basename "$deb") OK"

@@ -18,20 +18,18 @@ fail() { echo "FAIL: $*"; exit 1; }
 prefix="$work/prefix"
 
 cmake --install "$build" --prefix "$prefix" >"$work/install.log" || fail "cmake --install"
+source "$src/tests/package/installed_tree.sh"
+installed=()
 for f in bin/map_server bin/socc-cli include/socc/rpc/map_client.hpp include/socc/map_stats_t.hpp \
   include/socc/version.hpp lib/cmake/socc/soccConfig.cmake lib/pkgconfig/socc.pc \
   share/socc/lcmtypes/map_stats_t.lcm share/socc/map_server/server.yaml etc/socc/server.yaml \
   share/socc/odom_client/default.yaml share/socc/odom_client/baseline.yaml \
   share/man/man1/map_server.1 share/man/man1/odom_client.1 \
   lib/systemd/system/socc-map-server.service; do
-  [ -e "$prefix/$f" ] || fail "not installed: $f"
+  installed+=("$prefix/$f")
 done
-grep -q "^ExecStart=$prefix/bin/map_server " "$prefix/lib/systemd/system/socc-map-server.service" ||
-  fail "the systemd unit does not run the installed map_server"
-for exe in map_server odom_client socc-cli socc-eval socc-sim socc-to-lcmlog socc-loadtest; do
-  "$prefix/bin/$exe" --version | grep -qx "$exe (socc) $version" || fail "$exe --version"
-  "$prefix/bin/$exe" --help >/dev/null || fail "$exe --help"
-done
+check_installed_tree "$prefix/lib/systemd/system/socc-map-server.service" "$prefix/bin" \
+  "$prefix/bin" "$version" "${installed[@]}"
 
 # The example, configured against the staging prefix only (not the build tree).
 generator=()
