@@ -8,16 +8,20 @@
 # that change), <= 1.2x on constant-velocity routes (+ 0.01 % for noise). The featureless corridor must instead be flagged degenerate on
 # most frames.
 #
-# Usage: scripts/bench_robustness.sh [--build BUILD] [--out OUT] [--frames N]
+# Usage: scripts/bench_robustness.sh [--build BUILD] [--out OUT] [--frames N] [--config ODOM_YAML]
+#        [--kitti-sweep]   (--kitti-sweep: instead of the matrix, two segments of every KITTI GT
+#        trajectory 00-10 but 03, sensors rotating HDL-64 / VLP-32 / VLP-16, with distortion)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build="$root/build"; out="$root/out/robustness"; frames=150
+build="$root/build"; out="$root/out/robustness"; frames=150; odom_args=(); sweep=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
     --frames) frames="$2"; shift 2 ;;
-    -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --config) odom_args+=(--config "$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"); shift 2 ;;
+    --kitti-sweep) sweep=1; shift ;;
+    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench_robustness: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -43,6 +47,17 @@ cases=(
   "kitti10-vlp16|2|kitti 10 400 --sensor vlp16"
 )
 
+if ((sweep)); then  # two segments of each KITTI GT shape (03 has no calib here), sensors rotating
+  cases=()
+  sensors=(hdl64 vlp32 vlp16)
+  for seq in 00 01 02 04 05 06 07 08 09 10; do
+    n=$(wc -l <"$gt/poses/$seq.txt")
+    for start in $((n / 5)) $((3 * n / 5)); do
+      cases+=("kitti$seq-$start-${sensors[$((${#cases[@]} % 3))]}|2|kitti $seq $start --sensor ${sensors[$((${#cases[@]} % 3))]} --seed $((${#cases[@]} + 21))")
+    done
+  done
+fi
+
 simulate() {  # dir distortion(0|1) args... -> sequence in dir
   local dir="$1" distortion=(); shift
   [ "$1" = 1 ] && distortion=(--distortion)
@@ -56,7 +71,9 @@ simulate() {  # dir distortion(0|1) args... -> sequence in dir
     sed -n "$((start + 1)),$((start + frames))p" "$gt/poses/$seq.txt" >"$out/poses_$seq.txt"
     args=(--kitti-poses "$out/poses_$seq.txt" --calib "$calib" "${args[@]:3}")
   fi
-  "$build/sim/socc-sim" --out "$dir" --frames "$frames" --seed 11 "${distortion[@]}" --quiet "${args[@]}" >&2
+  local seed=(--seed 11)  # unless the case names its own
+  [[ " ${args[*]} " == *" --seed "* ]] && seed=()
+  "$build/sim/socc-sim" --out "$dir" --frames "$frames" "${seed[@]}" "${distortion[@]}" --quiet "${args[@]}" >&2
 }
 
 rows=()
@@ -68,7 +85,7 @@ for c in "${cases[@]}"; do
   for variant in distorted clean; do
     simulate "$out/$name/$variant/seq" "$([ $variant = distorted ] && echo 1 || echo 0)" "${args[@]}"
     "$root/scripts/bench_odometry.sh" "$out/$name/$variant/seq" --build "$build" \
-      --out "$out/$name/$variant" >"$out/$name/$variant.txt" 2>"$out/$name/$variant.log" || true
+      --out "$out/$name/$variant" "${odom_args[@]}" >"$out/$name/$variant.txt" 2>"$out/$name/$variant.log" || true
   done
   row="$(python3 - "$out/$name" "$name" "$target" <<'PY'
 import csv, json, os, re, sys
@@ -109,7 +126,7 @@ PY
   [[ "$row" == *"| FAIL |" ]] && failed=$((failed + 1))
 done
 
-echo "## odometry robustness, ${#cases[@]} cases x $frames frames, seed 11"
+echo "## odometry robustness, ${#cases[@]} cases x $frames frames, seed 11 unless named"
 echo
 echo "Error: KITTI t_err, or ATE max / path length below 100 m. Frames and Hz of the distorted run."
 echo
