@@ -83,6 +83,9 @@ file(GLOB _socc_gnuplot ${PROJECT_SOURCE_DIR}/scripts/plot_*.gp)
 install(FILES ${_socc_gnuplot} DESTINATION ${SOCC_DATA_DIR}/scripts)
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/spy.sh DESTINATION ${CMAKE_INSTALL_BINDIR}
         RENAME socc-spy)
+# LAN mode of the map_server unit: a drop-in the administrator copies to /etc (docs/fleet.md).
+install(FILES ${PROJECT_SOURCE_DIR}/packaging/socc-map-server-lan.conf
+        DESTINATION ${SOCC_DATA_DIR}/systemd)
 
 # /etc/socc and the systemd unit depend on the prefix of the install itself (CPack's /usr, a
 # staging --prefix), so they are written at install time (packaging/install_system_files.cmake).

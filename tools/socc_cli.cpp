@@ -490,8 +490,8 @@ struct Commands {
 
 void addClientOptions(CLI::App& app, socc::rpc::ClientOptions& options, int& timeout_ms) {
   app.add_option("--lcm-url", options.lcm_url,
-                 "LCM URL (udpm://239.x.y.z:port?ttl=0); add &recv_buf_size=67108864 for big "
-                 "chunks")
+                 "LCM URL (udpm://239.x.y.z:port?ttl=0; ttl=1 on a LAN only with --key-file, "
+                 "docs/fleet.md); add &recv_buf_size=67108864 for big chunks")
       ->capture_default_str();
   app.add_option("--client-id", options.client_id, "client / robot id")->capture_default_str();
   app.add_option("--timeout-ms", timeout_ms, "per attempt")->capture_default_str();

@@ -108,6 +108,11 @@ std::optional<socc::service::ServerConfig> serverConfig(const Options& options) 
   if (!options.file_dir.empty()) config.file_dir = options.file_dir;
   if (!options.key_file.empty()) config.key_file = options.key_file;
   config.auth_queries = config.auth_queries || options.auth_queries;
+  const auto auth = socc::lcmAuthFor(config.key_file.string());
+  if (const std::string why = socc::checkLcmUrl(options.lcm_url, auth); !why.empty()) {
+    std::cerr << "map_server: " << why << '\n';
+    return std::nullopt;
+  }
   if (config.auth_queries && config.key_file.empty()) {
     std::cerr << "map_server: --auth-queries needs a key (--key-file or key_file: in --config)\n";
     return std::nullopt;
@@ -210,8 +215,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", socc::versionLine("map_server"));
   Options options;
   app.add_option("--lcm-url", options.lcm_url,
-                 "LCM URL; only udpm://239.x.y.z:port?ttl=0 or memq://. Large GET_CHUNK replies "
-                 "need a big receive buffer on the client: ...&recv_buf_size=67108864")
+                 "LCM URL: udpm://239.x.y.z:port?ttl=0 (this machine) or memq://; ttl=1 (LAN, "
+                 "docs/fleet.md) only with --key-file. Large GET_CHUNK replies need a big "
+                 "receive buffer on the client: ...&recv_buf_size=67108864")
       ->capture_default_str();
   app.add_option("--config", options.config_file,
                  "server YAML (map_server/config/server.yaml); unknown keys are an error")
@@ -243,10 +249,6 @@ int main(int argc, char** argv) {
                "(the damaged files are moved aside, not deleted)");
   CLI11_PARSE(app, argc, argv);
 
-  if (const std::string why = socc::checkLcmUrl(options.lcm_url); !why.empty()) {
-    std::cerr << "map_server: " << why << '\n';
-    return 2;
-  }
   try {
     return run(options);
   } catch (const std::exception& e) {

@@ -31,6 +31,7 @@ struct Args {
   std::string input, pcd_dir, config_file, out_dir, initial_pose, key_file;
   std::string robot_id = "robot1";
   std::string lcm_url{socc::channels::kDefaultLcmUrl};
+  std::string scan_lcm_url;  // --live: where scans arrive; empty = lcm_url
   bool live = false, no_semantics = false, resume = false, quiet = false;
   std::int64_t first = 0, last = -1;
   double idle_timeout_s = 5.0;
@@ -49,8 +50,13 @@ void addOptions(CLI::App& app, Args& a) {
   pcd_opt->excludes(live_opt);
   app.add_option("--robot-id", a.robot_id, "robot / client id (several robots share one map)")
       ->capture_default_str();
-  app.add_option("--lcm-url", a.lcm_url, "LCM URL: udpm://239.x.y.z:port?ttl=0 only")
+  app.add_option("--lcm-url", a.lcm_url,
+                 "LCM URL: udpm://239.x.y.z:port?ttl=0; ttl=1 (LAN, docs/fleet.md) only with "
+                 "--key-file")
       ->capture_default_str();
+  app.add_option("--scan-lcm-url", a.scan_lcm_url,
+                 "--live: read scans from this URL (default: --lcm-url); scans are not signed, "
+                 "so it must be ttl=0 (this machine) when --lcm-url is a LAN (ttl=1)");
   app.add_option("--config", a.config_file,
                  "YAML parameters (odom_client/config/default.yaml documents each)");
   app.add_option("--out-dir", a.out_dir,
@@ -76,7 +82,8 @@ void addOptions(CLI::App& app, Args& a) {
 void checkArgs(const Args& a) {
   if (a.input.empty() && a.pcd_dir.empty() && !a.live)
     throw std::runtime_error("no input: give --kitti <dir>, --pcd-dir <dir> or --live");
-  if (const std::string why = socc::checkLcmUrl(a.lcm_url); !why.empty())
+  if (const std::string why = socc::checkLcmUrl(a.lcm_url, socc::lcmAuthFor(a.key_file));
+      !why.empty())
     throw std::runtime_error("--lcm-url " + a.lcm_url + ": " + why);
   if (a.robot_id.empty()) throw std::runtime_error("--robot-id must not be empty");
 }
@@ -130,7 +137,7 @@ std::unique_ptr<ScanSource> openSource(const Args& a, const OdomConfig& config) 
   if (!a.input.empty()) return openKittiDirectory(a.input, {a.first, a.last});
   if (!a.pcd_dir.empty())
     return openPointCloudDirectory(a.pcd_dir, {a.first, a.last}, config.frame_period);
-  auto source = openLcmScans(a.lcm_url, a.robot_id,
+  auto source = openLcmScans(a.scan_lcm_url.empty() ? a.lcm_url : a.scan_lcm_url, a.robot_id,
                              std::chrono::milliseconds(static_cast<int>(a.idle_timeout_s * 1000)));
   // Scans published before this line are not received: start lcm-logplayer after it.
   std::cerr << "odom_client: listening for scans on " << socc::channels::scan(a.robot_id)

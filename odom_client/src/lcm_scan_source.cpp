@@ -26,8 +26,14 @@ std::string checkScan(const scan_t& m) {
   return {};
 }
 
-// The network rule is checked before any socket is opened.
+// The network rule is checked before any socket is opened. Scans are not signed, so they are
+// only read on this machine (ttl=0), also when the map service runs on a LAN (docs/fleet.md).
 const std::string& checkedUrl(const std::string& url) {
+  if (checkLcmUrl(url, LcmAuth::kKeyConfigured).empty() && !checkLcmUrl(url).empty())
+    throw std::runtime_error(
+        "scans are not signed, so they are only read from this machine: "
+        "give --scan-lcm-url udpm://239.x.y.z:port?ttl=0 (not " +
+        url + ")");
   if (const std::string why = checkLcmUrl(url); !why.empty())
     throw std::runtime_error("LCM URL " + url + ": " + why);
   return url;

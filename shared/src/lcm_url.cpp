@@ -21,15 +21,39 @@ bool isNumberInRange(const std::string& s, long lo, long hi) {
   return v >= lo && v <= hi;
 }
 
+// The values of every ttl= option of the query string.
+std::vector<std::string> ttlValues(const std::string& query) {
+  std::vector<std::string> values;
+  for (const auto& option : split(query, '&'))
+    if (option.rfind("ttl=", 0) == 0) values.push_back(option.substr(4));
+  return values;
+}
+
+// Empty when the ttl options are allowed for auth, else why not (after "refused: ").
+std::string checkTtl(const std::string& query, LcmAuth auth) {
+  const std::vector<std::string> ttl = ttlValues(query);
+  if (ttl.size() != 1)
+    return "give exactly one ttl option: ttl=0 keeps traffic on this machine (docs/fleet.md "
+           "for ttl=1)";
+  if (ttl[0] == "0") return {};
+  if (ttl[0] != "1")
+    return "ttl=" + ttl[0] + " would let multicast cross routers; socc allows ttl=0 (this " +
+           "machine) or ttl=1 (one LAN, with a key)";
+  if (auth == LcmAuth::kKeyConfigured) return {};
+  return "ttl=1 (LAN) needs an HMAC key, since every host on the link can send to the group: "
+         "give --key-file (docs/fleet.md, docs/security.md), or use ttl=0 to stay on this "
+         "machine";
+}
+
 }  // namespace
 
-std::string checkLcmUrl(const std::string& url) {
+std::string checkLcmUrl(const std::string& url, LcmAuth auth) {
   if (url.rfind("memq://", 0) == 0 || url.rfind("file://", 0) == 0) return {};
   const std::string refused = "LCM URL '" + url + "' refused: ";
   const std::string prefix = "udpm://";
   const auto query = url.find('?');
   if (url.rfind(prefix, 0) != 0 || query == std::string::npos)
-    return refused + "use udpm://239.x.y.z:port?ttl=0 (or memq://)";
+    return refused + "use udpm://239.x.y.z:port?ttl=0 (or memq://; ttl=1 with a key)";
   const std::string host_port = url.substr(prefix.size(), query - prefix.size());
   const auto colon = host_port.find(':');
   const std::vector<std::string> octets = split(host_port.substr(0, colon), '.');
@@ -37,9 +61,9 @@ std::string checkLcmUrl(const std::string& url) {
   for (const auto& o : octets) group_ok = group_ok && isNumberInRange(o, 0, 255);
   if (!group_ok || !isNumberInRange(host_port.substr(colon + 1), 1, 65535))
     return refused + "the group must be 239.x.y.z:port (administratively scoped multicast)";
-  for (const auto& option : split(url.substr(query + 1), '&'))
-    if (option == "ttl=0") return {};
-  return refused + "ttl=0 is required so traffic stays on this machine";
+  if (const std::string why = checkTtl(url.substr(query + 1), auth); !why.empty())
+    return refused + why;
+  return {};
 }
 
 }  // namespace socc

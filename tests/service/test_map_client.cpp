@@ -73,6 +73,17 @@ TEST(MapClient, RejectsBadUrlAndClientId) {
   EXPECT_THROW(rpc::MapClient{options}, std::runtime_error);
 }
 
+TEST(MapClient, LanUrlNeedsAKey) {
+  rpc::ClientOptions options;
+  options.lcm_url = "udpm://239.1.2.3:7667?ttl=1";
+  try {
+    rpc::MapClient client{options};
+    ADD_FAILURE() << "ttl=1 without a key was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("needs an HMAC key"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MapClient, TimesOutWithoutServer) {
   rpc::ClientOptions options = clientOptions(randomUrl(), "lonely");
   options.timeout = std::chrono::milliseconds(50);

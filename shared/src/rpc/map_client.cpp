@@ -158,7 +158,8 @@ struct MapClient::Impl {
 };
 
 MapClient::MapClient(ClientOptions options) {
-  if (const std::string why = checkLcmUrl(options.lcm_url); !why.empty())
+  if (const std::string why = checkLcmUrl(options.lcm_url, lcmAuthFor(options.key_file));
+      !why.empty())
     throw std::runtime_error(why);
   if (const std::string why = checkClientId(options.client_id); !why.empty())
     throw std::runtime_error(why);

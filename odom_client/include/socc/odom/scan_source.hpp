@@ -42,7 +42,8 @@ std::unique_ptr<ScanSource> openKittiDirectory(const std::filesystem::path& root
 std::unique_ptr<ScanSource> openPointCloudDirectory(const std::filesystem::path& dir,
                                                     FrameRange range, double frame_period);
 
-/// Subscribes to SOCC/SCAN/<robot_id>; next() waits up to idle_timeout for a scan.
+/// Subscribes to SOCC/SCAN/<robot_id>; next() waits up to idle_timeout for a scan. Scans are
+/// not signed: lcm_url must stay on this machine (ttl=0 or memq://; throws otherwise).
 /// Malformed scans (sizes, labels) are reported on stderr and skipped.
 std::unique_ptr<ScanSource> openLcmScans(const std::string& lcm_url, const std::string& robot_id,
                                          std::chrono::milliseconds idle_timeout);
