@@ -34,6 +34,7 @@ struct Options {
   std::string snapshot_dir;
   double snapshot_period = 60.0;
   std::string journal;
+  std::string journal_sync = "batch";
   std::string file_dir;
   std::string key_file;
   bool auth_queries = false;
@@ -55,6 +56,7 @@ void restoreState(socc::service::MapService& service, const Options& options) {
   if (!options.snapshot_dir.empty())
     durability.snapshot_file = fs::path(options.snapshot_dir) / "map.snap";
   if (!options.journal.empty()) durability.journal_file = options.journal;
+  durability.journal_sync = *socc::service::parseJournalSync(options.journal_sync);
   durability.show_progress = !options.quiet;
   std::optional<fs::path> restore;
   if (!options.restore.empty()) restore = options.restore;
@@ -136,6 +138,21 @@ void announce(const Options& options, const socc::service::ServerConfig& config,
             << " robots)\n";
 }
 
+// Handles the request that arrives within 50 ms and up to kMaxGroup more already waiting, then
+// commits them (one journal sync for the group's INTEGRATEs, then their replies). Returns
+// false when LCM fails.
+bool handleGroup(lcm::LCM& lcm, socc::service::RequestRouter& router) {
+  constexpr int kMaxGroup = 32;
+  int handled = lcm.handleTimeout(50);
+  if (handled < 0) return false;
+  for (int n = 0; handled > 0 && n < kMaxGroup; ++n) {
+    handled = lcm.handleTimeout(0);
+    if (handled < 0) return false;
+  }
+  router.commit();
+  return true;
+}
+
 // Handles requests until a stop signal, publishing the status and writing periodic snapshots
 // in between. Returns 0, or 1 when LCM fails.
 int serve(lcm::LCM& lcm, socc::service::RequestRouter& router, socc::service::MapService& service,
@@ -147,7 +164,7 @@ int serve(lcm::LCM& lcm, socc::service::RequestRouter& router, socc::service::Ma
   auto next_status = Clock::now();
   auto next_snapshot = Clock::now() + snapshot_period;
   while (sigtimedwait(&stop_signals, nullptr, &no_wait) < 0) {
-    if (lcm.handleTimeout(50) < 0) {
+    if (!handleGroup(lcm, router)) {
       std::cerr << "map_server: LCM receive failed\n";
       return 1;
     }
@@ -199,6 +216,7 @@ int run(const Options& options) {
   socc::service::RequestRouter router(lcm, service, *gate, !options.quiet);
   announce(options, *config, service);
   if (const int rc = serve(lcm, router, service, options, stop_signals); rc != 0) return rc;
+  router.commit();
   if (!options.snapshot_dir.empty()) service.checkpoint();
   if (!options.quiet) std::cerr << "map_server: stopped\n";
   return 0;
@@ -232,6 +250,12 @@ int main(int argc, char** argv) {
   app.add_option("--journal", options.journal,
                  "write-ahead journal (LCM log) of accepted INTEGRATEs; replayed at start; "
                  "needs --snapshot-dir");
+  app.add_option("--journal-sync", options.journal_sync,
+                 "when journal entries reach stable storage (docs/fleet.md): always (fdatasync "
+                 "per INTEGRATE before its reply), batch (one fdatasync per group of waiting "
+                 "requests, replies after it), none (never: survives kill -9, not power loss)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"always", "batch", "none"}));
   app.add_option("--file-dir", options.file_dir,
                  "directory MAP_COMMAND paths are resolved in (overrides file_dir of --config)");
   app.add_option("--key-file", options.key_file,

@@ -1,6 +1,11 @@
 #include "journal.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <lcm/lcm-cpp.hpp>
 #include <stdexcept>
 #include <string>
@@ -25,6 +30,20 @@ void writeEvent(lcm::LogFile& log, const std::string& channel, const void* data,
     throw std::runtime_error("cannot write journal " + file.string());
 }
 
+void syncData(std::FILE* file, const std::filesystem::path& path) {
+  if (::fdatasync(::fileno(file)) != 0)
+    throw std::runtime_error("cannot fdatasync journal " + path.string() + ": " +
+                             std::strerror(errno));
+}
+
+// Makes a rename in dir durable (best effort: some file systems refuse fsync on directories).
+void syncDirectory(const std::filesystem::path& dir) {
+  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+
 std::unique_ptr<lcm::LogFile> openLog(const std::filesystem::path& file, const char* mode) {
   auto log = std::make_unique<lcm::LogFile>(file.string(), mode);
   if (!log->good()) throw std::runtime_error("cannot open journal " + file.string());
@@ -33,7 +52,26 @@ std::unique_ptr<lcm::LogFile> openLog(const std::filesystem::path& file, const c
 
 }  // namespace
 
-Journal::Journal(std::filesystem::path file, std::int64_t base_sequence) : file_(std::move(file)) {
+std::optional<JournalSync> parseJournalSync(std::string_view name) {
+  for (const auto sync : {JournalSync::kNone, JournalSync::kBatch, JournalSync::kAlways})
+    if (name == journalSyncName(sync)) return sync;
+  return std::nullopt;
+}
+
+const char* journalSyncName(JournalSync sync) {
+  switch (sync) {
+    case JournalSync::kNone:
+      return "none";
+    case JournalSync::kBatch:
+      return "batch";
+    case JournalSync::kAlways:
+      return "always";
+  }
+  return "?";
+}
+
+Journal::Journal(std::filesystem::path file, std::int64_t base_sequence, JournalSync sync)
+    : file_(std::move(file)), sync_(sync) {
   restart(base_sequence);
 }
 
@@ -49,20 +87,33 @@ void Journal::restart(std::int64_t base_sequence) {
     std::uint8_t base[8];
     for (int i = 0; i < 8; ++i) base[i] = static_cast<std::uint8_t>(base_sequence >> (56 - 8 * i));
     writeEvent(*log, kStartChannel, base, sizeof(base), tmp);
+    // Always (once per snapshot): after a power loss the name must not point at an empty file.
+    syncData(log->getFilePtr(), tmp);
   }
   std::error_code ec;
   std::filesystem::rename(tmp, file_, ec);
   if (ec)
     throw std::runtime_error("cannot replace journal " + file_.string() + ": " + ec.message());
+  syncDirectory(file_.parent_path());
   log_ = openLog(file_, "a");
   base_sequence_ = base_sequence;
   entries_ = 0;
+  unsynced_ = false;
 }
 
 void Journal::append(const std::uint8_t* encoded_request, std::size_t size) {
   writeEvent(*log_, channels::request(channels::kIntegrate), encoded_request,
              static_cast<int>(size), file_);
   ++entries_;
+  unsynced_ = true;
+  if (sync_ == JournalSync::kAlways) sync();
+}
+
+void Journal::sync() {
+  if (!unsynced_ || sync_ == JournalSync::kNone) return;
+  syncData(log_->getFilePtr(), file_);
+  unsynced_ = false;
+  ++syncs_;
 }
 
 JournalContents Journal::read(const std::filesystem::path& file) {

@@ -48,6 +48,7 @@ struct Durability {
   std::optional<std::filesystem::path> snapshot_file;
   std::optional<std::filesystem::path> journal_file;
   bool show_progress = true;  // progress bar while replaying the journal (off with --quiet)
+  JournalSync journal_sync = JournalSync::kBatch;  // --journal-sync
 };
 
 class MapService {
@@ -81,6 +82,12 @@ class MapService {
                       const std::optional<std::filesystem::path>& restore_snapshot);
   /// Writes the snapshot (atomic) and restarts the journal after it. Returns voxels saved.
   std::int64_t checkpoint();
+  /// True when INTEGRATE acknowledgements must wait for syncJournal() (journal in batch mode).
+  bool acksWaitForSync() const;
+  /// Forces the journaled integrations to stable storage (batch mode: once per group of
+  /// requests, before their replies go out). Throws std::runtime_error when that fails.
+  void syncJournal();
+  const Journal* journal() const { return journal_.get(); }
   /// Loads a snapshot into the service (map + robot states); throws std::runtime_error.
   void loadSnapshot(const std::filesystem::path& file);
   void saveSnapshot(const std::filesystem::path& file) const;

@@ -73,7 +73,8 @@ void MapService::openDurability(const Durability& durability,
     // Checkpoint right away: the snapshot now holds the replayed state and the journal starts
     // clean (also dropping a torn last event left by the crash).
     saveSnapshot(*durability_.snapshot_file);
-    journal_ = std::make_unique<Journal>(*durability_.journal_file, integrations_);
+    journal_ = std::make_unique<Journal>(*durability_.journal_file, integrations_,
+                                         durability_.journal_sync);
   }
 }
 
@@ -83,6 +84,14 @@ std::int64_t MapService::checkpoint() {
   // Only after the snapshot is safely renamed into place may the journal forget its entries.
   if (journal_) journal_->restart(integrations_);
   return map_.stats().num_voxels;
+}
+
+bool MapService::acksWaitForSync() const {
+  return journal_ && journal_->syncMode() == JournalSync::kBatch;
+}
+
+void MapService::syncJournal() {
+  if (journal_) journal_->sync();
 }
 
 }  // namespace socc::service

@@ -64,10 +64,29 @@ void RequestRouter::publishReply(std::string_view service, const request_header_
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(reply.getEncodedSize()));
   reply.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
   // Only ever to the requester's own reply channel, whatever the request asked for.
-  if (lcm_.publish(channels::reply(service, request.client_id), bytes.data(),
-                   static_cast<unsigned>(bytes.size())) != 0)
+  std::string channel = channels::reply(service, request.client_id);
+  // An accepted INTEGRATE is acknowledged only once its journal entry is on stable storage.
+  if (service == channels::kIntegrate && reply.header.status == reply_header_t::OK &&
+      service_.acksWaitForSync()) {
+    deferred_.push_back({std::move(channel), std::move(bytes)});
+    return;
+  }
+  send(service, channel, bytes);
+}
+
+void RequestRouter::send(std::string_view service, const std::string& channel,
+                         const std::vector<std::uint8_t>& bytes) {
+  if (lcm_.publish(channel, bytes.data(), static_cast<unsigned>(bytes.size())) != 0)
     log_.warn("cannot publish a " + std::to_string(bytes.size()) + "-byte " + std::string(service) +
               " reply (larger than LCM allows? lower limits.max_reply_bytes)");
+}
+
+void RequestRouter::commit() {
+  if (deferred_.empty()) return;
+  service_.syncJournal();
+  for (const DeferredReply& reply : deferred_)
+    send(channels::kIntegrate, reply.channel, reply.bytes);
+  deferred_.clear();
 }
 
 template <typename Request, typename Handler>

@@ -1,12 +1,15 @@
 #pragma once
 // LCM side of the service: subscribes to SOCC/<SERVICE>/REQ, turns raw bytes into requests
 // (wire guard + checked decode), checks the header (client id, reply channel), passes the
-// RequestGate, calls the MapService handler and publishes the reply immediately on
-// SOCC/<SERVICE>/REP/<client_id>. Runs on the thread that calls lcm.handle*(): map access
-// stays serial.
+// RequestGate, calls the MapService handler and publishes the reply on
+// SOCC/<SERVICE>/REP/<client_id>: immediately, except accepted INTEGRATEs while the journal
+// syncs in batches (group commit: their replies wait for commit()). Runs on the thread that
+// calls lcm.handle*(): map access stays serial.
+#include <cstdint>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "map_service.hpp"
 #include "rate_limited_log.hpp"
@@ -25,6 +28,12 @@ class RequestRouter {
   const RequestCounters& counters() const { return counters_; }
   /// Publishes map_stats_t on SOCC/STATUS.
   void publishStatus();
+  /// Group commit: syncs the journal once for the INTEGRATEs accepted since the last call, then
+  /// publishes their replies. Call after every batch of handled requests. Throws
+  /// std::runtime_error when the sync fails (the replies are not sent).
+  void commit();
+  /// Replies waiting for commit().
+  std::size_t deferredReplies() const { return deferred_.size(); }
 
  private:
   template <typename Request, typename Handler>
@@ -33,6 +42,8 @@ class RequestRouter {
   template <typename Reply>
   void publishReply(std::string_view service, const request_header_t& request, Reply& reply);
   void rejectUndecodable(std::string_view service, const std::string& why);
+  void send(std::string_view service, const std::string& channel,
+            const std::vector<std::uint8_t>& bytes);
 
   void dispatch(std::string_view service, const lcm::ReceiveBuffer& rbuf);
   static void onMessage(const lcm_recv_buf_t* rbuf, const char* channel, void* route);
@@ -49,6 +60,11 @@ class RequestRouter {
   RequestGate& gate_;
   RequestCounters counters_;
   RateLimitedLog log_;
+  struct DeferredReply {
+    std::string channel;
+    std::vector<std::uint8_t> bytes;
+  };
+  std::vector<DeferredReply> deferred_;  // INTEGRATE acks waiting for the journal's sync
   std::array<Route, channels::kServices.size()> routes_;
 };
 
