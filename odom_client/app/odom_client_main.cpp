@@ -1,6 +1,8 @@
 // odom_client: SOCC-ICP odometry against the shared map server (see odom_client/README.md).
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <iostream>
@@ -28,11 +30,12 @@ void onSignal(int) {
 
 // The command line as parsed.
 struct Args {
-  std::string input, pcd_dir, config_file, out_dir, initial_pose, key_file;
+  std::string input, pcd_dir, config_file, out_dir, initial_pose, key_file, pose_hint;
   std::string robot_id = "robot1";
   std::string lcm_url{socc::channels::kDefaultLcmUrl};
   std::string scan_lcm_url;  // --live: where scans arrive; empty = lcm_url
-  bool live = false, no_semantics = false, resume = false, quiet = false;
+  bool live = false, no_semantics = false, resume = false, quiet = false, relocalize = false;
+  double hint_radius = 0.0, hint_yaw_tolerance_deg = 180.0;
   std::int64_t first = 0, last = -1;
   double idle_timeout_s = 5.0;
 };
@@ -64,6 +67,21 @@ void addOptions(CLI::App& app, Args& a) {
   app.add_option("--initial-pose", a.initial_pose,
                  "pose of the first scan in the map frame: \"x y z roll pitch yaw\" [m, rad]; "
                  "taken as exact unless refine_initial_pose is set in --config");
+  auto* reloc_opt = app.add_flag(
+      "--relocalize", a.relocalize,
+      "find the first scan's pose in the server's map (LOCALIZE + verification, "
+      "docs/relocalization.md) unless --initial-pose gives it; a robot that gets lost searches "
+      "again");
+  app.add_option("--pose-hint", a.pose_hint,
+                 "--relocalize: search near \"x y z yaw\" [m, rad] (map frame) only; needs "
+                 "--hint-radius")
+      ->needs(reloc_opt);
+  app.add_option("--hint-radius", a.hint_radius, "--pose-hint: search radius [m]")
+      ->needs(reloc_opt);
+  app.add_option("--hint-yaw-tolerance", a.hint_yaw_tolerance_deg,
+                 "--pose-hint: accepted heading difference [deg]; 180 = any")
+      ->capture_default_str()
+      ->needs(reloc_opt);
   app.add_option("--first-frame", a.first, "first frame index of a directory input")
       ->capture_default_str();
   app.add_option("--last-frame", a.last, "last frame index (inclusive); -1 = all")
@@ -77,6 +95,22 @@ void addOptions(CLI::App& app, Args& a) {
   app.add_option("--key-file", a.key_file,
                  "shared key for signed requests (if the server requires it)");
   app.add_flag("--quiet", a.quiet, "no progress bar");
+}
+
+// --pose-hint "x y z yaw" with --hint-radius.
+PoseHint parseHint(const Args& a) {
+  std::istringstream in(a.pose_hint);
+  double v[4];
+  for (double& x : v)
+    if (!(in >> x) || !std::isfinite(x))
+      throw std::runtime_error("--pose-hint needs 4 finite numbers \"x y z yaw\"");
+  if (!(a.hint_radius > 0.0)) throw std::runtime_error("--pose-hint needs --hint-radius > 0");
+  PoseHint hint;
+  hint.position = {v[0], v[1], v[2]};
+  hint.yaw = v[3];
+  hint.radius = a.hint_radius;
+  hint.yaw_tolerance = std::clamp(a.hint_yaw_tolerance_deg, 0.0, 180.0) * M_PI / 180.0;
+  return hint;
 }
 
 void checkArgs(const Args& a) {
@@ -117,11 +151,19 @@ socc::rpc::ClientOptions clientOptions(const Args& a, const OdomConfig& config) 
 
 // --resume: starts after the last scan the server integrated for this robot (advances
 // a.first); a robot the server does not know starts fresh.
-void resumeFromServer(socc::rpc::MapClient& client, Args& a, RunOptions& options) {
+void resumeFromServer(socc::rpc::MapClient& client, Args& a, const OdomConfig& config,
+                      RunOptions& options) {
   const auto reply = client.getRobotPose(a.robot_id);
   if (reply.ok()) {
     const socc::robot_state_t& state = reply.reply->state;
     options.initial_pose = socc::fromLcm(state.last_pose);
+    if (options.relocalize && !options.hint) {
+      // After an outage the robot may have moved: searched near where it was last.
+      PoseHint near;
+      near.position = options.initial_pose.translation();
+      near.radius = config.relocalize_hint_radius;
+      options.hint = near;
+    }
     options.initial_pose_known = false;  // the pose of the last scan, not of the next one
     options.skip_until_seq = state.last_seq;
     a.first = std::max<std::int64_t>(a.first, state.last_seq + 1);
@@ -152,7 +194,7 @@ void writeOutputs(const fs::path& out_dir, const Trajectory& t) {
 }
 
 // Registers every scan of the source; the outputs are written even when a frame fails.
-// Returns the exit code: 0, 1 (error) or 3 (the run ended LOST).
+// Returns the exit code: 0, 1 (error), 3 (the run ended LOST) or 4 (--relocalize found no pose).
 int runOdometry(const Args& a, const OdomConfig& config, socc::rpc::MapClient& client,
                 const RunOptions& options, ScanSource& source) {
   std::signal(SIGINT, onSignal);
@@ -162,6 +204,9 @@ int runOdometry(const Args& a, const OdomConfig& config, socc::rpc::MapClient& c
   int rc = 0;
   try {
     runner.run(source, log);
+  } catch (const RelocalizationFailed& e) {
+    std::cerr << "odom_client: error: " << e.what() << "\n";
+    rc = 4;
   } catch (const std::exception& e) {
     std::cerr << "odom_client: error: " << e.what() << "\n";
     rc = 1;
@@ -204,7 +249,9 @@ int main(int argc, char** argv) {
       options.initial_pose = parsePose(args.initial_pose);
       options.initial_pose_known = true;
     }
-    if (args.resume) resumeFromServer(client, args, options);
+    options.relocalize = args.relocalize;
+    if (!args.pose_hint.empty()) options.hint = parseHint(args);
+    if (args.resume) resumeFromServer(client, args, config, options);
     if (args.resume && !args.input.empty() &&
         args.first >= static_cast<std::int64_t>(socc::listKittiSequence(args.input).scans.size())) {
       std::cout << "odom_client: every frame of " << args.input << " was integrated already\n";

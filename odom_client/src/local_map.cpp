@@ -126,4 +126,13 @@ LocalMap LocalMap::fromChunk(const chunk_reply_t& chunk, double occupancy_thresh
   return LocalMap(std::move(voxels));
 }
 
+double fractionNearMap(const std::vector<Eigen::Vector3f>& points, const LocalMap& map,
+                       const Eigen::Isometry3d& pose, double max_distance) {
+  if (points.empty()) return 0.0;
+  std::size_t n = 0;
+  for (const Eigen::Vector3f& p : points)
+    n += map.nearest(pose * p.cast<double>(), max_distance) ? 1 : 0;
+  return static_cast<double>(n) / static_cast<double>(points.size());
+}
+
 }  // namespace socc::odom

@@ -56,6 +56,12 @@ const std::map<std::string, Field>& fields() {
       {"w_lower", &OdomConfig::w_lower},
       {"max_iterations", &OdomConfig::max_iterations},
       {"convergence", &OdomConfig::convergence},
+      {"relocalize_candidates", &OdomConfig::relocalize_candidates},
+      {"relocalize_min_fitness", &OdomConfig::relocalize_min_fitness},
+      {"relocalize_margin", &OdomConfig::relocalize_margin},
+      {"relocalize_timeout", &OdomConfig::relocalize_timeout},
+      {"relocalize_voxel_size", &OdomConfig::relocalize_voxel_size},
+      {"relocalize_hint_radius", &OdomConfig::relocalize_hint_radius},
       {"timeout_ms", &OdomConfig::timeout_ms},
       {"max_attempts", &OdomConfig::max_attempts},
   };
@@ -161,6 +167,13 @@ std::string validate(const OdomConfig& c) {
   if (!unit(c.w_lower)) return "w_lower must be within [0, 1]";
   if (c.max_iterations < 1) return "max_iterations must be >= 1";
   if (!finite_pos(c.convergence)) return "convergence must be > 0";
+  if (c.relocalize_candidates < 1 || c.relocalize_candidates > 16)
+    return "relocalize_candidates must be within [1, 16]";
+  if (!unit(c.relocalize_min_fitness)) return "relocalize_min_fitness must be within [0, 1]";
+  if (!unit(c.relocalize_margin)) return "relocalize_margin must be within [0, 1]";
+  if (!finite_pos(c.relocalize_timeout)) return "relocalize_timeout must be > 0";
+  if (!finite_pos(c.relocalize_voxel_size)) return "relocalize_voxel_size must be > 0";
+  if (!finite_pos(c.relocalize_hint_radius)) return "relocalize_hint_radius must be > 0";
   if (c.timeout_ms < 1) return "timeout_ms must be >= 1";
   if (c.max_attempts < 1) return "max_attempts must be >= 1";
   return {};

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "socc/odom/local_map.hpp"
+#include "socc/odom/service_map_access.hpp"
 #include "socc/pose_conversion.hpp"
 #include "socc/progress_bar.hpp"
 
@@ -16,14 +17,6 @@ using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
-std::string callError(const char* what, const rpc::CallError& e, int attempts) {
-  std::ostringstream out;
-  out << what << " failed after " << attempts << " attempt(s): "
-      << (e.timed_out ? "no reply from the map server (is map_server running on this LCM URL?)"
-                      : e.message + " (" + rpc::statusName(e.status) + ")");
-  return out.str();
 }
 
 std::string statusOf(const FrameEstimate& e, TrackingState state) {
@@ -60,7 +53,12 @@ void addHealth(const FrameEstimate& e, FrameStats& stats) {
 }  // namespace
 
 OdomRunner::OdomRunner(const OdomConfig& config, rpc::MapClient& client, RunOptions options)
-    : config_(config), client_(client), options_(options), tracking_(config.max_unhealthy_frames) {}
+    : config_(config),
+      client_(client),
+      options_(options),
+      tracking_(config.max_unhealthy_frames),
+      localized_(!options.relocalize || options.initial_pose_known),
+      hint_(options.hint) {}
 
 void OdomRunner::run(ScanSource& source, FrameLog& log) {
   log_ = &log;
@@ -72,6 +70,10 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
     std::optional<Scan> scan = source.next();
     if (!scan) break;
     if (scan->seq <= options_.skip_until_seq) continue;  // integrated before a restart
+    if (!localized_ && !relocalize(odometry, *scan)) {
+      bar.tick("relocalizing");
+      continue;
+    }
     if (const std::optional<FrameStats> stats = processScan(odometry, *scan, frame_start))
       bar.tick(progressText(*stats, tracking_.state()));
   }
@@ -104,6 +106,52 @@ std::optional<FrameStats> OdomRunner::processScan(Odometry& odometry, const Scan
   }
   if (!estimate.held) submit(std::move(estimate), stats);
   return stats;
+}
+
+bool OdomRunner::relocalize(Odometry& odometry, const Scan& scan) {
+  if (search_since_utime_ < 0) startRelocalizing(scan.utime);
+  FrameStats stats;
+  stats.frame = scan.seq;
+  stats.status = "relocalizing";
+  const Clock::time_point start = Clock::now();
+  PreparedScan prepared;
+  try {
+    prepared = odometry.prepare(scan.cloud, scan.seq, scan.utime);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "odom_client: skipping " << scan.name << ": " << e.what() << "\n";
+    return false;
+  }
+  ServiceMapAccess map(client_, config_);
+  const Relocalization found = odom::relocalize(config_, prepared, map, hint_);
+  stats.register_ms = msSince(start);
+  if (!found.pose) {
+    stats.problem = found.problem;
+    log_->add(stats);
+    const double searched = (scan.utime - search_since_utime_) * 1e-6;
+    if (searched > config_.relocalize_timeout)
+      throw RelocalizationFailed(
+          "not localized in the map after " + std::to_string(searched) +
+          " s of scans (relocalize_timeout); last attempt: " + found.problem);
+    return false;
+  }
+  std::cerr << "odom_client: localized in the map at frame " << scan.seq << " (explains "
+            << static_cast<int>(found.fitness * 100) << " % of the scan, next place "
+            << static_cast<int>(found.runner_up * 100) << " %)\n";
+  // A verified pose is a given pose: the scan is integrated there, odometry goes on from it.
+  odometry = Odometry(config_, *found.pose, true);
+  const bool was_lost = tracking_.state() == TrackingState::kLost;
+  tracking_ = TrackingMonitor(config_.max_unhealthy_frames);
+  if (was_lost) sendStatus(robot_status_request_t::TRACKING, "relocalized", scan.seq, scan.utime);
+  localized_ = true;
+  search_since_utime_ = -1;
+  hint_.reset();
+  ++relocalizations_;
+  return true;
+}
+
+void OdomRunner::startRelocalizing(std::int64_t utime) {
+  search_since_utime_ = utime;
+  std::cerr << "odom_client: searching the robot's pose in the map (relocalization)\n";
 }
 
 rpc::Result<chunk_reply_t> OdomRunner::fetchChunk(const Eigen::Vector3d& center) {
@@ -157,6 +205,12 @@ void OdomRunner::submit(FrameEstimate estimate, FrameStats stats) {
               << estimate.seq << "\n";
     reportTracking(state, estimate);
   }
+  if (state == TrackingState::kLost && options_.relocalize && localized_) {
+    localized_ = false;  // searched again from the next scan on
+    // RELOCALIZING keeps the server refusing its INTEGRATEs until it reports TRACKING again.
+    sendStatus(robot_status_request_t::RELOCALIZING, "searching the map", estimate.seq,
+               estimate.utime);
+  }
   trajectory_.seqs.push_back(estimate.seq);
   trajectory_.stamps.push_back(estimate.utime * 1e-6);
   trajectory_.poses.push_back(estimate.pose);
@@ -188,8 +242,12 @@ void OdomRunner::reportTracking(TrackingState state, const FrameEstimate& frame)
   std::int8_t wire = robot_status_request_t::TRACKING;
   if (state == TrackingState::kDegraded) wire = robot_status_request_t::DEGRADED;
   if (state == TrackingState::kLost) wire = robot_status_request_t::LOST;
-  const std::string reason = frame.health.problem.substr(0, 200);
-  const auto reply = client_.reportTracking(wire, reason, frame.seq, frame.utime);
+  sendStatus(wire, frame.health.problem.substr(0, 200), frame.seq, frame.utime);
+}
+
+void OdomRunner::sendStatus(std::int8_t wire, const std::string& reason, std::int64_t seq,
+                            std::int64_t utime) {
+  const auto reply = client_.reportTracking(wire, reason, seq, utime);
   // NOT_FOUND: nothing of this robot was integrated yet, so there is nothing to protect.
   if (!reply.ok() && reply.error.status != reply_header_t::NOT_FOUND)
     std::cerr << "odom_client: warning: " << callError("ROBOT_STATUS", reply.error, reply.attempts)

@@ -34,16 +34,8 @@ LocalMap withCloud(const LocalMap& map, const LabeledCloud& cloud) {
   return LocalMap(std::move(voxels));
 }
 
-// Points of cloud (sensor frame) within kNearMap of the map at pose: how much of a scan a pose
-// explains.
-constexpr double kNearMap = 0.5;  // [m] the map's resolution
-std::size_t pointsNearMap(const LabeledCloud& cloud, const LocalMap& map,
-                          const Eigen::Isometry3d& pose) {
-  std::size_t n = 0;
-  for (const Eigen::Vector3f& p : cloud.points)
-    n += map.nearest(pose * p.cast<double>(), kNearMap) ? 1 : 0;
-  return n;
-}
+// A point this close to the map is explained by it: the map's resolution.
+constexpr double kNearMap = 0.5;  // [m]
 
 LabeledCloud transformed(LabeledCloud cloud, const Eigen::Isometry3d& pose) {
   for (auto& p : cloud.points) p = (pose * p.cast<double>()).cast<float>();
@@ -188,6 +180,22 @@ Odometry::Sweep Odometry::registerSweep(const PreparedScan& scan, const LocalMap
   return out;
 }
 
+FrameEstimate Odometry::registerAt(const PreparedScan& scan, const LocalMap& map,
+                                   const Eigen::Isometry3d& guess) {
+  FrameEstimate out;
+  out.sigma = threshold_.sigma();
+  const Sweep s = registerSweep(scan, map, guess, Vector6d::Zero(), out.sigma);
+  out.registration = s.registration;
+  out.registered_points = s.points;
+  out.deskew_passes = 1;
+  out.voxel_size = voxel_size_.size();
+  finish(scan, s.registration.pose, Vector6d::Zero(), out);
+  out.registered = registrable(map);
+  out.health = judgeRegistration(out.registration, out.registered_points, out.sigma, config_);
+  out.fitness = fractionNearMap(downsample(scan.cloud).points, map, out.pose, kNearMap);
+  return out;
+}
+
 Eigen::Isometry3d Odometry::searchFirstMotion(const PreparedScan& scan, const LocalMap& map,
                                               const Eigen::Isometry3d& from, double dt,
                                               double sigma) {
@@ -213,7 +221,7 @@ Eigen::Isometry3d Odometry::searchFirstMotion(const PreparedScan& scan, const Lo
                                                       voxel_size_.size(), class_factor_);
     const Eigen::Isometry3d pose =
         registerScan(down, map, from * expSe3(twist * dt), sigma, search).pose;
-    const double score = static_cast<double>(pointsNearMap(down, map, pose)) / down.size();
+    const double score = fractionNearMap(down.points, map, pose, kNearMap);
     if (score > best_score) {
       best_score = score;
       best = pose;

@@ -38,5 +38,10 @@ if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
     add_test(NAME integration.odom_lost
              COMMAND bash ${_socc_mr_script} lost ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
     set_tests_properties(integration.odom_lost PROPERTIES LABELS integration TIMEOUT 240)
+    # Relocalization: a robot joins A's map without a pose, one from an unmapped place is not
+    # localized (exit 4), a kidnapped robot recovers (docs/relocalization.md).
+    add_test(NAME integration.relocalize
+             COMMAND bash ${_socc_mr_script} relocalize ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
+    set_tests_properties(integration.relocalize PROPERTIES LABELS integration TIMEOUT 300)
   endif()
 endif()

@@ -3,7 +3,7 @@
 # socc-cli processes and lcm-logplayer over UDP multicast on loopback (random group, port
 # 50000-59999).
 #
-# Usage: multirobot_test.sh logplayer|robots|client_restart|server_restart|lost --server BIN --client BIN --cli BIN
+# Usage: multirobot_test.sh logplayer|robots|client_restart|server_restart|lost|relocalize --server BIN --client BIN --cli BIN
 #                           [--to-lcmlog BIN] [--sim BIN] [--data DIR]
 #   logplayer: socc-to-lcmlog converts frames 0-7 of DATA/kitti_00_first16 to a log,
 #              odom_client --live consumes it from lcm-logplayer; its poses must equal an offline
@@ -31,12 +31,20 @@
 #              unhealthy, it declares itself lost, exits 3, the server lists it as LOST, and the
 #              map equals (chunk digest) a run on frames 0-9 alone: nothing of the lost robot
 #              reached the shared map.
+#   relocalize: robot A maps frames 0-39 of a socc-sim street from its known start. Robot B
+#              starts at frame 20 with --relocalize and no pose: its poses must land in A's map
+#              frame (median error <= 0.1 m and 1 deg against A's poses of the same frames).
+#              Robot C, whose scans come from a world A never mapped, must not be localized:
+#              exit 4, and the map is unchanged. Robot D starts at the known start and is
+#              kidnapped (5 scans of the other world, then scans from 15 frames further on): it
+#              gets lost, relocalizes, and its poses after the recovery are within 0.1 m / 1 deg
+#              (median) of A's poses of those frames.
 set -euo pipefail
-usage() { sed -n '2,33p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,40p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 case "${1:-}" in
   -h|--help) usage 0 ;;
-  logplayer|robots|client_restart|server_restart|lost) mode=$1; shift ;;
+  logplayer|robots|client_restart|server_restart|lost|relocalize) mode=$1; shift ;;
   *) usage 2 ;;
 esac
 server_bin="" client_bin="" cli_bin="" to_lcmlog_bin="" sim_bin="" data=""
@@ -409,6 +417,78 @@ lost() {
   grep -q "tracking=LOST" "$work/stats.txt" || fail "the server does not list the robot as LOST"
   [[ $(map_digest) == "$reference" ]] || fail "the lost robot changed the shared map"
   echo "lost robot: exit 3, LOST on the server, map identical to frames 0-9 alone"
+}
+
+# copy_frames FROM TO FIRST LAST DEST: frames FIRST..LAST of sequence FROM as frames TO.. of DEST.
+copy_frames() {
+  local from=$1 to=$2 first=$3 last=$4 dest=$5 f g
+  mkdir -p "$dest/velodyne" "$dest/labels"
+  for ((f = first; f <= last; f++, to++)); do
+    printf -v g %06d "$f"
+    cp "$from/velodyne/$g.bin" "$dest/velodyne/$(printf %06d "$to").bin"
+    cp "$from/labels/$g.label" "$dest/labels/$(printf %06d "$to").label"
+    sed -n "$((f + 1))p" "$from/poses.txt" >>"$dest/poses.txt"
+  done
+}
+
+# within_10cm_1deg TUM GT WHAT: median pose error of TUM against GT <= 0.1 m and 1 deg.
+within_10cm_1deg() {
+  local errors
+  errors=$(python3 "$(dirname "$0")/tum_vs_gt.py" "$1" "$2") || fail "$3: no poses to compare"
+  echo "$3: $errors"
+  awk '{ exit !($4 <= 0.1 && $6 <= 1.0) }' <<<"$errors" || fail "$3: median error above 0.1 m / 1 deg"
+}
+
+relocalize() {
+  [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
+  local sim=("$sim_bin" --frames 40 --sensor vlp32 --quiet)
+  "${sim[@]}" --out "$work/here" --seed 7 >/dev/null || fail "socc-sim failed"
+  "${sim[@]}" --out "$work/elsewhere" --scene indoor --seed 8 >/dev/null || fail "socc-sim failed"
+  printf 'relocalize_timeout: 1.0\n' >"$work/quick.yaml"  # the unmapped robot gives up after 10 scans
+  map_digest() { cli chunk --sphere 0 0 0 200 --fields features stats free index --digest | sed -n 's/^digest=//p'; }
+  run_client() {  # run_client NAME [odom_client options]: exit code in $rc
+    local name=$1; shift
+    rc=0
+    "$client_bin" --lcm-url "$url" --robot-id "$name" --quiet --out-dir "$work/$name" "$@" \
+      >"$work/$name.log" 2>&1 || rc=$?
+  }
+
+  start_server shared
+  run_client mapper --kitti "$work/here" --last-frame 39
+  ((rc == 0)) || fail "robot A failed: $(tail -5 "$work/mapper.log")"
+
+  run_client joiner --kitti "$work/here" --first-frame 20 --last-frame 35 --relocalize
+  ((rc == 0)) || fail "robot B exited $rc: $(tail -5 "$work/joiner.log")"
+  grep -q "localized in the map at frame 20" "$work/joiner.log" ||
+    fail "robot B was not localized at its first scan: $(grep -m3 relocaliz "$work/joiner.log")"
+  within_10cm_1deg "$work/joiner/poses_tum.txt" "$work/mapper/poses_kitti.txt" "robot B (relocalized)"
+
+  local before; before=$(map_digest)
+  copy_frames "$work/elsewhere" 0 0 19 "$work/unmapped"
+  cp "$work/here/times.txt" "$work/unmapped/times.txt"
+  run_client stranger --kitti "$work/unmapped" --relocalize --config "$work/quick.yaml"
+  ((rc == 4)) || fail "robot C (unmapped place) exited $rc, expected 4: $(tail -5 "$work/stranger.log")"
+  grep -q "not localized in the map" "$work/stranger.log" || fail "robot C: no clear message"
+  [[ $(map_digest) == "$before" ]] || fail "robot C changed the shared map"
+  echo "robot C (unmapped place): not localized, exit 4, map unchanged"
+
+  copy_frames "$work/here" 0 0 9 "$work/kidnapped"
+  copy_frames "$work/elsewhere" 10 10 14 "$work/kidnapped"
+  copy_frames "$work/here" 15 25 39 "$work/kidnapped"
+  cp "$work/here/times.txt" "$work/kidnapped/times.txt"
+  run_client kidnapped --kitti "$work/kidnapped" --relocalize --initial-pose "0 0 0 0 0 0"
+  ((rc == 0)) || fail "robot D exited $rc: $(tail -5 "$work/kidnapped.log")"
+  grep -q "tracking state lost" "$work/kidnapped.log" || fail "robot D never got lost"
+  grep -q "localized in the map" "$work/kidnapped.log" || fail "robot D did not relocalize"
+  cli stats | tee "$work/stats.txt" | sed 's/^/  stats: /'
+  grep "^kidnapped " "$work/stats.txt" | grep -q "tracking=TRACKING" ||
+    fail "the server does not list robot D as TRACKING again"
+  awk '$1 >= 1.45' "$work/kidnapped/poses_tum.txt" >"$work/recovered.tum"
+  # A's poses of the frames D's scans came from (D's frame 15 is A's frame 25).
+  { sed -n 1,15p "$work/mapper/poses_kitti.txt"; sed -n 26,40p "$work/mapper/poses_kitti.txt"; } \
+    >"$work/kidnapped_reference.txt"
+  within_10cm_1deg "$work/recovered.tum" "$work/kidnapped_reference.txt" "robot D (after recovery)"
+  stop_server
 }
 
 "$mode"

@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 
+#include "global_localizer.hpp"
 #include "journal.hpp"
 #include "robot_registry.hpp"
 #include "service_config.hpp"
@@ -20,6 +21,8 @@
 #include "socc/integrate_reply_t.hpp"
 #include "socc/integrate_request_t.hpp"
 #include "socc/map/semantic_occupancy_map.hpp"
+#include "socc/localize_reply_t.hpp"
+#include "socc/localize_request_t.hpp"
 #include "socc/map_command_reply_t.hpp"
 #include "socc/map_command_request_t.hpp"
 #include "socc/map_stats_t.hpp"
@@ -68,6 +71,9 @@ class MapService {
   render_reply_t render(const render_request_t& request) const;
   /// ROBOT_STATUS: stores the tracking state the robot (client_id) reports.
   robot_status_reply_t robotStatus(const robot_status_request_t& request);
+  /// LOCALIZE: ranked candidate poses of a scan in the map (global_localizer.hpp). Read-only
+  /// for the map; updates the descriptor cache.
+  localize_reply_t localize(const localize_request_t& request);
 
   map_stats_t stats(const RequestCounters& counters) const;
   const map::SemanticOccupancyMap& map() const { return map_; }
@@ -117,6 +123,7 @@ class MapService {
   Durability durability_;
   std::unique_ptr<Journal> journal_;
   auth::ReplayGuard* replay_guard_ = nullptr;  // not owned (the AuthGate's); null without a key
+  localization::GlobalLocalizer localizer_;
 };
 
 }  // namespace socc::service

@@ -113,6 +113,26 @@ Status checkRobotStatusRequest(const robot_status_request_t& request) {
   return {};
 }
 
+Status checkLocalizeRequest(const localize_request_t& request, const map::MapConfig& config,
+                            const ServiceLimits& limits) {
+  if (request.num_points < 1) return Status::invalid("num_points must be >= 1");
+  if (request.num_points > limits.max_localize_points)
+    return Status::exhausted("num_points " + std::to_string(request.num_points) +
+                             " exceeds the server limit of " +
+                             std::to_string(limits.max_localize_points) + " (downsample the scan)");
+  for (const auto& row : request.xyz)
+    for (const float v : row)
+      if (!(std::abs(v) <= config.max_abs_coordinate))
+        return Status::invalid("points must be finite and within max_abs_coordinate");
+  if (!finite3(request.hint_position) || !std::isfinite(request.hint_yaw) ||
+      !std::isfinite(request.hint_radius) || !(request.hint_yaw_tolerance >= 0.0))
+    return Status::invalid("hint values must be finite (yaw tolerance >= 0)");
+  constexpr std::int32_t kMaxCandidates = 16;
+  if (request.max_candidates < 1 || request.max_candidates > kMaxCandidates)
+    return Status::invalid("max_candidates must be in 1.." + std::to_string(kMaxCandidates));
+  return {};
+}
+
 Status resolveCommandPath(const std::string& path, const std::filesystem::path& file_dir,
                           std::filesystem::path& resolved) {
   if (path.empty()) return Status::invalid("path is empty");

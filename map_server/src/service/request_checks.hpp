@@ -6,6 +6,7 @@
 #include "service_config.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/integrate_request_t.hpp"
+#include "socc/localize_request_t.hpp"
 #include "socc/render_request_t.hpp"
 #include "socc/robot_status_request_t.hpp"
 #include "status.hpp"
@@ -19,6 +20,9 @@ Status checkChunkRequest(const chunk_request_t& request, const ServiceLimits& li
 Status checkRobotStatusRequest(const robot_status_request_t& request);
 Status checkRenderRequest(const render_request_t& request, double voxel_size,
                           const ServiceLimits& limits);
+/// 1..max_localize_points finite points within the map bounds, a finite hint, 1..16 candidates.
+Status checkLocalizeRequest(const localize_request_t& request, const map::MapConfig& config,
+                            const ServiceLimits& limits);
 
 /// Resolves a client-given path inside file_dir; refuses empty, absolute-outside and ".." paths.
 Status resolveCommandPath(const std::string& path, const std::filesystem::path& file_dir,

@@ -13,6 +13,12 @@
 namespace socc::service {
 namespace {
 
+rpc::PartOptions partOptions(bool split) {
+  rpc::PartOptions options;
+  options.split = split;
+  return options;
+}
+
 // Untrusted strings are shortened before they reach logs or reply messages.
 std::string shown(const std::string& text) {
   return text.size() > 80 ? text.substr(0, 80) + "..." : text;
@@ -20,8 +26,13 @@ std::string shown(const std::string& text) {
 
 }  // namespace
 
-RequestRouter::RequestRouter(lcm::LCM& lcm, MapService& service, RequestGate& gate, bool verbose)
-    : lcm_(lcm), service_(service), gate_(gate), log_(verbose) {
+RequestRouter::RequestRouter(lcm::LCM& lcm, MapService& service, RequestGate& gate, bool verbose,
+                             bool split_large_replies)
+    : lcm_(lcm),
+      service_(service),
+      gate_(gate),
+      log_(verbose),
+      parts_(lcm, "map_server", partOptions(split_large_replies)) {
   // Raw subscriptions through LCM's C API: the typed C++ ones print and drop undecodable
   // messages without telling us, and the C++ raw-handler wrapper trips UBSan (-fsanitize=vptr).
   for (std::size_t i = 0; i < routes_.size(); ++i) {
@@ -30,6 +41,13 @@ RequestRouter::RequestRouter(lcm::LCM& lcm, MapService& service, RequestGate& ga
     routes_[i].subscription =
         lcm_subscribe(lcm_.getUnderlyingLCM(), channels::request(channels::kServices[i]).c_str(),
                       &RequestRouter::onMessage, &routes_[i]);
+    // The same request sent in parts (a client on a LAN), reassembled.
+    parts_.subscribe(
+        channels::request(channels::kServices[i]),
+        [this, service = routes_[i].service](const std::uint8_t* data, std::size_t size) {
+          dispatch(service, lcm::ReceiveBuffer{const_cast<std::uint8_t*>(data),
+                                               static_cast<std::uint32_t>(size), 0});
+        });
   }
 }
 
@@ -76,7 +94,7 @@ void RequestRouter::publishReply(std::string_view service, const request_header_
 
 void RequestRouter::send(std::string_view service, const std::string& channel,
                          const std::vector<std::uint8_t>& bytes) {
-  if (lcm_.publish(channel, bytes.data(), static_cast<unsigned>(bytes.size())) != 0)
+  if (parts_.publish(channel, bytes.data(), bytes.size()) != 0)
     log_.warn("cannot publish a " + std::to_string(bytes.size()) + "-byte " + std::string(service) +
               " reply (larger than LCM allows? lower limits.max_reply_bytes)");
 }
@@ -162,6 +180,9 @@ void RequestRouter::dispatch(std::string_view service, const lcm::ReceiveBuffer&
     serve<robot_status_request_t>(rbuf, service, true, [this](const robot_status_request_t& r) {
       return service_.robotStatus(r);
     });
+  else if (service == channels::kLocalize)
+    serve<localize_request_t>(rbuf, service, false,
+                              [this](const localize_request_t& r) { return service_.localize(r); });
 }
 
 void RequestRouter::publishStatus() {

@@ -14,6 +14,7 @@ struct ServiceLimits {
   std::int64_t max_reply_bytes = 60'000'000;  // encoded reply; more -> RESOURCE_EXHAUSTED
   std::int64_t max_render_pixels = 16'000'000;
   std::int64_t max_robots = 1024;  // robot states kept; new robots beyond -> rejected
+  std::int32_t max_localize_points = 100'000;  // per LOCALIZE scan
 };
 
 // How far a robot may move between two of its INTEGRATEs (plausibility.hpp): speed times the

@@ -17,10 +17,11 @@ inline constexpr std::string_view kGetRobotPose = "GET_ROBOT_POSE";
 inline constexpr std::string_view kMapCommand = "MAP_COMMAND";
 inline constexpr std::string_view kRender = "RENDER";
 inline constexpr std::string_view kRobotStatus = "ROBOT_STATUS";
+inline constexpr std::string_view kLocalize = "LOCALIZE";
 
 /// Every service: the server subscribes to each request channel, a client to each reply channel.
-inline constexpr std::array<std::string_view, 7> kServices = {
-    kIntegrate, kGetChunk, kGetStats, kGetRobotPose, kMapCommand, kRender, kRobotStatus};
+inline constexpr std::array<std::string_view, 8> kServices = {
+    kIntegrate, kGetChunk, kGetStats, kGetRobotPose, kMapCommand, kRender, kRobotStatus, kLocalize};
 
 inline constexpr std::string_view kStatus = "SOCC/STATUS";
 

@@ -11,6 +11,7 @@
 
 #include "socc/chunk_reply_t.hpp"
 #include "socc/integrate_request_t.hpp"
+#include "socc/localize_request_t.hpp"
 #include "socc/point_cloud.hpp"
 #include "socc/scan_t.hpp"
 
@@ -90,6 +91,12 @@ inline std::string checkArrays(const integrate_request_t& m) {
     return "num_points does not match the point array (xyz must be 3 rows of num_points)";
   if (!hasCount(m.label, m.num_labels)) return "num_labels does not match the label array";
   if (!hasCount(m.time, m.num_times)) return "num_times does not match the time array";
+  return {};
+}
+
+inline std::string checkArrays(const localize_request_t& m) {
+  if (!hasRows(m.xyz, 3, m.num_points))
+    return "num_points does not match the point array (xyz must be 3 rows of num_points)";
   return {};
 }
 

@@ -16,6 +16,7 @@
 #include "socc/pose_conversion.hpp"
 #include "socc/robot_pose_request_t.hpp"
 #include "socc/rpc/client_id.hpp"
+#include "socc/rpc/part_transport.hpp"
 #include "socc/rpc/safe_decode.hpp"
 #include "socc/stats_request_t.hpp"
 #include "socc/wall_clock.hpp"
@@ -37,12 +38,23 @@ std::optional<std::int64_t> peekRequestId(const lcm::ReceiveBuffer& rbuf) {
 }  // namespace
 
 struct MapClient::Impl {
-  explicit Impl(ClientOptions opts) : options(std::move(opts)), lcm(options.lcm_url) {
+  explicit Impl(ClientOptions opts)
+      : options(std::move(opts)),
+        lcm(options.lcm_url),
+        parts(lcm, options.client_id, partOptions()) {
     if (!options.key_file.empty()) key = auth::SharedKey::fromFile(options.key_file);
+  }
+
+  // On a LAN, large requests travel in parts that survive packet loss (part_transport.hpp).
+  PartOptions partOptions() const {
+    PartOptions part_options;
+    part_options.split = isLanLcmUrl(options.lcm_url);
+    return part_options;
   }
 
   ClientOptions options;
   lcm::LCM lcm;
+  PartTransport parts;                 // publishes requests, reassembles replies sent in parts
   std::optional<auth::SharedKey> key;  // set: every attempt is signed
   // Held from taking a counter until the request is published: calls from several threads
   // must reach the server in counter order, or the later-published one is refused as stale.
@@ -74,8 +86,12 @@ struct MapClient::Impl {
     arrived.notify_all();
   }
 
+  // Short waits: stalled replies in parts are asked for again within ~10 ms of the stall.
   void receiveLoop() {
-    while (!stop.load()) lcm.handleTimeout(50);
+    while (!stop.load()) {
+      lcm.handleTimeout(10);
+      parts.poll();
+    }
   }
 
   // Call with send_mutex held. A fresh counter per attempt: the server refuses a reused one
@@ -100,6 +116,12 @@ struct MapClient::Impl {
 
   template <typename Reply, typename Request>
   Result<Reply> call(std::string_view service, Request& request) {
+    return call<Reply>(service, request, options.timeout);
+  }
+
+  template <typename Reply, typename Request>
+  Result<Reply> call(std::string_view service, Request& request,
+                     std::chrono::milliseconds timeout) {
     request.header.request_id = next_request_id.fetch_add(1);
     request.header.client_id = options.client_id;
     request.header.reply_channel = channels::reply(service, options.client_id);
@@ -124,10 +146,10 @@ struct MapClient::Impl {
         result.error = {reply_header_t::INVALID_ARGUMENT, why, false};
         return result;
       }
-      lcm.publish(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
+      parts.publish(channel, bytes.data(), bytes.size());
       send_lock.unlock();
       lock.lock();
-      if (arrived.wait_for(lock, options.timeout, [&] { return !pending[id].empty(); })) break;
+      if (arrived.wait_for(lock, timeout, [&] { return !pending[id].empty(); })) break;
     }
     std::vector<std::uint8_t> raw = std::move(pending[id]);
     pending.erase(id);
@@ -171,10 +193,16 @@ MapClient::MapClient(ClientOptions options) {
   std::random_device rd;
   impl_->next_request_id = static_cast<std::int64_t>(
       ((static_cast<std::uint64_t>(rd()) << 31) ^ rd()) & 0x3fffffffffffffffULL);
-  for (const auto service : channels::kServices)
-    lcm_subscribe(impl_->lcm.getUnderlyingLCM(),
-                  channels::reply(service, impl_->options.client_id).c_str(), &Impl::onReply,
+  for (const auto service : channels::kServices) {
+    const std::string reply_channel = channels::reply(service, impl_->options.client_id);
+    lcm_subscribe(impl_->lcm.getUnderlyingLCM(), reply_channel.c_str(), &Impl::onReply,
                   impl_.get());
+    impl_->parts.subscribe(reply_channel,
+                           [impl = impl_.get()](const std::uint8_t* data, std::size_t size) {
+                             impl->store(lcm::ReceiveBuffer{const_cast<std::uint8_t*>(data),
+                                                            static_cast<std::uint32_t>(size), 0});
+                           });
+  }
   impl_->receiver = std::thread([impl = impl_.get()] { impl->receiveLoop(); });
 }
 
@@ -229,6 +257,18 @@ Result<robot_status_reply_t> MapClient::reportTracking(std::int8_t tracking_stat
   return impl_->call<robot_status_reply_t>(channels::kRobotStatus, request);
 }
 
+Result<localize_reply_t> MapClient::localize(localize_request_t request) {
+  if (const std::string why = wire::checkArrays(request); !why.empty()) {
+    Result<localize_reply_t> refused;
+    refused.error = {reply_header_t::INVALID_ARGUMENT, why, false};
+    return refused;
+  }
+  // A search (and, after the map grew, a rebuild of its descriptors) takes seconds.
+  constexpr std::chrono::milliseconds kLocalizeTimeout{30000};
+  return impl_->call<localize_reply_t>(channels::kLocalize, request,
+                                       std::max(impl_->options.timeout, kLocalizeTimeout));
+}
+
 chunk_request_t sphereChunkRequest(const Eigen::Vector3d& center, double radius,
                                    std::int32_t fields) {
   chunk_request_t request{};
@@ -238,6 +278,20 @@ chunk_request_t sphereChunkRequest(const Eigen::Vector3d& center, double radius,
   request.occupancy_threshold = 0.5f;
   request.fields = fields;
   request.limit = 0;
+  return request;
+}
+
+localize_request_t makeLocalizeRequest(const std::vector<Eigen::Vector3f>& points,
+                                       std::int32_t max_candidates) {
+  localize_request_t request{};
+  request.num_points = static_cast<std::int32_t>(points.size());
+  request.xyz.resize(3);
+  for (int axis = 0; axis < 3; ++axis) {
+    request.xyz[axis].resize(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) request.xyz[axis][i] = points[i][axis];
+  }
+  request.hint_yaw_tolerance = M_PI;
+  request.max_candidates = max_candidates;
   return request;
 }
 

@@ -97,6 +97,9 @@ class SemanticOccupancyMap {
   /// outside [0, 1], negative limit).
   ChunkVoxels queryChunk(const ChunkQuery& query) const;
 
+  /// p_occ of the voxel holding p, or -1 when that voxel was never observed (unknown).
+  double occupancyAt(const Eigen::Vector3d& p) const;
+
   MapStats stats() const;
   std::int64_t version() const;  // increases with every change
   void clear();

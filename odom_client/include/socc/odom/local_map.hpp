@@ -3,6 +3,7 @@
 // by their FIRST-INSERTED points (stable references, paper Sec. data association) with normal,
 // planarity, occupancy and semantic label. Nearest-neighbour search is exact (KD-tree).
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -49,6 +50,11 @@ class LocalMap {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// Share of cloud's points (sensor frame) within max_distance of map at pose: how much of a scan
+/// a pose explains. 0 for an empty cloud.
+double fractionNearMap(const std::vector<Eigen::Vector3f>& points, const LocalMap& map,
+                       const Eigen::Isometry3d& pose, double max_distance);
 
 /// Planar voxel: tau known (>= 0) and below the threshold, with a valid normal.
 inline bool isPlanar(const MapVoxel& v, double planarity_threshold) {

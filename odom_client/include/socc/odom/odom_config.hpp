@@ -70,6 +70,17 @@ struct OdomConfig {
   int max_iterations = 100;
   double convergence = 1e-4;  // ||dx|| below this stops the iterations
 
+  // Relocalization (--relocalize, and recovery after LOST; docs/relocalization.md): the server's
+  // candidate poses are each verified by registration; one is accepted only when it is healthy,
+  // explains at least relocalize_min_fitness of the scan and relocalize_margin more than any
+  // other distinct candidate.
+  int relocalize_candidates = 3;         // candidates verified per scan
+  double relocalize_min_fitness = 0.6;   // share of scan points within 0.5 m of the map
+  double relocalize_margin = 0.1;        // over the next distinct candidate's share
+  double relocalize_timeout = 10.0;      // [s of scan time] without success: exit 4
+  double relocalize_voxel_size = 0.5;    // [m] the scan is downsampled to this for LOCALIZE
+  double relocalize_hint_radius = 30.0;  // [m] --resume --relocalize: around the last pose
+
   // Map service.
   int timeout_ms = 2000;  // per attempt
   int max_attempts = 5;

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <future>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 #include "socc/odom/frame_log.hpp"
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/odometry.hpp"
+#include "socc/odom/relocalization.hpp"
 #include "socc/odom/scan_source.hpp"
 #include "socc/odom/tracking_state.hpp"
 #include "socc/rpc/map_client.hpp"
@@ -31,19 +33,30 @@ struct RunOptions {
   Eigen::Isometry3d initial_pose = Eigen::Isometry3d::Identity();  // map frame, first scan
   bool initial_pose_known = false;   // given by the user (--initial-pose): see Odometry
   std::int64_t skip_until_seq = -1;  // scans with seq <= this were integrated before (--resume)
+  // --relocalize: the first pose is searched in the map (relocalization.hpp), narrowed by hint;
+  // a robot that gets lost searches again instead of giving up.
+  bool relocalize = false;
+  std::optional<PoseHint> hint;
   bool progress = true;
   const std::atomic<bool>* stop = nullptr;  // set (e.g. by SIGINT) to end after the current frame
 };
 
 using socc::Trajectory;  // poses: map_T_sensor per processed scan, with its stamp and seq
 
+/// The robot found no pose in the map within relocalize_timeout (odom_client exits 4).
+class RelocalizationFailed : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class OdomRunner {
  public:
   OdomRunner(const OdomConfig& config, rpc::MapClient& client, RunOptions options);
 
   /// Processes scans until the source ends (or stop is set). Throws std::runtime_error when the
-  /// map service fails (after MapClient's retries) or returns a malformed chunk; the trajectory
-  /// up to that point stays available through trajectory().
+  /// map service fails (after MapClient's retries) or returns a malformed chunk, and
+  /// RelocalizationFailed when a search outlasts relocalize_timeout; the trajectory up to that
+  /// point stays available through trajectory().
   void run(ScanSource& source, FrameLog& log);
 
   const Trajectory& trajectory() const { return trajectory_; }
@@ -51,6 +64,8 @@ class OdomRunner {
   /// Chunks fetched twice because the first one predated the previous frame's Integrate.
   std::int64_t refetchedChunks() const { return refetched_chunks_; }
   TrackingState trackingState() const { return tracking_.state(); }
+  /// Scans localized in the map by relocalization (the first, and each recovery).
+  int relocalizations() const { return relocalizations_; }
 
  private:
   // One Integrate in flight, answered in a worker thread; its row of stats waits with it.
@@ -62,6 +77,10 @@ class OdomRunner {
   /// One scan through the pipeline; its stats, or nullopt when the scan was unusable (skipped).
   std::optional<FrameStats> processScan(Odometry& odometry, const Scan& scan,
                                         std::chrono::steady_clock::time_point start);
+  /// Searches the scan's pose in the map; on success restarts odometry there. False while the
+  /// robot is still unlocalized (the scan is logged, not integrated).
+  bool relocalize(Odometry& odometry, const Scan& scan);
+  void startRelocalizing(std::int64_t utime);
   LocalMap fetchMap(const Eigen::Vector3d& center, FrameStats& stats);
   rpc::Result<chunk_reply_t> fetchChunk(const Eigen::Vector3d& center);
   /// Waits for the Integrate in flight, logs its frame; returns the map version it produced
@@ -71,6 +90,8 @@ class OdomRunner {
   void submit(FrameEstimate estimate, FrameStats stats);
   void integrate(FrameEstimate estimate, const FrameStats& stats);
   void reportTracking(TrackingState state, const FrameEstimate& frame);
+  void sendStatus(std::int8_t wire, const std::string& reason, std::int64_t seq,
+                  std::int64_t utime);
 
   OdomConfig config_;
   rpc::MapClient& client_;
@@ -81,6 +102,10 @@ class OdomRunner {
   Trajectory trajectory_;
   double wall_seconds_ = 0.0;
   std::int64_t refetched_chunks_ = 0;
+  bool localized_ = true;
+  std::int64_t search_since_utime_ = -1;  // scan time the current search began; -1: not yet
+  std::optional<PoseHint> hint_;          // for the next search only
+  int relocalizations_ = 0;
 };
 
 }  // namespace socc::odom

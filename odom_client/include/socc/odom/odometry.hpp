@@ -46,6 +46,7 @@ struct FrameEstimate {
   bool registered = false;  // false: the map was too small (or a given pose), prediction kept
   bool held = false;        // the first scan, waiting for the second (see takeReleasedFrame)
   bool retried = false;     // healthy only at the second attempt (wider threshold)
+  double fitness = 0.0;     // registerAt: share of the downsampled scan within 0.5 m of the map
 };
 
 class Odometry {
@@ -65,6 +66,11 @@ class Odometry {
   /// Registers scan against map and advances the state. An unhealthy estimate does not move the
   /// state: the pose follows the prediction and the estimate says why (health.problem).
   FrameEstimate registerFrame(const PreparedScan& scan, const LocalMap& map);
+
+  /// Registers scan against map from guess alone (no motion model, no deskew, the state is not
+  /// advanced): verifying a candidate pose (relocalization). Sets health and fitness.
+  FrameEstimate registerAt(const PreparedScan& scan, const LocalMap& map,
+                           const Eigen::Isometry3d& guess);
 
   /// The held first scan, once the second registration has given its motion (at most once).
   std::optional<FrameEstimate> takeReleasedFrame();

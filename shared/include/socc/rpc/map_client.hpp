@@ -15,6 +15,8 @@
 #include "socc/chunk_request_t.hpp"
 #include "socc/integrate_reply_t.hpp"
 #include "socc/integrate_request_t.hpp"
+#include "socc/localize_reply_t.hpp"
+#include "socc/localize_request_t.hpp"
 #include "socc/map_command_reply_t.hpp"
 #include "socc/map_command_request_t.hpp"
 #include "socc/point_cloud.hpp"
@@ -78,6 +80,9 @@ class MapClient {
   /// constants) at frame seq / scan time utime. LOST and RELOCALIZING make the server refuse
   /// its INTEGRATEs (FAILED_PRECONDITION) until it reports TRACKING or DEGRADED again.
   /// NOT_FOUND before the robot's first accepted INTEGRATE.
+  /// LOCALIZE: ranked candidate poses of a scan in the map (docs/relocalization.md); waits up to
+  /// 30 s per attempt (a search over a large map takes seconds).
+  Result<localize_reply_t> localize(localize_request_t request);
   Result<robot_status_reply_t> reportTracking(std::int8_t tracking_state, const std::string& reason,
                                               std::int64_t seq, std::int64_t utime);
 
@@ -89,6 +94,9 @@ class MapClient {
 /// Convenience builders with the documented defaults (occupancy threshold 0.5, features).
 chunk_request_t sphereChunkRequest(const Eigen::Vector3d& center, double radius,
                                    std::int32_t fields = chunk_request_t::FIELD_FEATURES);
+/// A LOCALIZE request for points (sensor frame) without a hint.
+localize_request_t makeLocalizeRequest(const std::vector<Eigen::Vector3f>& points,
+                                       std::int32_t max_candidates);
 integrate_request_t makeIntegrateRequest(std::int64_t seq, std::int64_t scan_utime,
                                          const Eigen::Isometry3d& sensor_pose,
                                          const LabeledCloud& cloud);

@@ -1,0 +1,78 @@
+#pragma once
+// Global localization of a scan in the map without a pose prior (service LOCALIZE,
+// docs/relocalization.md). FPFH keypoints of scan and map (feature_cloud.hpp) are matched by
+// PCL's SampleConsensusPrerejective: RANSAC over feature correspondences whose samples are
+// pre-rejected when their edge lengths disagree. Several seeded runs give several hypotheses;
+// distinct ones are ranked by inliers. They are hypotheses, not answers: the client verifies
+// each with SOCC-ICP and its health check before it trusts one.
+//
+// The map's descriptors are cached. They are rebuilt when the map's occupied voxels changed by
+// more than rebuild_change since the last build (new ground mapped), not at every Integrate: a
+// live map changes with every scan, a rebuild of a large map takes seconds.
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "feature_cloud.hpp"
+#include "socc/map/semantic_occupancy_map.hpp"
+
+namespace socc::localization {
+
+struct LocalizerParams {
+  FeatureParams features;
+  int iterations = 5000;              // RANSAC iterations per run
+  int runs = 3;                       // seeded runs; each may find another hypothesis
+  int correspondence_randomness = 3;  // each sample picks one of this many nearest features
+  double similarity = 0.9;            // edge-length ratio a sample must keep
+  double inlier_distance = 1.5;       // [m] keypoint match distance (1.5 keypoint spacings)
+  double min_inlier_fraction = 0.1;   // of the scan keypoints, for a hypothesis to count
+  double rebuild_change = 0.02;       // relative change of occupied voxels that rebuilds
+  double distinct_translation = 2.0;  // [m] hypotheses closer than this and
+  double distinct_rotation = 0.17;    // [rad] this are one (about 10 deg)
+};
+
+struct LocalizeHint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double yaw = 0.0;            // [rad]
+  double radius = 0.0;         // [m]
+  double yaw_tolerance = 4.0;  // [rad]; >= pi: any heading
+};
+
+struct PoseCandidate {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // map_T_sensor
+  int inliers = 0;
+  double inlier_fraction = 0.0;
+};
+
+struct LocalizeAnswer {
+  std::vector<PoseCandidate> candidates;  // best first
+  std::size_t map_keypoints = 0;
+  std::size_t scan_keypoints = 0;
+};
+
+class GlobalLocalizer {
+ public:
+  explicit GlobalLocalizer(LocalizerParams params = {});
+  ~GlobalLocalizer();
+  GlobalLocalizer(GlobalLocalizer&&) noexcept;
+  GlobalLocalizer& operator=(GlobalLocalizer&&) noexcept;
+
+  /// Up to max_candidates distinct poses of scan (sensor frame) in map, best first.
+  LocalizeAnswer localize(const map::SemanticOccupancyMap& map,
+                          const std::vector<Eigen::Vector3f>& scan,
+                          const std::optional<LocalizeHint>& hint, int max_candidates);
+
+  /// Map keypoints of the current descriptor cache (0 before the first localize()).
+  std::size_t mapKeypoints() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Heading of a pose: the sensor's x axis about the map's z axis [rad].
+double yawOf(const Eigen::Isometry3d& pose);
+
+}  // namespace socc::localization

@@ -1,0 +1,58 @@
+#pragma once
+// Finding the robot in the shared map without a pose (odom_client --relocalize, recovery after
+// LOST, --resume after an outage; docs/relocalization.md). The server proposes candidate poses
+// for the scan (LOCALIZE: FPFH + RANSAC over its whole map); each is verified here by SOCC-ICP
+// against the map around it. A pose is accepted only when its registration is healthy, it
+// explains at least relocalize_min_fitness of the scan, and relocalize_margin more than any
+// other distinct candidate: a place that only looks like another is left unlocalized rather
+// than guessed, and the caller tries the next scan.
+#include <Eigen/Geometry>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "socc/odom/local_map.hpp"
+#include "socc/odom/odom_config.hpp"
+#include "socc/odom/odometry.hpp"
+
+namespace socc::odom {
+
+/// Narrows the search: candidates within radius of position (map frame), heading within
+/// yaw_tolerance of yaw.
+struct PoseHint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double yaw = 0.0;             // [rad]
+  double radius = 0.0;          // [m]
+  double yaw_tolerance = M_PI;  // [rad]; pi: any heading
+};
+
+/// What relocalization needs of the map service (MapClient over LCM, or an in-process map).
+class MapAccess {
+ public:
+  virtual ~MapAccess() = default;
+  /// Up to max candidate poses (map_T_sensor) of scan (sensor frame), best first.
+  virtual std::vector<Eigen::Isometry3d> candidates(const std::vector<Eigen::Vector3f>& scan,
+                                                    const std::optional<PoseHint>& hint,
+                                                    int max) = 0;
+  /// The registration target around center.
+  virtual LocalMap chunk(const Eigen::Vector3d& center) = 0;
+};
+
+struct Relocalization {
+  std::optional<Eigen::Isometry3d> pose;  // accepted: map_T_sensor at the scan's reference time
+  std::string problem;                    // why not, when not
+  int candidates = 0;                     // proposed by the server
+  double fitness = 0.0;                   // of the best verified candidate
+  double runner_up = 0.0;                 // of the next distinct verified candidate
+};
+
+/// One attempt on one scan.
+Relocalization relocalize(const OdomConfig& config, const PreparedScan& scan, MapAccess& map,
+                          const std::optional<PoseHint>& hint);
+
+/// The scan as sent to LOCALIZE: voxel-downsampled to relocalize_voxel_size, at most max_points.
+std::vector<Eigen::Vector3f> localizationPoints(const LabeledCloud& cloud, double voxel_size,
+                                                std::size_t max_points);
+
+}  // namespace socc::odom

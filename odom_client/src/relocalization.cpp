@@ -1,0 +1,103 @@
+#include "socc/odom/relocalization.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+#include "socc/odom/voxel_downsampling.hpp"
+
+namespace socc::odom {
+namespace {
+
+// Verified poses closer than this are one place (ICP from two candidates converged together).
+constexpr double kSameTranslation = 1.0;  // [m]
+constexpr double kSameRotation = 0.09;    // [rad], about 5 deg
+// The server's request limit (map_server limits.max_localize_points default).
+constexpr std::size_t kMaxLocalizePoints = 100'000;
+
+struct Verified {
+  Eigen::Isometry3d pose;
+  double fitness = 0.0;
+};
+
+bool samePlace(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  const Eigen::Isometry3d d = a.inverse() * b;
+  return d.translation().norm() < kSameTranslation &&
+         Eigen::AngleAxisd(d.linear()).angle() < kSameRotation;
+}
+
+// Healthy refinements of the candidates, one per place (the better fitness), best first.
+std::vector<Verified> verify(const OdomConfig& config, const PreparedScan& scan, MapAccess& map,
+                             const std::vector<Eigen::Isometry3d>& candidates) {
+  std::vector<Verified> places;
+  for (const Eigen::Isometry3d& candidate : candidates) {
+    Odometry probe(config, candidate);
+    const FrameEstimate e = probe.registerAt(scan, map.chunk(candidate.translation()), candidate);
+    if (!e.registered || !e.health.healthy()) continue;
+    const auto same = [&](const Verified& v) { return samePlace(v.pose, e.pose); };
+    const auto it = std::find_if(places.begin(), places.end(), same);
+    if (it == places.end())
+      places.push_back({e.pose, e.fitness});
+    else if (e.fitness > it->fitness)
+      *it = {e.pose, e.fitness};
+  }
+  std::sort(places.begin(), places.end(),
+            [](const Verified& a, const Verified& b) { return a.fitness > b.fitness; });
+  return places;
+}
+
+std::string percent(double v) {
+  std::ostringstream out;
+  out.precision(0);
+  out << std::fixed << v * 100.0 << " %";
+  return out.str();
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3f> localizationPoints(const LabeledCloud& cloud, double voxel_size,
+                                                std::size_t max_points) {
+  const std::array<double, kNumClasses> same_size = [] {
+    std::array<double, kNumClasses> a{};
+    a.fill(1.0);
+    return a;
+  }();
+  LabeledCloud geometry;
+  geometry.points = cloud.points;  // labels play no part in the server's search
+  LabeledCloud down = semanticVoxelDownsample(geometry, voxel_size, same_size);
+  while (down.size() > std::min(max_points, kMaxLocalizePoints)) {
+    voxel_size *= 1.5;
+    down = semanticVoxelDownsample(geometry, voxel_size, same_size);
+  }
+  return down.points;
+}
+
+Relocalization relocalize(const OdomConfig& config, const PreparedScan& scan, MapAccess& map,
+                          const std::optional<PoseHint>& hint) {
+  Relocalization out;
+  const std::vector<Eigen::Isometry3d> candidates = map.candidates(
+      localizationPoints(scan.cloud, config.relocalize_voxel_size, kMaxLocalizePoints), hint,
+      config.relocalize_candidates);
+  out.candidates = static_cast<int>(candidates.size());
+  if (candidates.empty()) {
+    out.problem = "no candidate pose: the scan matches nothing in the map";
+    return out;
+  }
+  const std::vector<Verified> places = verify(config, scan, map, candidates);
+  if (places.empty()) {
+    out.problem = "no candidate survived registration";
+    return out;
+  }
+  out.fitness = places[0].fitness;
+  out.runner_up = places.size() > 1 ? places[1].fitness : 0.0;
+  if (out.fitness < config.relocalize_min_fitness)
+    out.problem = "best candidate explains " + percent(out.fitness) + " of the scan (< " +
+                  percent(config.relocalize_min_fitness) + ")";
+  else if (out.fitness - out.runner_up < config.relocalize_margin)
+    out.problem = "ambiguous: two places explain " + percent(out.fitness) + " and " +
+                  percent(out.runner_up) + " of the scan";
+  else
+    out.pose = places[0].pose;
+  return out;
+}
+
+}  // namespace socc::odom

@@ -1,0 +1,60 @@
+// The server-side search of global localization: candidates from FPFH + RANSAC, before any
+// client-side verification.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "global_localizer.hpp"
+#include "socc/kitti_io.hpp"
+
+namespace fs = std::filesystem;
+using namespace socc::localization;
+
+namespace {
+
+const fs::path kSharedData = SOCC_SHARED_DATA_DIR;
+
+socc::LabeledCloud kittiScan(int frame) {
+  char name[16];
+  std::snprintf(name, sizeof(name), "%06d.bin", frame);
+  socc::LabeledCloud c;
+  c.points = socc::readKittiBin(kSharedData / "kitti_pairs" / "08" / "velodyne" / name);
+  return c;
+}
+
+double degrees(const Eigen::Isometry3d& d) {
+  return Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI;
+}
+
+}  // namespace
+
+// KITTI 08 frames 720 and 1500: the same place driven in opposite directions (148.5 deg).
+TEST(GlobalLocalizer, KittiReverseRevisitIsAmongTheCandidates) {
+  const fs::path dir = kSharedData / "kitti_pairs" / "08" / "velodyne";
+  if (!fs::exists(dir)) GTEST_SKIP() << "shared data folder absent: " << dir;
+  const socc::Poses cam = socc::readKittiPoses(kSharedData / "kitti_gt" / "poses" / "08.txt");
+  const Eigen::Isometry3d tr =
+      socc::readKittiCalibTr(kSharedData / "kitti_gt" / "calib_04-10_Tr.txt");
+  const socc::Poses gt = socc::cameraToLidarPoses({cam.at(720), cam.at(1500)}, tr);
+
+  socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
+  map.integrate(gt[0], kittiScan(720));
+  GlobalLocalizer localizer;
+  const auto start = std::chrono::steady_clock::now();
+  const LocalizeAnswer answer = localizer.localize(map, kittiScan(1500).points, std::nullopt, 4);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_FALSE(answer.candidates.empty());
+  for (const PoseCandidate& c : answer.candidates) {
+    const Eigen::Isometry3d d = gt[1].inverse() * c.pose;
+    std::printf("candidate: %d inliers (%.2f), %.2f m %.2f deg from GT\n", c.inliers,
+                c.inlier_fraction, d.translation().norm(), degrees(d));
+  }
+  std::printf("%zu map keypoints, %zu scan keypoints, %.2f s\n", answer.map_keypoints,
+              answer.scan_keypoints, seconds);
+  const Eigen::Isometry3d best = gt[1].inverse() * answer.candidates.front().pose;
+  EXPECT_LT(best.translation().norm(), 3.0);
+  EXPECT_LT(degrees(best), 10.0);
+}
