@@ -138,18 +138,19 @@ void announce(const Options& options, const socc::service::ServerConfig& config,
             << " robots)\n";
 }
 
-// Handles the request that arrives within 50 ms and up to kMaxGroup more already waiting, then
-// commits them (one journal sync for the group's INTEGRATEs, then their replies). Returns
-// false when LCM fails.
+// Handles the request that arrives within 10 ms and up to kMaxGroup more already waiting, then
+// commits them (one journal sync for the group's INTEGRATEs, then their replies) and asks for
+// missing parts of stalled requests sent in parts. Returns false when LCM fails.
 bool handleGroup(lcm::LCM& lcm, socc::service::RequestRouter& router) {
   constexpr int kMaxGroup = 32;
-  int handled = lcm.handleTimeout(50);
+  int handled = lcm.handleTimeout(10);
   if (handled < 0) return false;
   for (int n = 0; handled > 0 && n < kMaxGroup; ++n) {
     handled = lcm.handleTimeout(0);
     if (handled < 0) return false;
   }
   router.commit();
+  router.poll();
   return true;
 }
 
@@ -213,7 +214,8 @@ int run(const Options& options) {
               << " (multicast routed to lo? `ip route replace 224.0.0.0/4 dev lo`)\n";
     return 1;
   }
-  socc::service::RequestRouter router(lcm, service, *gate, !options.quiet);
+  socc::service::RequestRouter router(lcm, service, *gate, !options.quiet,
+                                      socc::isLanLcmUrl(options.lcm_url));
   announce(options, *config, service);
   if (const int rc = serve(lcm, router, service, options, stop_signals); rc != 0) return rc;
   router.commit();

@@ -66,4 +66,11 @@ std::string checkLcmUrl(const std::string& url, LcmAuth auth) {
   return {};
 }
 
+bool isLanLcmUrl(const std::string& url) {
+  const auto query = url.find('?');
+  if (url.rfind("udpm://", 0) != 0 || query == std::string::npos) return false;
+  const std::vector<std::string> ttl = ttlValues(url.substr(query + 1));
+  return ttl.size() == 1 && ttl[0] == "1";
+}
+
 }  // namespace socc

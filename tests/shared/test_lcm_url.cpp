@@ -60,3 +60,10 @@ TEST(LcmUrl, KeyDoesNotOpenOtherTransports) {
   EXPECT_FALSE(allowed("tcpq://10.0.0.1:7700", LcmAuth::kKeyConfigured));
   EXPECT_FALSE(allowed("udpm://239.1.2.3?ttl=1", LcmAuth::kKeyConfigured));
 }
+
+TEST(LcmUrl, LanUrlsAreRecognised) {
+  EXPECT_TRUE(socc::isLanLcmUrl("udpm://239.255.76.67:7667?ttl=1&recv_buf_size=33554432"));
+  EXPECT_FALSE(socc::isLanLcmUrl("udpm://239.255.76.67:7667?ttl=0"));
+  EXPECT_FALSE(socc::isLanLcmUrl("udpm://239.255.76.67:7667?ttl=0&ttl=1"));
+  EXPECT_FALSE(socc::isLanLcmUrl("memq://"));
+}

@@ -15,12 +15,16 @@
 #include "rate_limited_log.hpp"
 #include "request_gate.hpp"
 #include "socc/channels.hpp"
+#include "socc/rpc/part_transport.hpp"
 
 namespace socc::service {
 
 class RequestRouter {
  public:
-  RequestRouter(lcm::LCM& lcm, MapService& service, RequestGate& gate, bool verbose);
+  /// split_large_replies: LAN mode, large replies go out in parts (socc/rpc/part_transport.hpp);
+  /// requests sent in parts are received in any mode.
+  RequestRouter(lcm::LCM& lcm, MapService& service, RequestGate& gate, bool verbose,
+                bool split_large_replies = false);
   ~RequestRouter();
   RequestRouter(const RequestRouter&) = delete;
   RequestRouter& operator=(const RequestRouter&) = delete;
@@ -34,6 +38,8 @@ class RequestRouter {
   void commit();
   /// Replies waiting for commit().
   std::size_t deferredReplies() const { return deferred_.size(); }
+  /// Asks for the missing parts of stalled requests sent in parts; call every few ms.
+  void poll() { parts_.poll(); }
 
  private:
   template <typename Request, typename Handler>
@@ -65,6 +71,7 @@ class RequestRouter {
     std::vector<std::uint8_t> bytes;
   };
   std::vector<DeferredReply> deferred_;  // INTEGRATE acks waiting for the journal's sync
+  rpc::PartTransport parts_;
   std::array<Route, channels::kServices.size()> routes_;
 };
 

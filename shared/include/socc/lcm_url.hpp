@@ -20,4 +20,8 @@ inline LcmAuth lcmAuthFor(const std::string& key_file) {
 /// ttl option, ttl=0 always works, ttl=1 only with auth == kKeyConfigured, nothing else.
 std::string checkLcmUrl(const std::string& url, LcmAuth auth = LcmAuth::kNoKey);
 
+/// True for a udpm URL in LAN mode (its one ttl option is ttl=1): large messages are then
+/// sent in parts (socc/rpc/part_transport.hpp).
+bool isLanLcmUrl(const std::string& url);
+
 }  // namespace socc
