@@ -20,7 +20,7 @@ using Block = Grid::Block;
 /// The hit voxels of one partition of the scan (voxels whose block hashes to it). Partitions
 /// own disjoint blocks, so they are aggregated and applied in parallel without locks.
 struct HitPartition {
-  tsl::robin_map<VoxelIndex, std::uint32_t, IndexHash> slot_of;
+  tsl::robin_map<VoxelIndex, std::uint32_t, VoxelIndexHash> slot_of;
   std::vector<VoxelIndex> voxels;
   std::vector<FrameAggregate> frames;  // parallel to voxels
   std::vector<Block*> blocks;          // parallel to voxels
@@ -40,7 +40,7 @@ struct ScanScratch {
   static constexpr std::size_t kHitPartitions = 4;
   std::array<HitPartition, kHitPartitions> partitions;
 
-  tsl::robin_map<VoxelIndex, std::uint32_t, IndexHash> clipped_of;
+  tsl::robin_map<VoxelIndex, std::uint32_t, VoxelIndexHash> clipped_of;
   std::vector<Eigen::Vector3d> ray_ends;
   // Rays are split into this many fixed chunks, traversed in parallel into one footprint
   // each, and merged in chunk order (deterministic block order).

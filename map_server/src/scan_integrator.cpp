@@ -22,7 +22,7 @@ namespace {
 using PointKind = ScanScratch::PointKind;
 
 std::size_t partitionOf(const VoxelIndex& v) {
-  return IndexHash{}(blockOf(v)) % ScanScratch::kHitPartitions;
+  return VoxelIndexHash{}(blockOf(v)) % ScanScratch::kHitPartitions;
 }
 
 /// Per point (parallel, each point independent): range gate, map-frame position, voxel.

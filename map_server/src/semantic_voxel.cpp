@@ -5,13 +5,11 @@
 namespace socc::map {
 
 Eigen::Matrix3d VoxelStats::covariance() const {
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  if (count < 2) return cov;
-  const double s = 1.0 / static_cast<double>(count - 1);
-  cov << m2[0], m2[1], m2[2],  //
-      m2[1], m2[3], m2[4],     //
+  Eigen::Matrix3d m;
+  m << m2[0], m2[1], m2[2],  //
+      m2[1], m2[3], m2[4],   //
       m2[2], m2[4], m2[5];
-  return cov * s;
+  return sampleCovariance(m, count);
 }
 
 void mergeStatistics(VoxelStats& stats, const FrameAggregate& frame) {

@@ -5,23 +5,20 @@
 #include <algorithm>
 #include <cmath>
 
+#include "socc/voxel.hpp"
+
 namespace socc::odom {
 namespace {
 
 struct VoxelKey {
-  std::int32_t x, y, z;
+  VoxelIndex index;
   std::uint8_t label;
-  bool operator==(const VoxelKey& o) const {
-    return x == o.x && y == o.y && z == o.z && label == o.label;
-  }
+  bool operator==(const VoxelKey& o) const { return index == o.index && label == o.label; }
 };
 
 struct VoxelKeyHash {
   std::size_t operator()(const VoxelKey& k) const {
-    // Large primes spread neighbouring voxels (Teschner et al. spatial hashing).
-    return (static_cast<std::size_t>(k.x) * 73856093u) ^
-           (static_cast<std::size_t>(k.y) * 19349669u) ^
-           (static_cast<std::size_t>(k.z) * 83492791u) ^ (static_cast<std::size_t>(k.label) << 56);
+    return VoxelIndexHash{}(k.index) ^ (static_cast<std::size_t>(k.label) << 56);
   }
 };
 
@@ -46,9 +43,7 @@ LabeledCloud semanticVoxelDownsample(const LabeledCloud& cloud, double voxel_siz
     if (!isValidClass(label) || inv_size[label] == 0.0) continue;
     const Eigen::Vector3d p = cloud.points[i].cast<double>();
     if (!p.allFinite()) continue;
-    const Eigen::Vector3d v = (p * inv_size[label]).array().floor();
-    const VoxelKey key{static_cast<std::int32_t>(v.x()), static_cast<std::int32_t>(v.y()),
-                       static_cast<std::int32_t>(v.z()), label};
+    const VoxelKey key{voxelIndex(p, inv_size[label]), label};
     auto [it, inserted] = voxels.try_emplace(key);
     Sum& s = it.value();
     if (inserted) s.order = i;

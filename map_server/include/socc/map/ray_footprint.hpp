@@ -98,7 +98,7 @@ class RayFootprint {
   /// A small direct-mapped cache in front of the hash map: neighbouring rays revisit the
   /// same blocks, and a hash lookup at every block change would dominate the traversal.
   VoxelMask& maskOf(const BlockKey& key) {
-    CacheEntry& entry = cache_[IndexHash{}(key) & (kCacheSize - 1)];
+    CacheEntry& entry = cache_[VoxelIndexHash{}(key) & (kCacheSize - 1)];
     if (entry.slot != kNoSlot && entry.key == key) return masks_[entry.slot];
     const auto [it, inserted] = slot_of_.try_emplace(key, static_cast<std::uint32_t>(keys_.size()));
     if (inserted) {
@@ -121,7 +121,7 @@ class RayFootprint {
     std::uint32_t slot = kNoSlot;
   };
   std::array<CacheEntry, kCacheSize> cache_{};
-  tsl::robin_map<BlockKey, std::uint32_t, IndexHash> slot_of_;
+  tsl::robin_map<BlockKey, std::uint32_t, VoxelIndexHash> slot_of_;
   std::vector<BlockKey> keys_;
   std::vector<VoxelMask> masks_;  // parallel to keys_
 };

@@ -10,10 +10,6 @@
 
 namespace socc::map {
 
-inline VoxelIndex voxelIndex(const Eigen::Vector3d& p, double inv_voxel_size) {
-  return (p * inv_voxel_size).array().floor().cast<int>();
-}
-
 /// Calls visit(voxel) for every voxel the segment [from, to] passes through, in order, from
 /// the voxel of `from` up to and including the voxel of `to`. Consecutive voxels share a
 /// face, and the walk always ends exactly in to's voxel (step counts are fixed per axis, so

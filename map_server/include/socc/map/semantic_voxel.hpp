@@ -10,6 +10,7 @@
 
 #include "socc/labels.hpp"
 #include "socc/map/map_config.hpp"
+#include "socc/voxel.hpp"
 
 namespace socc::map {
 
@@ -31,33 +32,17 @@ struct VoxelStats {
   Eigen::Vector3d meanVector() const { return {mean[0], mean[1], mean[2]}; }
 };
 
-/// The points one scan put into one voxel: count, sums of the points and of their outer
-/// products taken relative to the scan's first point in the voxel (shifted data: no
-/// cancellation within a voxel, and no division per point as in Welford's update), and the
-/// label histogram.
-struct FrameAggregate {
-  std::uint32_t count = 0;
-  Eigen::Vector3d first = Eigen::Vector3d::Zero();   // the scan's first point in the voxel
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();     // sum of (p - first)
-  Eigen::Matrix3d sum_sq = Eigen::Matrix3d::Zero();  // sum of (p - first)(p - first)^T
+/// The points one scan put into one voxel: their moments (socc/voxel.hpp) and label histogram.
+struct FrameAggregate : PointMoments {
   std::array<std::uint32_t, kNumClasses> label_counts{};
   std::uint32_t labeled = 0;  // points that carried a label
 
-  void add(const Eigen::Vector3d& p) {
-    if (count == 0) first = p;
-    ++count;
-    const Eigen::Vector3d d = p - first;
-    sum += d;
-    sum_sq.noalias() += d * d.transpose();
-  }
+  using PointMoments::add;
   void add(const Eigen::Vector3d& p, std::uint8_t label) {
     add(p);
     ++label_counts[label];
     ++labeled;
   }
-  Eigen::Vector3d mean() const { return first + sum / static_cast<double>(count); }
-  /// Sum of squared deviations from the mean.
-  Eigen::Matrix3d m2() const { return sum_sq - sum * sum.transpose() / static_cast<double>(count); }
 };
 
 /// Chan et al.'s parallel update: merges a frame aggregate into running float statistics.

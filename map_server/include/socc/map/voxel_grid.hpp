@@ -14,10 +14,12 @@
 #include <memory>
 #include <vector>
 
+#include "socc/voxel.hpp"
+
 namespace socc::map {
 
-/// Integer voxel coordinate: floor(p / voxel_size) per axis.
-using VoxelIndex = Eigen::Vector3i;
+// Voxel keys (VoxelIndex, voxelIndex, VoxelIndexHash, indexLess) are socc/voxel.hpp's.
+
 /// Integer block coordinate: voxel index >> kBlockShift per axis.
 using BlockKey = Eigen::Vector3i;
 
@@ -25,15 +27,6 @@ inline constexpr int kBlockShift = 3;
 inline constexpr int kBlockDim = 1 << kBlockShift;  // 8 voxels per block edge
 inline constexpr int kBlockVoxels = kBlockDim * kBlockDim * kBlockDim;
 inline constexpr std::uint16_t kNoStats = 0xFFFF;
-
-struct IndexHash {
-  std::size_t operator()(const Eigen::Vector3i& k) const noexcept {
-    // Large primes (Teschner et al.): cheap and spreads neighbouring blocks well.
-    return (static_cast<std::size_t>(static_cast<std::uint32_t>(k.x())) * 73856093u) ^
-           (static_cast<std::size_t>(static_cast<std::uint32_t>(k.y())) * 19349669u) ^
-           (static_cast<std::size_t>(static_cast<std::uint32_t>(k.z())) * 83492791u);
-  }
-};
 
 inline BlockKey blockOf(const VoxelIndex& v) {
   // Arithmetic shift floors negative coordinates (guaranteed by GCC/Clang, C++20 standard).
@@ -49,12 +42,6 @@ inline VoxelIndex voxelOf(const BlockKey& block, int local) {
   return {block.x() * kBlockDim + ((local >> (2 * kBlockShift)) & m),
           block.y() * kBlockDim + ((local >> kBlockShift) & m),
           block.z() * kBlockDim + (local & m)};
-}
-/// Lexicographic order of indices: used wherever output order must not depend on hashing.
-inline bool indexLess(const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
-  if (a.x() != b.x()) return a.x() < b.x();
-  if (a.y() != b.y()) return a.y() < b.y();
-  return a.z() < b.z();
 }
 
 /// One block. Every voxel pays only for its log-odds and a 16-bit slot; the (large)
@@ -105,7 +92,7 @@ class VoxelGrid {
  public:
   using Block = VoxelBlock<Stats>;
   // unique_ptr keeps block addresses stable across rehashing (cached accessors hold them).
-  using BlockMap = tsl::robin_map<BlockKey, std::unique_ptr<Block>, IndexHash>;
+  using BlockMap = tsl::robin_map<BlockKey, std::unique_ptr<Block>, VoxelIndexHash>;
 
   const Block* find(const BlockKey& key) const {
     const auto it = blocks_.find(key);
@@ -160,7 +147,7 @@ class VoxelGrid {
     explicit Accessor(VoxelGrid& grid) : grid_(grid) {}
     Block& block(const BlockKey& key) {
       if (last_ != nullptr && key == last_key_) return *last_;
-      Entry& e = cache_[IndexHash{}(key) & (kCacheSize - 1)];
+      Entry& e = cache_[VoxelIndexHash{}(key) & (kCacheSize - 1)];
       if (e.block == nullptr || e.key != key) {
         e.block = &grid_.getOrCreate(key);
         e.key = key;

@@ -1,6 +1,6 @@
 #pragma once
 // A LocalMap made directly from one cloud (no map server): voxels of voxel_size with the first
-// point, the covariance's smallest eigenvector and planarity (n >= 5), p_occ = 1 and the
+// point, the normal and planarity of socc/voxel.hpp (the map server's rule), p_occ = 1 and the
 // majority label. Used for scan-to-scan reference registrations (tests, benchmarks, tools).
 #include "socc/odom/local_map.hpp"
 #include "socc/point_cloud.hpp"
