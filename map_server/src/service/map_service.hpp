@@ -77,6 +77,7 @@ class MapService {
 
   map_stats_t stats(const RequestCounters& counters) const;
   const map::SemanticOccupancyMap& map() const { return map_; }
+  const ServerConfig& config() const { return config_; }
   const RobotRegistry& robots() const { return robots_; }
   std::int64_t integrations() const { return integrations_; }
 

@@ -1,5 +1,7 @@
 #include "request_router.hpp"
 
+#include <chrono>
+#include <cstdio>
 #include <exception>
 #include <type_traits>
 #include <vector>
@@ -32,7 +34,11 @@ RequestRouter::RequestRouter(lcm::LCM& lcm, MapService& service, RequestGate& ga
       service_(service),
       gate_(gate),
       log_(verbose),
-      parts_(lcm, "map_server", partOptions(split_large_replies)) {
+      parts_(lcm, "map_server", partOptions(split_large_replies)),
+      integrate_rate_(service.config().limits.robot_integrate_rate,
+                      service.config().limits.robot_integrate_rate),
+      chunk_rate_(service.config().limits.robot_chunk_rate,
+                  service.config().limits.robot_chunk_rate) {
   // Raw subscriptions through LCM's C API: the typed C++ ones print and drop undecodable
   // messages without telling us, and the C++ raw-handler wrapper trips UBSan (-fsanitize=vptr).
   for (std::size_t i = 0; i < routes_.size(); ++i) {
@@ -60,6 +66,18 @@ void RequestRouter::onMessage(const lcm_recv_buf_t* rbuf, const char* /*channel*
   const auto* r = static_cast<const Route*>(route);
   const lcm::ReceiveBuffer buffer{rbuf->data, rbuf->data_size, rbuf->recv_utime};
   r->router->dispatch(r->service, buffer);
+}
+
+std::string RequestRouter::admitRate(std::string_view service, const std::string& client) {
+  const bool integrate = service == channels::kIntegrate;
+  if (!integrate && service != channels::kGetChunk) return {};
+  RobotRateLimiter& limiter = integrate ? integrate_rate_ : chunk_rate_;
+  if (limiter.admit(client, std::chrono::steady_clock::now())) return {};
+  char rate[32];
+  std::snprintf(rate, sizeof(rate), "%g", limiter.rate());
+  return "'" + client + "' exceeds its " + rate + " " + std::string(service) +
+         " requests/s (limits." + (integrate ? "robot_integrate_rate" : "robot_chunk_rate") +
+         "): slow down";
 }
 
 void RequestRouter::rejectUndecodable(std::string_view service, const std::string& why) {
@@ -140,6 +158,11 @@ void RequestRouter::serve(const lcm::ReceiveBuffer& rbuf, std::string_view servi
       !why.empty()) {
     ++counters_.auth_failures;
     setStatus(reply, Status::unauthenticated(why));
+    return publishReply(service, header, reply);
+  }
+  // Fairness: after authentication, so a forger cannot spend a robot's budget.
+  if (const std::string why = admitRate(service, header.client_id); !why.empty()) {
+    setStatus(reply, Status::exhausted(why));
     return publishReply(service, header, reply);
   }
   try {

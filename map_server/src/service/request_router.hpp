@@ -14,6 +14,7 @@
 #include "map_service.hpp"
 #include "rate_limited_log.hpp"
 #include "request_gate.hpp"
+#include "robot_rate_limiter.hpp"
 #include "socc/channels.hpp"
 #include "socc/rpc/part_transport.hpp"
 
@@ -48,6 +49,8 @@ class RequestRouter {
   template <typename Reply>
   void publishReply(std::string_view service, const request_header_t& request, Reply& reply);
   void rejectUndecodable(std::string_view service, const std::string& why);
+  /// Empty when client is within its budget for service, else the RESOURCE_EXHAUSTED message.
+  std::string admitRate(std::string_view service, const std::string& client);
   void send(std::string_view service, const std::string& channel,
             const std::vector<std::uint8_t>& bytes);
 
@@ -72,6 +75,8 @@ class RequestRouter {
   };
   std::vector<DeferredReply> deferred_;  // INTEGRATE acks waiting for the journal's sync
   rpc::PartTransport parts_;
+  RobotRateLimiter integrate_rate_;  // per robot: fairness (limits.robot_integrate_rate)
+  RobotRateLimiter chunk_rate_;      // limits.robot_chunk_rate
   std::array<Route, channels::kServices.size()> routes_;
 };
 

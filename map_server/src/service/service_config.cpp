@@ -46,16 +46,19 @@ YAML::Node yamlSection(const YAML::Node& root, const char* name) {
 }
 
 void readLimits(const YAML::Node& limits, ServiceLimits& out) {
-  rejectUnknownKeys(limits,
-                    {"max_chunk_voxels", "max_region_extent", "max_reply_bytes",
-                     "max_render_pixels", "max_robots", "max_localize_points"},
-                    "limits.");
+  rejectUnknownKeys(
+      limits,
+      {"max_chunk_voxels", "max_region_extent", "max_reply_bytes", "max_render_pixels",
+       "max_robots", "max_localize_points", "robot_integrate_rate", "robot_chunk_rate"},
+      "limits.");
   readNumber(limits, "limits.", "max_chunk_voxels", out.max_chunk_voxels);
   readNumber(limits, "limits.", "max_region_extent", out.max_region_extent);
   readNumber(limits, "limits.", "max_reply_bytes", out.max_reply_bytes);
   readNumber(limits, "limits.", "max_render_pixels", out.max_render_pixels);
   readNumber(limits, "limits.", "max_robots", out.max_robots);
   readNumber(limits, "limits.", "max_localize_points", out.max_localize_points);
+  readNumber(limits, "limits.", "robot_integrate_rate", out.robot_integrate_rate);
+  readNumber(limits, "limits.", "robot_chunk_rate", out.robot_chunk_rate);
 }
 
 void readPlausibility(const YAML::Node& node, PlausibilityLimits& out) {

@@ -13,8 +13,12 @@ struct ServiceLimits {
   double max_region_extent = 2000.0;          // [m] box edge / sphere diameter; more -> rejected
   std::int64_t max_reply_bytes = 60'000'000;  // encoded reply; more -> RESOURCE_EXHAUSTED
   std::int64_t max_render_pixels = 16'000'000;
-  std::int64_t max_robots = 1024;  // robot states kept; new robots beyond -> rejected
+  std::int64_t max_robots = 1024;              // robot states kept; new robots beyond -> rejected
   std::int32_t max_localize_points = 100'000;  // per LOCALIZE scan
+  // Fairness: requests per second one robot (client id) may make, with a burst of one second's
+  // worth; more -> RESOURCE_EXHAUSTED (robot_rate_limiter.hpp). 0 = no limit.
+  double robot_integrate_rate = 30.0;
+  double robot_chunk_rate = 30.0;
 };
 
 // How far a robot may move between two of its INTEGRATEs (plausibility.hpp): speed times the
