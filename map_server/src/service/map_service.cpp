@@ -68,12 +68,7 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
       return Status::internal(std::string("not applied: ") + e.what());
     }
   }
-  map::IntegrationResult result;
-  try {
-    result = map_.integrate(pose, cloud);
-  } catch (const std::invalid_argument& e) {
-    return Status::invalid(e.what());
-  }
+  const map::IntegrationResult result = map_.integrate(pose, cloud);
   robots_.recordIntegration(robot_id, request.seq, request.scan_utime, request.sensor_pose);
   ++integrations_;
   const auto now = std::chrono::steady_clock::now();

@@ -13,7 +13,8 @@
 
 namespace socc::service {
 
-/// Array sizes, seq and pose of an Integrate; point values are checked by the map.
+/// The wire form of an Integrate: seq, array sizes, point count limit, the pose's encoding.
+/// The content (points, labels, pose as a rotation) is checked once by the map's validate().
 Status checkIntegrateRequest(const integrate_request_t& request, const map::MapConfig& config);
 Status checkChunkRequest(const chunk_request_t& request, const ServiceLimits& limits);
 /// Known tracking state, seq >= 0, a short printable reason.

@@ -87,8 +87,8 @@ class SemanticOccupancyMap {
   std::string validate(const Eigen::Isometry3d& sensor_pose, const LabeledCloud& cloud) const;
 
   /// Integrates a cloud given in the sensor frame, sensor at sensor_pose (map frame):
-  /// hits update statistics and log-odds; rays clear free space. Call validate() first;
-  /// invalid input throws std::invalid_argument and leaves the map unchanged.
+  /// hits update statistics and log-odds; rays clear free space. Precondition:
+  /// validate(sensor_pose, cloud) is empty (asserted, not checked again).
   IntegrationResult integrate(const Eigen::Isometry3d& sensor_pose, const LabeledCloud& cloud);
 
   /// The occupied (and, with kFree, free) voxels inside the query region (voxel centre
