@@ -17,8 +17,8 @@ struct ServiceLimits {
   std::int32_t max_localize_points = 100'000;  // per LOCALIZE scan
   // Fairness: requests per second one robot (client id) may make, with a burst of one second's
   // worth; more -> RESOURCE_EXHAUSTED (robot_rate_limiter.hpp). 0 = no limit.
-  double robot_integrate_rate = 30.0;
-  double robot_chunk_rate = 30.0;
+  double robot_integrate_rate = 40.0;
+  double robot_chunk_rate = 40.0;
 };
 
 // How far a robot may move between two of its INTEGRATEs (plausibility.hpp): speed times the
