@@ -1,17 +1,30 @@
 #include "socc/odom/tracking_state.hpp"
 
+#include <algorithm>
+#include <cctype>
+
+#include "socc/robot_status_request_t.hpp"
+#include "socc/rpc/status_names.hpp"
+
 namespace socc::odom {
 
-const char* trackingStateName(TrackingState state) {
+std::int8_t toWire(TrackingState state) {
   switch (state) {
-    case TrackingState::kTracking:
-      return "tracking";
     case TrackingState::kDegraded:
-      return "degraded";
+      return robot_status_request_t::DEGRADED;
     case TrackingState::kLost:
-      return "lost";
+      return robot_status_request_t::LOST;
+    case TrackingState::kTracking:
+      break;
   }
-  return "unknown";
+  return robot_status_request_t::TRACKING;
+}
+
+std::string trackingStateName(TrackingState state) {
+  std::string name = rpc::trackingStateName(toWire(state));
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return name;
 }
 
 TrackingState TrackingMonitor::update(bool healthy) {

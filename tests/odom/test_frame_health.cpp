@@ -76,7 +76,8 @@ TEST(TrackingMonitor, LostAfterTheConfiguredRunOfUnhealthyFramesAndStaysLost) {
   EXPECT_EQ(m.update(false), TrackingState::kDegraded);
   EXPECT_EQ(m.update(false), TrackingState::kLost);
   EXPECT_EQ(m.update(true), TrackingState::kLost);
-  EXPECT_STREQ(trackingStateName(TrackingState::kLost), "lost");
+  EXPECT_EQ(trackingStateName(TrackingState::kLost), "lost");
+  EXPECT_EQ(trackingStateName(TrackingState::kDegraded), "degraded");
 }
 
 TEST(PointTimes, AzimuthTimesFollowTheSweep) {

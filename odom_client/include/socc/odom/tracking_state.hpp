@@ -2,12 +2,17 @@
 // Whether a robot still knows where it is: a run of unhealthy frames makes it lost, and a lost
 // robot never writes into the shared map again in this run (only relocalization could bring it
 // back: its odometry may have drifted anywhere while the frames were unhealthy).
+#include <cstdint>
+#include <string>
+
 namespace socc::odom {
 
 enum class TrackingState { kTracking, kDegraded, kLost };
 
-/// "tracking", "degraded" (unhealthy frames, not lost yet), "lost".
-const char* trackingStateName(TrackingState state);
+/// The robot_status_request_t code of a state (DEGRADED: unhealthy frames, not lost yet).
+std::int8_t toWire(TrackingState state);
+/// socc::rpc::trackingStateName of the wire code in lower case, for logs: "tracking", "lost".
+std::string trackingStateName(TrackingState state);
 
 class TrackingMonitor {
  public:
