@@ -60,7 +60,8 @@ std::string raw(const std::vector<T>& v) {
   return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
-void requestSeeds(SeedWriter& w) {
+// A 12-point labelled scan with times, plain and signed; the other seeds reuse its points.
+socc::integrate_request_t integrateSeeds(SeedWriter& w) {
   const auto key = socc::auth::SharedKey::fromBytes(std::vector<std::uint8_t>(32, 7));
   socc::integrate_request_t in{};
   in.header = header("INTEGRATE");
@@ -79,7 +80,10 @@ void requestSeeds(SeedWriter& w) {
   w.message("fuzz_integrate_request", "plain", in);
   socc::auth::sign(in, key, 42);
   w.message("fuzz_integrate_request", "signed", in);
+  return in;
+}
 
+void chunkSeeds(SeedWriter& w) {
   socc::chunk_request_t chunk{};
   chunk.header = header("GET_CHUNK");
   chunk.shape = socc::chunk_request_t::SHAPE_SPHERE;
@@ -95,7 +99,10 @@ void requestSeeds(SeedWriter& w) {
   chunk.fields = 15;
   chunk.limit = 100;
   w.message("fuzz_chunk_request", "box_all_fields", chunk);
+}
 
+// GET_STATS, GET_ROBOT_POSE and ROBOT_STATUS (every tracking state).
+void robotSeeds(SeedWriter& w, std::int64_t utime) {
   socc::stats_request_t stats{};
   stats.header = header("GET_STATS");
   w.message("fuzz_stats_request", "stats", stats);
@@ -111,13 +118,16 @@ void requestSeeds(SeedWriter& w) {
   socc::robot_status_request_t status{};
   status.header = header("ROBOT_STATUS");
   status.seq = 1;
-  status.utime = in.scan_utime;
+  status.utime = utime;
   for (std::int8_t state = 0; state < 4; ++state) {
     status.tracking_state = state;
     status.reason = state == 0 ? "" : "12 unhealthy frames in a row";
     w.message("fuzz_robot_status_request", "state" + std::to_string(state), status);
   }
+}
 
+// MAP_COMMAND (each command) and RENDER (each mode).
+void mapSeeds(SeedWriter& w) {
   socc::map_command_request_t cmd{};
   cmd.header = header("MAP_COMMAND");
   cmd.occupancy_threshold = 0.5f;
@@ -145,7 +155,9 @@ void requestSeeds(SeedWriter& w) {
     render.mode = mode;
     w.message("fuzz_render_request", "mode" + std::to_string(mode), render);
   }
+}
 
+void scanSeed(SeedWriter& w, const socc::integrate_request_t& in) {
   socc::scan_t scan{};
   scan.utime = in.scan_utime;
   scan.robot_id = "robot1";
@@ -155,6 +167,14 @@ void requestSeeds(SeedWriter& w) {
   scan.intensity.assign(12, 0.5f);
   scan.num_points = scan.num_labels = scan.num_times = scan.num_intensities = 12;
   w.message("fuzz_scan", "scan", scan);
+}
+
+void requestSeeds(SeedWriter& w) {
+  const socc::integrate_request_t in = integrateSeeds(w);
+  chunkSeeds(w);
+  robotSeeds(w, in.scan_utime);
+  mapSeeds(w);
+  scanSeed(w, in);
 }
 
 void fileSeeds(SeedWriter& w) {

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "socc/large_message_heap.hpp"
@@ -149,15 +150,7 @@ LoadReport buildReport(const Options& o, const socc::tools::ScanSet& scans,
   return report;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  socc::keepHeapForLargeMessages();
-  CLI::App app{
-      "socc-loadtest: N simulated robots integrate KITTI-size scans and fetch chunks at a fixed "
-      "rate against map_server; prints throughput, latency percentiles and lost integrations"};
-  app.set_version_flag("--version", socc::versionLine("socc-loadtest"));
-  Options o;
+void addOptions(CLI::App& app, Options& o) {
   app.add_option("--robots", o.robots, "simulated robots")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
@@ -191,13 +184,10 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(1, 10));
   app.add_flag("!--no-progress", o.progress, "no progress bar");
-  CLI11_PARSE(app, argc, argv);
+}
 
-  if (const std::string why = socc::checkLcmUrl(o.lcm_url);
-      !why.empty() || o.lcm_url.rfind("udpm://", 0) != 0) {
-    std::cerr << "socc-loadtest: --lcm-url: " << (why.empty() ? "must be udpm://" : why) << '\n';
-    return 2;
-  }
+// Loads the scans, waits for (or starts) the server, runs the robots and reports; the exit code.
+int run(Options o) {
   if (o.id_prefix.empty()) o.id_prefix = randomIdPrefix();
   try {
     const auto scans = o.kitti_dir.empty() ? socc::tools::ScanSet::synthetic(o.synthetic_points)
@@ -224,4 +214,24 @@ int main(int argc, char** argv) {
     std::cerr << "socc-loadtest: " << e.what() << '\n';
     return 1;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  socc::keepHeapForLargeMessages();
+  CLI::App app{
+      "socc-loadtest: N simulated robots integrate KITTI-size scans and fetch chunks at a fixed "
+      "rate against map_server; prints throughput, latency percentiles and lost integrations"};
+  app.set_version_flag("--version", socc::versionLine("socc-loadtest"));
+  Options o;
+  addOptions(app, o);
+  CLI11_PARSE(app, argc, argv);
+
+  if (const std::string why = socc::checkLcmUrl(o.lcm_url);
+      !why.empty() || o.lcm_url.rfind("udpm://", 0) != 0) {
+    std::cerr << "socc-loadtest: --lcm-url: " << (why.empty() ? "must be udpm://" : why) << '\n';
+    return 2;
+  }
+  return run(std::move(o));
 }

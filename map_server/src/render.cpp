@@ -37,13 +37,8 @@ Rgb pixelColor(const Column& c, int mode, double zmin, double zmax) {
   return c.label == kUnlabeled ? kUnlabeledVoxelColor : classColor(c.label);
 }
 
-}  // namespace
-
-SemanticOccupancyMap::Image SemanticOccupancyMap::render(const Eigen::Vector3d& box_min,
-                                                         const Eigen::Vector3d& box_max,
-                                                         double pixel_size, int mode,
-                                                         double occupancy_threshold) const {
-  const Impl& m = *impl_;
+void checkRenderArguments(const Eigen::Vector3d& box_min, const Eigen::Vector3d& box_max,
+                          double pixel_size, int mode, double occupancy_threshold) {
   if (!box_min.allFinite() || !box_max.allFinite() || box_max.x() <= box_min.x() ||
       box_max.y() <= box_min.y() || box_max.z() < box_min.z())
     throw std::invalid_argument("render: box needs finite corners with box_min < box_max");
@@ -54,27 +49,41 @@ SemanticOccupancyMap::Image SemanticOccupancyMap::render(const Eigen::Vector3d& 
     throw std::invalid_argument("render: unknown mode " + std::to_string(mode));
   if (!(occupancy_threshold >= 0.0 && occupancy_threshold <= 1.0))
     throw std::invalid_argument("render: occupancy_threshold must be in [0, 1]");
-  const double ps = pixel_size > 0.0 ? pixel_size : m.config.voxel_size;
-  const double wd = std::ceil((box_max.x() - box_min.x()) / ps);
-  const double hd = std::ceil((box_max.y() - box_min.y()) / ps);
-  if (wd > kMaxImageSide || hd > kMaxImageSide)
-    throw std::invalid_argument("render: image would be " + std::to_string(wd) + " x " +
-                                std::to_string(hd) + " pixels (max " +
-                                std::to_string(kMaxImageSide) + " per side)");
-  Image img;
-  img.width = std::max(1, static_cast<int>(wd));
-  img.height = std::max(1, static_cast<int>(hd));
-  std::vector<Column> columns(static_cast<std::size_t>(img.width) * img.height);
+}
 
-  const double vs = m.config.voxel_size;
-  const IndexBox box = IndexBox::of(box_min, box_max, vs);
-  const auto pixelRange = [&](double lo, double hi, double origin, int n) {
-    const int a = std::max(0, clampedFloor((lo - origin) / ps));
-    const int b = std::min(n - 1, clampedFloor(std::nextafter((hi - origin) / ps, -1e300)));
-    return std::pair<int, int>(a, b);
-  };
-  for (const BlockKey& key : m.grid.blocksIn(box.blockLo(), box.blockHi())) {
-    const Block& block = *m.grid.find(key);
+// The image's pixels over the box's x-y extent; row 0 of the image is the box's top (+y).
+struct PixelGrid {
+  double x0, y0, pixel;
+  int width, height;
+
+  static PixelGrid over(const Eigen::Vector3d& box_min, const Eigen::Vector3d& box_max,
+                        double pixel) {
+    const double wd = std::ceil((box_max.x() - box_min.x()) / pixel);
+    const double hd = std::ceil((box_max.y() - box_min.y()) / pixel);
+    if (wd > kMaxImageSide || hd > kMaxImageSide)
+      throw std::invalid_argument("render: image would be " + std::to_string(wd) + " x " +
+                                  std::to_string(hd) + " pixels (max " +
+                                  std::to_string(kMaxImageSide) + " per side)");
+    return {box_min.x(), box_min.y(), pixel, std::max(1, static_cast<int>(wd)),
+            std::max(1, static_cast<int>(hd))};
+  }
+  /// The pixels [first, last] the interval [lo, hi) covers along an axis starting at origin.
+  std::pair<int, int> range(double lo, double hi, double origin, int n) const {
+    const int a = std::max(0, clampedFloor((lo - origin) / pixel));
+    const int b = std::min(n - 1, clampedFloor(std::nextafter((hi - origin) / pixel, -1e300)));
+    return {a, b};
+  }
+  std::size_t columnOf(int px, int py) const {
+    return static_cast<std::size_t>(height - 1 - py) * width + px;
+  }
+};
+
+/// Splats every observed voxel of the box onto the pixels its footprint covers.
+std::vector<Column> splatVoxels(const Grid& grid, double vs, const IndexBox& box,
+                                const PixelGrid& pixels, double occupancy_threshold) {
+  std::vector<Column> columns(static_cast<std::size_t>(pixels.width) * pixels.height);
+  for (const BlockKey& key : grid.blocksIn(box.blockLo(), box.blockHi())) {
+    const Block& block = *grid.find(key);
     for (int local = 0; local < kBlockVoxels; ++local) {
       if (!block.observed[local]) continue;
       const VoxelIndex v = voxelOf(key, local);
@@ -83,11 +92,11 @@ SemanticOccupancyMap::Image SemanticOccupancyMap::render(const Eigen::Vector3d& 
       const bool occupied = p >= occupancy_threshold;
       const double z = (v.z() + 0.5) * vs;
       const VoxelStats* stats = block.statsOf(local);
-      const auto [x0, x1] = pixelRange(v.x() * vs, (v.x() + 1) * vs, box_min.x(), img.width);
-      const auto [y0, y1] = pixelRange(v.y() * vs, (v.y() + 1) * vs, box_min.y(), img.height);
+      const auto [x0, x1] = pixels.range(v.x() * vs, (v.x() + 1) * vs, pixels.x0, pixels.width);
+      const auto [y0, y1] = pixels.range(v.y() * vs, (v.y() + 1) * vs, pixels.y0, pixels.height);
       for (int py = y0; py <= y1; ++py) {
         for (int px = x0; px <= x1; ++px) {
-          Column& c = columns[static_cast<std::size_t>(img.height - 1 - py) * img.width + px];
+          Column& c = columns[pixels.columnOf(px, py)];
           c.max_probability = std::max(c.max_probability, p);
           if (occupied && z > c.top_z) {
             c.top_z = z;
@@ -98,6 +107,23 @@ SemanticOccupancyMap::Image SemanticOccupancyMap::render(const Eigen::Vector3d& 
       }
     }
   }
+  return columns;
+}
+
+}  // namespace
+
+SemanticOccupancyMap::Image SemanticOccupancyMap::render(const Eigen::Vector3d& box_min,
+                                                         const Eigen::Vector3d& box_max,
+                                                         double pixel_size, int mode,
+                                                         double occupancy_threshold) const {
+  checkRenderArguments(box_min, box_max, pixel_size, mode, occupancy_threshold);
+  const double vs = impl_->config.voxel_size;
+  const PixelGrid pixels = PixelGrid::over(box_min, box_max, pixel_size > 0.0 ? pixel_size : vs);
+  const std::vector<Column> columns =
+      splatVoxels(impl_->grid, vs, IndexBox::of(box_min, box_max, vs), pixels, occupancy_threshold);
+  Image img;
+  img.width = pixels.width;
+  img.height = pixels.height;
   img.rgb.resize(columns.size() * 3);
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x)
