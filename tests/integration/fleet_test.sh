@@ -1,32 +1,35 @@
 #!/usr/bin/env bash
 # Fleet test (issue 14): map_server and two robots on separate hosts of one LAN, in network
-# namespaces this test creates (fleet_netns.sh: hosts server, robot1, robot2, intruder joined by
+# namespaces this test creates (fleet_netns.sh: hosts server, robot1..robotR, intruder joined by
 # a bridge inside a namespace; nothing touches a real interface) and deletes at the end, also
 # on failure. LCM runs in LAN mode: udpm://239.255.x.y:port?ttl=1 with a shared key.
 #
-# Usage: fleet_test.sh --server BIN --client BIN --cli BIN --sim BIN [--frames N] [--loss PCT]
-#                      [--csv FILE] [--keep]
-#   The robots drive consecutive N-frame segments (default 4) of one socc-sim street (HDL-64:
-#   KITTI-size scans, 1.6 MB per INTEGRATE) from their GT start poses, at the same time.
-#   Checks: both robots exit 0 with N poses; `socc-cli stats` run on robot2's host lists both
+# Usage: fleet_test.sh --server BIN --client BIN --cli BIN --sim BIN [--robots R] [--frames N]
+#                      [--loss PCT] [--csv FILE] [--keep]
+#   R robots (default 2), each on its own host, drive consecutive N-frame segments (default 4)
+#   of one socc-sim street (HDL-64: KITTI-size scans, 1.6 MB per INTEGRATE) from their GT start
+#   poses, at the same time, as fast as they can.
+#   Checks: every robot exits 0 with N poses; `socc-cli stats` run on robot2's host lists all R
 #   robots, each with its last seq and exactly N integrations (each scan applied once); an
 #   intruder host without the key cannot even open the LAN URL, and with a wrong key gets
 #   UNAUTHENTICATED for socc-cli and odom_client; afterwards the map digest is unchanged,
 #   the intruder is not listed and auth_failures counts its requests.
 #   --loss PCT drops PCT % of the IP packets (each fragment alone) in and out of each robot
-#   host (nftables); --csv appends one line per robot: loss,robot,frames,Hz,fetch/integrate ms.
+#   host (nftables); --csv appends one line per robot: loss, robots, robot, frames, Hz, fetch ms
+#   mean/p50/p99, integrate ms mean/p50/p99.
 #   --keep keeps the work directory (logs, frames.csv of each robot) also when the test passes.
 # Needs root (CAP_NET_ADMIN) and nft for --loss; without them it FAILS (it never skips).
 set -euo pipefail
-usage() { sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
-server_bin="" client_bin="" cli_bin="" sim_bin="" frames=4 loss=0 csv="" keep=0
+server_bin="" client_bin="" cli_bin="" sim_bin="" robots=2 frames=4 loss=0 csv="" keep=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --server) server_bin=$2; shift 2 ;;
     --client) client_bin=$2; shift 2 ;;
     --cli) cli_bin=$2; shift 2 ;;
     --sim) sim_bin=$2; shift 2 ;;
+    --robots) robots=$2; shift 2 ;;
     --frames) frames=$2; shift 2 ;;
     --loss) loss=$2; shift 2 ;;
     --csv) csv=$2; shift 2 ;;
@@ -69,18 +72,22 @@ cli_on() {  # cli_on HOST [socc-cli args]: socc-cli with the fleet key on HOST
   in_host "$prefix" "$host" "$cli_bin" --lcm-url "$url" --key-file "$key" --client-id "ops-$host" "$@"
 }
 
+((robots >= 2)) || { echo "FAIL: --robots must be at least 2"; exit 2; }
+robot_hosts=()
+for ((i = 1; i <= robots; i++)); do robot_hosts+=("robot$i"); done
+
 make_lan() {
-  if ! netns_lan_create "$prefix" server robot1 robot2 intruder 2>"$work/netns.log"; then
+  if ! netns_lan_create "$prefix" server "${robot_hosts[@]}" intruder 2>"$work/netns.log"; then
     fail "cannot create network namespaces (needs root / CAP_NET_ADMIN): $(cat "$work/netns.log")"
   fi
   if [[ $loss != 0 ]]; then
     command -v nft >/dev/null || fail "--loss needs nft (Debian package nftables)"
     local host
-    for host in robot1 robot2; do
+    for host in "${robot_hosts[@]}"; do
       netns_lan_loss "$prefix" "$host" "$loss" || fail "cannot install the nftables loss rules"
     done
   fi
-  echo "LAN: namespaces $prefix-{lan,server,robot1,robot2,intruder}, $url, loss $loss % on robot links"
+  echo "LAN: namespaces $prefix-{lan,server,robot1..robot$robots,intruder}, $url, loss $loss % on robot links"
 }
 
 start_server() {
@@ -112,29 +119,32 @@ run_robot() {  # run_robot HOST ROBOT_ID FIRST KEY: odom_client on frames FIRST.
     --key-file "$4" --robot-id "$2" --out-dir "$work/$2" --quiet >"$work/$2.log" 2>&1
 }
 
+# Robot i (car<i>) runs on host robot<i> on frames [(i-1)*N, i*N-1].
 robots_map_together() {
-  "$sim_bin" --out "$work/sim" --frames $((2 * frames)) --seed 7 --quiet >/dev/null || fail "socc-sim failed"
-  local start=$SECONDS
-  run_robot robot1 car1 0 "$key" &
-  local pid1=$!
-  run_robot robot2 car2 "$frames" "$key" &
-  local pid2=$!
-  wait "$pid1" || fail "car1 (robot1 host) failed: $(tail -5 "$work/car1.log")"
-  wait "$pid2" || fail "car2 (robot2 host) failed: $(tail -5 "$work/car2.log")"
-  echo "two robots on two hosts: $frames frames each in $((SECONDS - start)) s"
-  local car
-  for car in car1 car2; do
-    [[ $(wc -l <"$work/$car/poses_kitti.txt") == "$frames" ]] || fail "$car wrote no $frames poses"
+  "$sim_bin" --out "$work/sim" --frames $((robots * frames)) --seed 7 --quiet >/dev/null ||
+    fail "socc-sim failed"
+  local start=$SECONDS i pids=()
+  for ((i = 1; i <= robots; i++)); do
+    run_robot "robot$i" "car$i" $(((i - 1) * frames)) "$key" &
+    pids+=("$!")
   done
+  for ((i = 1; i <= robots; i++)); do
+    wait "${pids[$((i - 1))]}" || fail "car$i (robot$i host) failed: $(tail -5 "$work/car$i.log")"
+    [[ $(wc -l <"$work/car$i/poses_kitti.txt") == "$frames" ]] || fail "car$i wrote no $frames poses"
+  done
+  echo "$robots robots on $robots hosts: $frames frames each in $((SECONDS - start)) s"
 }
 
 check_stats_from_robot_host() {
   cli_on robot2 stats | tee "$work/stats.txt" | sed 's/^/  stats (robot2 host): /'
-  grep -q " robots=2$" "$work/stats.txt" || fail "GET_STATS from robot2's host does not list 2 robots"
-  grep -q "^car1 seq=$((frames - 1)) integrations=$frames " "$work/stats.txt" ||
-    fail "car1: expected last seq $((frames - 1)) and $frames integrations (each scan once)"
-  grep -q "^car2 seq=$((2 * frames - 1)) integrations=$frames " "$work/stats.txt" ||
-    fail "car2: expected last seq $((2 * frames - 1)) and $frames integrations (each scan once)"
+  grep -q " robots=$robots$" "$work/stats.txt" ||
+    fail "GET_STATS from robot2's host does not list $robots robots"
+  local i last
+  for ((i = 1; i <= robots; i++)); do
+    last=$((i * frames - 1))
+    grep -q "^car$i seq=$last integrations=$frames " "$work/stats.txt" ||
+      fail "car$i: expected last seq $last and $frames integrations (each scan once)"
+  done
 }
 
 map_digest() {
@@ -163,24 +173,35 @@ intruder_is_refused() {
   echo "intruder: no key -> refused locally; wrong key -> UNAUTHENTICATED (socc-cli, odom_client exit $rc)"
   [[ $(map_digest) == "$before" ]] || fail "the intruder changed the map"
   cli_on robot2 stats >"$work/stats_after.txt"
-  grep -q " robots=2$" "$work/stats_after.txt" || fail "robots changed after the intruder"
+  grep -q " robots=$robots$" "$work/stats_after.txt" || fail "robots changed after the intruder"
   grep -q "^intruder " "$work/stats_after.txt" && fail "the intruder is listed as a robot"
   local failures
   failures=$(sed -n '1s/.* auth_failures=\([0-9]*\) .*/\1/p' "$work/stats_after.txt")
   ((failures >= 2)) || fail "auth_failures=$failures, expected >= 2"
-  echo "map digest unchanged, 2 robots, auth_failures=$failures"
+  echo "map digest unchanged, $robots robots, auth_failures=$failures"
 }
 
-# Per robot, over the frames with a timed pipeline (frames.csv total_ms > 0: not the first):
-# their count, Hz = 1000 / mean total_ms (frames run back to back), mean fetch and integrate ms.
+# column_stats CSV COLUMN: "mean,p50,p99" (nearest rank) of COLUMN of a frames.csv over the
+# frames with a timed pipeline (total_ms > 0).
+column_stats() {
+  awk -F, -v c="$2" 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+    $col["total_ms"] > 0 { print $col[c] }' "$1" | sort -g |
+    awk 'function rank(p,  r) { r = int(p * NR); if (r < p * NR) r++; return r < 1 ? 1 : r }
+      { v[NR] = $1; s += $1 }
+      END { printf "%.1f,%.1f,%.1f", s / NR, v[rank(0.5)], v[rank(0.99)] }'
+}
+
+# Per robot: frames, Hz = 1000 / mean total_ms (frames run back to back), fetch and integrate
+# ms (mean, p50, p99).
 report_rates() {
-  local car
-  for car in car1 car2; do
-    awk -F, -v car="$car" -v loss="$loss" 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
-      $col["total_ms"] > 0 { n++; f += $col["fetch_ms"]; g += $col["integrate_ms"]; t += $col["total_ms"] }
-      END { printf "%s,%s,%d,%.1f,%.1f,%.1f\n", loss, car, n, 1000 * n / t, f / n, g / n }' \
-      "$work/$car/frames.csv"
-  done | tee -a "${csv:-/dev/null}" | sed 's/^/  loss,robot,frames,Hz,fetch_ms,integrate_ms: /'
+  local i csv_file frames_done total
+  for ((i = 1; i <= robots; i++)); do
+    csv_file=$work/car$i/frames.csv
+    frames_done=$(awk -F, 'NR > 1' "$csv_file" | wc -l)
+    total=$(column_stats "$csv_file" total_ms)
+    echo "$loss,$robots,car$i,$frames_done,$(awk -v t="${total%%,*}" 'BEGIN { printf "%.1f", 1000 / t }'),$(column_stats "$csv_file" fetch_ms),$(column_stats "$csv_file" integrate_ms)"
+  done | tee -a "${csv:-/dev/null}" |
+    sed 's/^/  loss,robots,robot,frames,Hz,fetch mean,p50,p99,integrate mean,p50,p99: /'
 }
 
 make_lan
@@ -190,4 +211,4 @@ check_stats_from_robot_host
 report_rates
 intruder_is_refused
 keep_work=$keep
-echo "PASS: fleet (2 robots on 2 hosts, intruder refused, loss $loss %)"
+echo "PASS: fleet ($robots robots on $robots hosts, intruder refused, loss $loss %)"
