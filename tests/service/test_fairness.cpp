@@ -16,8 +16,8 @@ namespace {
 
 using test::scan;
 using Clock = RobotRateLimiter::Clock;
-constexpr std::int8_t kOk = reply_header_t::OK;
-constexpr std::int8_t kExhausted = reply_header_t::RESOURCE_EXHAUSTED;
+constexpr std::int8_t kFairOk = reply_header_t::OK;
+constexpr std::int8_t kFairExhausted = reply_header_t::RESOURCE_EXHAUSTED;
 
 TEST(RobotRateLimiter, BurstThenRate) {
   RobotRateLimiter limiter(10.0, 5.0);
@@ -85,11 +85,11 @@ TEST(Fairness, FloodingRobotIsRefusedAndTheOthersServed) {
   std::string message;
   for (const auto& r : h.replies) {
     if (r.client_id == "calm") {
-      EXPECT_EQ(r.status, kOk) << r.message;
+      EXPECT_EQ(r.status, kFairOk) << r.message;
       continue;
     }
-    ok += r.status == kOk;
-    if (r.status == kExhausted) {
+    ok += r.status == kFairOk;
+    if (r.status == kFairExhausted) {
       ++exhausted;
       message = r.message;
     }
