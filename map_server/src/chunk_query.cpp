@@ -118,7 +118,7 @@ ChunkVoxels SemanticOccupancyMap::queryChunk(const ChunkQuery& query) const {
       if (!block.observed[local]) continue;
       const VoxelIndex v = voxelOf(key, local);
       if (!region.covers(v)) continue;
-      const Eigen::Vector3d c = m.centre(v);
+      const Eigen::Vector3d c = m.grid.centre(v);
       if (!region.contains(c)) continue;
       const float l = block.log_odds[local];
       if (probability(l) >= query.occupancy_threshold) {

@@ -8,14 +8,15 @@
 #include <vector>
 
 #include "socc/map/ray_footprint.hpp"
+#include "socc/map/semantic_block.hpp"
 #include "socc/map/semantic_occupancy_map.hpp"
 #include "socc/map/semantic_voxel.hpp"
 #include "socc/map/voxel_grid.hpp"
 
 namespace socc::map {
 
-using Grid = VoxelGrid<VoxelStats>;
-using Block = Grid::Block;
+using Block = SemanticBlock;
+using Grid = VoxelGrid<Block>;
 
 /// The hit voxels of one partition of the scan (voxels whose block hashes to it). Partitions
 /// own disjoint blocks, so they are aggregated and applied in parallel without locks.
@@ -50,7 +51,7 @@ struct ScanScratch {
 };
 
 struct SemanticOccupancyMap::Impl {
-  explicit Impl(const MapConfig& c) : config(c), behaviour(c) {}
+  explicit Impl(const MapConfig& c) : config(c), behaviour(c), grid(c.voxel_size) {}
 
   MapConfig config;
   SemanticVoxelBehaviour behaviour;
@@ -63,10 +64,6 @@ struct SemanticOccupancyMap::Impl {
 
   ScanScratch scratch;
 
-  double voxelSize() const { return config.voxel_size; }
-  Eigen::Vector3d centre(const VoxelIndex& v) const {
-    return (v.cast<double>().array() + 0.5).matrix() * config.voxel_size;
-  }
   /// Recounts observed / occupied voxels (after loading).
   void recount();
 

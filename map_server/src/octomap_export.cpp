@@ -48,7 +48,8 @@ std::int64_t SemanticOccupancyMap::exportOctomap(const std::filesystem::path& fi
   std::vector<ExportVoxel> voxels;
   m.forEachObserved([&](const VoxelIndex& v, float log_odds, const VoxelStats* stats) {
     if (probability(log_odds) >= occupancy_threshold)
-      voxels.push_back({m.centre(v), log_odds, stats != nullptr ? stats->label : std::uint8_t{0}});
+      voxels.push_back(
+          {m.grid.centre(v), log_odds, stats != nullptr ? stats->label : std::uint8_t{0}});
   });
   std::int64_t n = 0;
   bool ok = false;

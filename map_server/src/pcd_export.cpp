@@ -17,7 +17,7 @@ std::int64_t SemanticOccupancyMap::exportPcd(const std::filesystem::path& file,
   pcl::PointCloud<pcl::PointXYZRGBL> cloud;
   m.forEachObserved([&](const VoxelIndex& v, float log_odds, const VoxelStats* stats) {
     if (probability(log_odds) < occupancy_threshold) return;
-    const Eigen::Vector3d c = m.centre(v);
+    const Eigen::Vector3d c = m.grid.centre(v);
     const std::uint8_t label = stats != nullptr ? stats->label : std::uint8_t{kUnlabeled};
     const Rgb rgb = label != kUnlabeled ? classColor(label) : Rgb{128, 128, 128};
     pcl::PointXYZRGBL p;

@@ -79,8 +79,10 @@ struct PixelGrid {
 };
 
 /// Splats every observed voxel of the box onto the pixels its footprint covers.
-std::vector<Column> splatVoxels(const Grid& grid, double vs, const IndexBox& box,
-                                const PixelGrid& pixels, double occupancy_threshold) {
+std::vector<Column> splatVoxels(const Grid& grid, const IndexBox& box, const PixelGrid& pixels,
+                                double occupancy_threshold) {
+  const VoxelGeometry geometry = grid.geometry();
+  const double vs = geometry.size;
   std::vector<Column> columns(static_cast<std::size_t>(pixels.width) * pixels.height);
   for (const BlockKey& key : grid.blocksIn(box.blockLo(), box.blockHi())) {
     const Block& block = *grid.find(key);
@@ -90,7 +92,7 @@ std::vector<Column> splatVoxels(const Grid& grid, double vs, const IndexBox& box
       if ((v.array() < box.lo.array()).any() || (v.array() > box.hi.array()).any()) continue;
       const double p = probability(block.log_odds[local]);
       const bool occupied = p >= occupancy_threshold;
-      const double z = (v.z() + 0.5) * vs;
+      const double z = geometry.centre(v).z();
       const VoxelStats* stats = block.statsOf(local);
       const auto [x0, x1] = pixels.range(v.x() * vs, (v.x() + 1) * vs, pixels.x0, pixels.width);
       const auto [y0, y1] = pixels.range(v.y() * vs, (v.y() + 1) * vs, pixels.y0, pixels.height);
@@ -120,7 +122,7 @@ SemanticOccupancyMap::Image SemanticOccupancyMap::render(const Eigen::Vector3d& 
   const double vs = impl_->config.voxel_size;
   const PixelGrid pixels = PixelGrid::over(box_min, box_max, pixel_size > 0.0 ? pixel_size : vs);
   const std::vector<Column> columns =
-      splatVoxels(impl_->grid, vs, IndexBox::of(box_min, box_max, vs), pixels, occupancy_threshold);
+      splatVoxels(impl_->grid, IndexBox::of(box_min, box_max, vs), pixels, occupancy_threshold);
   Image img;
   img.width = pixels.width;
   img.height = pixels.height;

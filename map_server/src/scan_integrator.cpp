@@ -27,16 +27,16 @@ std::size_t partitionOf(const VoxelIndex& v) {
 
 /// Per point (parallel, each point independent): range gate, map-frame position, voxel.
 void classifyPoints(const Eigen::Isometry3d& pose, const LabeledCloud& cloud,
-                    const MapConfig& config, ScanScratch& s) {
+                    const MapConfig& config, const Grid& grid, ScanScratch& s) {
   const std::size_t n = cloud.size();
   s.kind.resize(n);
   s.position.resize(n);
   s.voxel.resize(n);
-  const double inv = 1.0 / config.voxel_size;
   const Eigen::Matrix3d r = pose.linear();
   const Eigen::Vector3d t = pose.translation();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
                     [&](const tbb::blocked_range<std::size_t>& range) {
+                      const VoxelGeometry geometry = grid.geometry();
                       for (std::size_t i = range.begin(); i != range.end(); ++i) {
                         const Eigen::Vector3d ps = cloud.points[i].cast<double>();
                         const double d = ps.norm();
@@ -52,7 +52,7 @@ void classifyPoints(const Eigen::Isometry3d& pose, const LabeledCloud& cloud,
                         }
                         s.kind[i] = kind;
                         s.position[i] = pm;
-                        s.voxel[i] = voxelIndex(pm, inv);
+                        s.voxel[i] = geometry.indexOf(pm);
                       }
                     });
 }
@@ -149,11 +149,11 @@ void applyMisses(const SemanticVoxelBehaviour& behaviour, Block& block, const Vo
 }
 
 /// Ray ends: each hit voxel's centre (partition order), then each distinct max-range end.
-void collectRayEnds(double voxel_size, ScanScratch& s) {
+void collectRayEnds(const Grid& grid, ScanScratch& s) {
+  const VoxelGeometry geometry = grid.geometry();
   s.ray_ends.clear();
   for (const HitPartition& part : s.partitions)
-    for (const VoxelIndex& v : part.voxels)
-      s.ray_ends.push_back((v.cast<double>().array() + 0.5).matrix() * voxel_size);
+    for (const VoxelIndex& v : part.voxels) s.ray_ends.push_back(geometry.centre(v));
   s.clipped_of.clear();
   for (std::size_t i = 0; i < s.kind.size(); ++i)
     if (s.kind[i] == PointKind::kClipped && s.clipped_of.try_emplace(s.voxel[i], 0).second)
@@ -161,15 +161,15 @@ void collectRayEnds(double voxel_size, ScanScratch& s) {
 }
 
 /// Traverses every ray (fixed chunks in parallel) and merges the footprints in chunk order.
-const RayFootprint& traverseRays(const Eigen::Vector3d& origin, double voxel_size, ScanScratch& s) {
+const RayFootprint& traverseRays(const Eigen::Vector3d& origin, const Grid& grid, ScanScratch& s) {
   constexpr std::size_t kChunks = ScanScratch::kRayChunks;
   const std::size_t n = s.ray_ends.size();
   tbb::parallel_for(std::size_t{0}, kChunks, [&](std::size_t c) {
     const std::size_t begin = n * c / kChunks, end = n * (c + 1) / kChunks;
-    const double inv = 1.0 / voxel_size;
-    VoxelIndex lo = voxelIndex(origin, inv), hi = lo;
+    const VoxelGeometry geometry = grid.geometry();
+    VoxelIndex lo = geometry.indexOf(origin), hi = lo;
     for (std::size_t i = begin; i < end; ++i) {
-      const VoxelIndex v = voxelIndex(s.ray_ends[i], inv);
+      const VoxelIndex v = geometry.indexOf(s.ray_ends[i]);
       lo = lo.cwiseMin(v);
       hi = hi.cwiseMax(v);
     }
@@ -177,7 +177,7 @@ const RayFootprint& traverseRays(const Eigen::Vector3d& origin, double voxel_siz
     footprint.reset(lo, hi);
     RayFootprint::Marker mark(footprint);
     for (std::size_t i = begin; i < end; ++i)
-      forEachVoxelOnRay(origin, s.ray_ends[i], voxel_size, mark);
+      forEachVoxelOnRay(origin, s.ray_ends[i], geometry.size, mark);
     footprint.finish();
   });
   RayFootprint& all = s.footprints[0];
@@ -209,9 +209,9 @@ Tally integrateHits(const SemanticVoxelBehaviour& behaviour, Grid::Accessor& acc
 /// hit. Blocks are created serially, misses applied in parallel by block: a voxel lives in one
 /// block and a miss's effect does not depend on the order of other voxels' misses.
 Tally integrateMisses(const SemanticVoxelBehaviour& behaviour, Grid::Accessor& access,
-                      const Eigen::Vector3d& origin, double voxel_size, ScanScratch& s) {
-  collectRayEnds(voxel_size, s);
-  const RayFootprint& footprint = traverseRays(origin, voxel_size, s);
+                      const Grid& grid, const Eigen::Vector3d& origin, ScanScratch& s) {
+  collectRayEnds(grid, s);
+  const RayFootprint& footprint = traverseRays(origin, grid, s);
   s.miss_blocks.resize(footprint.numBlocks());
   for (std::size_t i = 0; i < footprint.numBlocks(); ++i)
     s.miss_blocks[i] = &access.block(footprint.key(i));
@@ -247,14 +247,13 @@ IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& senso
   IntegrationResult result;
   Tally tally;
   m.arena.execute([&] {
-    classifyPoints(sensor_pose, cloud, m.config, s);
+    classifyPoints(sensor_pose, cloud, m.config, m.grid, s);
     tbb::parallel_for(std::size_t{0}, ScanScratch::kHitPartitions,
                       [&](std::size_t p) { aggregatePartition(p, cloud, s); });
     tally = integrateHits(m.behaviour, access, s);
     result.voxels_hit = static_cast<std::int32_t>(tally.touched);
     if (m.config.raycast)
-      tally +=
-          integrateMisses(m.behaviour, access, sensor_pose.translation(), m.config.voxel_size, s);
+      tally += integrateMisses(m.behaviour, access, m.grid, sensor_pose.translation(), s);
   });
   clearScanMarks(s);
 

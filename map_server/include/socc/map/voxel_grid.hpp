@@ -1,14 +1,15 @@
 #pragma once
 // Sparse voxel grid container: blocks of 8^3 voxels hashed by block coordinate
 // (tsl::robin_map), so access is near constant time and empty space costs nothing.
-// The container knows nothing about what a voxel means: the statistics type is a
-// template parameter and all update rules live in the voxel behaviour.
+// The container knows voxel geometry (size, index of a point, centre, block layout) and
+// nothing about what a voxel holds: the block type is a template parameter (as Bonxai's
+// VoxelGrid<DataT>); the map's is SemanticBlock, and all update rules live in the voxel
+// behaviour.
 #include <tsl/robin_map.h>
 
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
-#include <bitset>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -26,7 +27,6 @@ using BlockKey = Eigen::Vector3i;
 inline constexpr int kBlockShift = 3;
 inline constexpr int kBlockDim = 1 << kBlockShift;  // 8 voxels per block edge
 inline constexpr int kBlockVoxels = kBlockDim * kBlockDim * kBlockDim;
-inline constexpr std::uint16_t kNoStats = 0xFFFF;
 
 inline BlockKey blockOf(const VoxelIndex& v) {
   // Arithmetic shift floors negative coordinates (guaranteed by GCC/Clang, C++20 standard).
@@ -44,53 +44,31 @@ inline VoxelIndex voxelOf(const BlockKey& block, int local) {
           block.z() * kBlockDim + (local & m)};
 }
 
-/// One block. Every voxel pays only for its log-odds and a 16-bit slot; the (large)
-/// statistics live in a per-block pool and exist only for voxels that have them.
-template <typename Stats>
-struct VoxelBlock {
-  std::array<float, kBlockVoxels> log_odds{};
-  std::array<std::uint16_t, kBlockVoxels> slot;
-  std::bitset<kBlockVoxels> observed;   // unknown voxels are not observed
-  std::bitset<kBlockVoxels> scan_mark;  // scratch: voxel already updated by the current scan
-  bool in_scan = false;                 // scratch: block is in the scan's touched list
-  std::vector<Stats> stats;
-  std::vector<std::uint16_t> free_slots;
-
-  VoxelBlock() { slot.fill(kNoStats); }
-
-  const Stats* statsOf(int local) const {
-    return slot[local] == kNoStats ? nullptr : &stats[slot[local]];
+/// A grid's voxel geometry: size, the voxel holding a point (socc/voxel.hpp's rule), a voxel's
+/// centre. A small value: hot loops copy it into a local, which stays in registers.
+struct VoxelGeometry {
+  explicit VoxelGeometry(double voxel_size) : size(voxel_size), inv_size(1.0 / voxel_size) {}
+  VoxelIndex indexOf(const Eigen::Vector3d& p) const { return voxelIndex(p, inv_size); }
+  Eigen::Vector3d centre(const VoxelIndex& v) const {
+    return (v.cast<double>().array() + 0.5).matrix() * size;
   }
-  Stats* statsOf(int local) { return slot[local] == kNoStats ? nullptr : &stats[slot[local]]; }
-
-  /// Returns the voxel's statistics, creating a value-initialised entry if it has none.
-  Stats& acquireStats(int local) {
-    if (slot[local] != kNoStats) return stats[slot[local]];
-    if (!free_slots.empty()) {
-      slot[local] = free_slots.back();
-      free_slots.pop_back();
-      stats[slot[local]] = Stats{};
-    } else {
-      slot[local] = static_cast<std::uint16_t>(stats.size());
-      stats.emplace_back();
-    }
-    return stats[slot[local]];
-  }
-  void releaseStats(int local) {
-    if (slot[local] == kNoStats) return;
-    free_slots.push_back(slot[local]);
-    slot[local] = kNoStats;
-  }
-  std::size_t memoryBytes() const {
-    return sizeof(*this) + stats.capacity() * sizeof(Stats) +
-           free_slots.capacity() * sizeof(std::uint16_t);
-  }
+  double size;
+  double inv_size;
 };
 
-template <typename Stats>
+/// Block: what one block of kBlockVoxels voxels holds (default-constructible, with
+/// memoryBytes()); voxel v of a block is entry localOf(v) of its arrays.
+template <typename BlockT>
 class VoxelGrid {
  public:
-  using Block = VoxelBlock<Stats>;
+  using Block = BlockT;
+
+  explicit VoxelGrid(double voxel_size) : geometry_(voxel_size) {}
+
+  const VoxelGeometry& geometry() const { return geometry_; }
+  double voxelSize() const { return geometry_.size; }
+  VoxelIndex indexOf(const Eigen::Vector3d& p) const { return geometry_.indexOf(p); }
+  Eigen::Vector3d centre(const VoxelIndex& v) const { return geometry_.centre(v); }
   // unique_ptr keeps block addresses stable across rehashing (cached accessors hold them).
   using BlockMap = tsl::robin_map<BlockKey, std::unique_ptr<Block>, VoxelIndexHash>;
 
@@ -170,6 +148,7 @@ class VoxelGrid {
   };
 
  private:
+  VoxelGeometry geometry_;
   BlockMap blocks_;
 };
 
