@@ -5,18 +5,20 @@
 # robot's rate and its fetch (GET_CHUNK) and integrate latency percentiles. Every run must pass
 # (each scan integrated exactly once, chunks arriving); no rate is judged.
 #
-# Usage: scripts/bench_fleet.sh [--build DIR] [--robots "2"] [--frames N] [--loss "0 1 5"]  (root)
+# Usage: scripts/bench_fleet.sh [--build DIR] [--robots "2"] [--frames N] [--loss "0 1 5"]
+#                              [--timeout-ms MS]     (as root)
 #   --robots takes a list too ("2 8"): every robot count runs at every loss rate.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build=$root/build counts=2 frames=20 rates="0 1 5"
+build=$root/build counts=2 frames=20 rates="0 1 5" timeout_ms=500
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
     --robots) counts=$2; shift 2 ;;
     --frames) frames=$2; shift 2 ;;
     --loss) rates=$2; shift 2 ;;
-    -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --timeout-ms) timeout_ms=$2; shift 2 ;;
+    -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench_fleet: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -27,7 +29,7 @@ for robots in $counts; do
     echo "bench_fleet: $robots robots, loss $loss %, $frames frames per robot" >&2
     bash "$root/tests/integration/fleet_test.sh" --server "$build/map_server/map_server" \
       --client "$build/odom_client/odom_client" --cli "$build/tools/socc-cli" \
-      --sim "$build/sim/socc-sim" --robots "$robots" --frames "$frames" --loss "$loss" \
+      --sim "$build/sim/socc-sim" --robots "$robots" --frames "$frames" --loss "$loss" --timeout-ms "$timeout_ms" \
       --csv "$csv" >&2
   done
 done

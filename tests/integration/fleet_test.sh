@@ -5,7 +5,7 @@
 # on failure. LCM runs in LAN mode: udpm://239.255.x.y:port?ttl=1 with a shared key.
 #
 # Usage: fleet_test.sh --server BIN --client BIN --cli BIN --sim BIN [--robots R] [--frames N]
-#                      [--loss PCT] [--csv FILE] [--keep]
+#                      [--loss PCT] [--timeout-ms MS] [--csv FILE] [--keep]
 #   R robots (default 2), each on its own host, drive consecutive N-frame segments (default 4)
 #   of one socc-sim street (HDL-64: KITTI-size scans, 1.6 MB per INTEGRATE) from their GT start
 #   poses, at the same time, as fast as they can.
@@ -17,12 +17,13 @@
 #   --loss PCT drops PCT % of the IP packets (each fragment alone) in and out of each robot
 #   host (nftables); --csv appends one line per robot: loss, robots, robot, frames, Hz, fetch ms
 #   mean/p50/p99, integrate ms mean/p50/p99.
+#   --timeout-ms: odom_client's per-attempt timeout (default 500; 20 attempts).
 #   --keep keeps the work directory (logs, frames.csv of each robot) also when the test passes.
 # Needs root (CAP_NET_ADMIN) and nft for --loss; without them it FAILS (it never skips).
 set -euo pipefail
-usage() { sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
-server_bin="" client_bin="" cli_bin="" sim_bin="" robots=2 frames=4 loss=0 csv="" keep=0
+server_bin="" client_bin="" cli_bin="" sim_bin="" robots=2 frames=4 loss=0 timeout_ms=500 csv="" keep=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --server) server_bin=$2; shift 2 ;;
@@ -32,6 +33,7 @@ while [ $# -gt 0 ]; do
     --robots) robots=$2; shift 2 ;;
     --frames) frames=$2; shift 2 ;;
     --loss) loss=$2; shift 2 ;;
+    --timeout-ms) timeout_ms=$2; shift 2 ;;
     --csv) csv=$2; shift 2 ;;
     --keep) keep=1; shift ;;
     -h|--help) usage 0 ;;
@@ -111,7 +113,7 @@ gt_pose() {  # gt_pose FRAME: GT pose of FRAME as "x y z roll pitch yaw" (R = Rz
 
 # On a lossy LAN a lost small request or reply (one packet) costs one attempt's timeout: 500 ms
 # instead of the default 2 s (docs/fleet.md), with attempts enough for several losses in a row.
-printf 'timeout_ms: 500\nmax_attempts: 20\n' >"$work/lan.yaml"
+printf 'timeout_ms: %d\nmax_attempts: 20\n' "$timeout_ms" >"$work/lan.yaml"
 
 run_robot() {  # run_robot HOST ROBOT_ID FIRST KEY: odom_client on frames FIRST.. on HOST
   in_host "$prefix" "$1" "$client_bin" --kitti "$work/sim" --config "$work/lan.yaml" --first-frame "$3" \
