@@ -13,6 +13,7 @@
 #include "socc/chunk_request_t.hpp"
 #include "socc/integrate_request_t.hpp"
 #include "socc/map_command_request_t.hpp"
+#include "socc/part_t.hpp"
 #include "socc/render_request_t.hpp"
 #include "socc/robot_pose_request_t.hpp"
 #include "socc/robot_status_request_t.hpp"
@@ -169,12 +170,37 @@ void scanSeed(SeedWriter& w, const socc::integrate_request_t& in) {
   w.message("fuzz_scan", "scan", scan);
 }
 
+// fuzz_part_assembler: records [2-byte big-endian length][part_t]; a 3-part message in order,
+// the same shuffled with a duplicate, and a transfer with a part missing (it stalls).
+void partSeeds(SeedWriter& w) {
+  std::vector<std::string> parts;
+  for (std::int32_t i = 0; i < 3; ++i) {
+    socc::part_t p{};
+    p.sender = "robot1.0badc0de";
+    p.transfer_id = 42;
+    p.index = i;
+    p.count = 3;
+    p.total_size = 25;
+    p.offset = 10 * i;
+    p.size = i < 2 ? 10 : 5;
+    p.data.assign(static_cast<std::size_t>(p.size), static_cast<std::uint8_t>('a' + i));
+    std::string buf(static_cast<std::size_t>(p.getEncodedSize()), '\0');
+    p.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    parts.push_back(std::string{static_cast<char>(buf.size() >> 8), static_cast<char>(buf.size())} +
+                    buf);
+  }
+  w.bytes("fuzz_part_assembler", "in_order", parts[0] + parts[1] + parts[2]);
+  w.bytes("fuzz_part_assembler", "shuffled", parts[2] + parts[0] + parts[2] + parts[1]);
+  w.bytes("fuzz_part_assembler", "missing", parts[0] + parts[2]);
+}
+
 void requestSeeds(SeedWriter& w) {
   const socc::integrate_request_t in = integrateSeeds(w);
   chunkSeeds(w);
   robotSeeds(w, in.scan_utime);
   mapSeeds(w);
   scanSeed(w, in);
+  partSeeds(w);
 }
 
 void fileSeeds(SeedWriter& w) {
