@@ -12,6 +12,7 @@
 #include "socc/auth/message_auth.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/integrate_request_t.hpp"
+#include "socc/localize_request_t.hpp"
 #include "socc/map_command_request_t.hpp"
 #include "socc/part_t.hpp"
 #include "socc/render_request_t.hpp"
@@ -127,6 +128,24 @@ void robotSeeds(SeedWriter& w, std::int64_t utime) {
   }
 }
 
+// LOCALIZE: the seed ring as a scan, searched with and without a hint, and checked at a pose.
+void localizeSeeds(SeedWriter& w, const socc::integrate_request_t& in) {
+  socc::localize_request_t r{};
+  r.header = header("LOCALIZE");
+  r.num_points = in.num_points;
+  r.xyz = in.xyz;
+  r.hint_yaw_tolerance = 3.2;
+  r.max_candidates = 3;
+  w.message("fuzz_localize_request", "search", r);
+  r.hint_radius = 5.0;
+  w.message("fuzz_localize_request", "hint", r);
+  r.hint_radius = 0.0;
+  r.check_pose.resize(1);
+  r.check_pose[0].quaternion[0] = 1.0;
+  r.num_check = 1;
+  w.message("fuzz_localize_request", "check", r);
+}
+
 // MAP_COMMAND (each command) and RENDER (each mode).
 void mapSeeds(SeedWriter& w) {
   socc::map_command_request_t cmd{};
@@ -198,6 +217,7 @@ void requestSeeds(SeedWriter& w) {
   const socc::integrate_request_t in = integrateSeeds(w);
   chunkSeeds(w);
   robotSeeds(w, in.scan_utime);
+  localizeSeeds(w, in);
   mapSeeds(w);
   scanSeed(w, in);
   partSeeds(w);

@@ -7,10 +7,13 @@
 # OUT/alone/robotI/ (poses, frames.csv, eval.json, plots/), OUT/summary.md; prints the table
 # and PASS/FAIL per robot (PASS: ATE RMSE with N robots <= 1.1 x alone + 1 mm, the spread
 # between runs with N robots).
+# With --relocalize, a mapping robot first drives the whole sequence from its GT start; then
+# robot0 starts at its GT pose as before and robots 1..N-1 join with odom_client --relocalize
+# (no start pose: found in the map and verified, docs/relocalization.md). Same criterion.
 #
 # Usage: scripts/demo_multirobot.sh [--robots N] [--frames F] [--build DIR] [--out DIR]
 #                                   [--seed S] [--speed V] [--scene S] [--trajectory R]
-#                                   [--distortion]
+#                                   [--distortion] [--relocalize]
 #   --robots N   number of robots (default 3)
 #   --frames F   frames per robot (default 25; the sequence has N*F frames)
 #   --build DIR  build directory with all binaries (default build/)
@@ -20,11 +23,13 @@
 #   --scene S    socc-sim scene (default street; indoor has no moving objects)
 #   --trajectory R  socc-sim route (straight, circle, figure8, zigzag; default: the scene's)
 #   --distortion socc-sim moves the sensor during each sweep (per-point times; deskewed)
+#   --relocalize robots 1..N-1 join the map without start poses (see above)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 robots=3 frames=25 build="$root/build" out="$root/out/multirobot" seed=1 scene=street speed=9
+relocalize=0
 sim_extra=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -37,6 +42,7 @@ while [ $# -gt 0 ]; do
     --speed) speed="$2"; shift 2 ;;
     --trajectory) sim_extra+=(--trajectory "$2"); shift 2 ;;
     --distortion) sim_extra+=(--distortion); shift ;;
+    --relocalize) relocalize=1; shift ;;
     -h|--help) usage 0 ;;
     *) echo "demo_multirobot: unknown argument $1" >&2; usage 2 ;;
   esac
@@ -101,12 +107,14 @@ initial_pose() {
       atan2($10, $11), atan2(-$9, sqrt($10 * $10 + $11 * $11)), atan2($5, $1) }'
 }
 
-run_client() {  # run_client I OUTDIR: odom_client of robot I in the background; pid -> client_pid
-  local i=$1 dir=$2 first
+run_client() {  # run_client I OUTDIR [together]: odom_client of robot I in the background; pid -> client_pid
+  local i=$1 dir=$2 first start
   first=$(first_of "$i")
+  start=(--initial-pose "$(initial_pose "$i")")
+  if ((relocalize && i > 0)) && [[ ${3:-} == together ]]; then start=(--relocalize); fi
   mkdir -p "$dir"
   "$build/odom_client/odom_client" --kitti "$seq_dir" --lcm-url "$url" --robot-id "robot$i" \
-    --first-frame "$first" --last-frame $((first + frames - 1)) --initial-pose "$(initial_pose "$i")" \
+    --first-frame "$first" --last-frame $((first + frames - 1)) "${start[@]}" \
     --out-dir "$dir" --quiet >"$dir/summary.txt" 2>"$dir/client.log" &
   client_pid=$!
 }
@@ -120,10 +128,18 @@ evaluate() {  # evaluate I DIR
 
 # --- N robots at the same time in one map --------------------------------------------------
 start_server "$out/server_together.log"
+if ((relocalize)); then
+  log "a mapping robot drives the whole sequence first (GT start)"
+  mkdir -p "$out/mapper"
+  "$build/odom_client/odom_client" --kitti "$seq_dir" --lcm-url "$url" --robot-id mapper \
+    --initial-pose "$(initial_pose 0)" \
+    --out-dir "$out/mapper" --quiet >"$out/mapper/summary.txt" 2>"$out/mapper/client.log" &
+  wait_client "$!" "$out/mapper"
+fi
 log "$robots robots at the same time on $url"
 client_pids=()
 for ((i = 0; i < robots; i++)); do
-  run_client "$i" "$out/together/robot$i"
+  run_client "$i" "$out/together/robot$i" together
   client_pids+=("$client_pid")
 done
 for ((i = 0; i < robots; i++)); do wait_client "${client_pids[$i]}" "$out/together/robot$i"; done

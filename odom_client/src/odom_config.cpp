@@ -58,6 +58,7 @@ const std::map<std::string, Field>& fields() {
       {"convergence", &OdomConfig::convergence},
       {"relocalize_candidates", &OdomConfig::relocalize_candidates},
       {"relocalize_min_fitness", &OdomConfig::relocalize_min_fitness},
+      {"relocalize_max_free", &OdomConfig::relocalize_max_free},
       {"relocalize_margin", &OdomConfig::relocalize_margin},
       {"relocalize_timeout", &OdomConfig::relocalize_timeout},
       {"relocalize_voxel_size", &OdomConfig::relocalize_voxel_size},
@@ -170,6 +171,7 @@ std::string validate(const OdomConfig& c) {
   if (c.relocalize_candidates < 1 || c.relocalize_candidates > 16)
     return "relocalize_candidates must be within [1, 16]";
   if (!unit(c.relocalize_min_fitness)) return "relocalize_min_fitness must be within [0, 1]";
+  if (!unit(c.relocalize_max_free)) return "relocalize_max_free must be within [0, 1]";
   if (!unit(c.relocalize_margin)) return "relocalize_margin must be within [0, 1]";
   if (!finite_pos(c.relocalize_timeout)) return "relocalize_timeout must be > 0";
   if (!finite_pos(c.relocalize_voxel_size)) return "relocalize_voxel_size must be > 0";

@@ -45,6 +45,30 @@ std::vector<Verified> verify(const OdomConfig& config, const PreparedScan& scan,
   return places;
 }
 
+std::string percent(double v);
+
+// The verified places whose scan does not see through the map's observed free space.
+std::vector<Verified> consistentPlaces(const OdomConfig& config, std::vector<Verified> places,
+                                       const std::vector<Eigen::Vector3f>& points, MapAccess& map,
+                                       Relocalization& out) {
+  if (places.empty()) return places;
+  std::vector<Eigen::Isometry3d> poses;
+  for (const Verified& v : places) poses.push_back(v.pose);
+  const std::vector<SpaceCheck> checks = map.check(points, poses);
+  std::vector<Verified> consistent;
+  for (std::size_t i = 0; i < places.size() && i < checks.size(); ++i) {
+    if (i == 0) out.free = checks[i].free;
+    if (checks[i].free <= config.relocalize_max_free)
+      consistent.push_back(places[i]);
+    else if (out.problem.empty())
+      out.problem = "the best place puts " + percent(checks[i].free) +
+                    " of the scan into space the map saw free (> " +
+                    percent(config.relocalize_max_free) + ")";
+  }
+  if (!consistent.empty()) out.problem.clear();
+  return consistent;
+}
+
 std::string percent(double v) {
   std::ostringstream out;
   out.precision(0);
@@ -74,17 +98,19 @@ std::vector<Eigen::Vector3f> localizationPoints(const LabeledCloud& cloud, doubl
 Relocalization relocalize(const OdomConfig& config, const PreparedScan& scan, MapAccess& map,
                           const std::optional<PoseHint>& hint) {
   Relocalization out;
-  const std::vector<Eigen::Isometry3d> candidates = map.candidates(
-      localizationPoints(scan.cloud, config.relocalize_voxel_size, kMaxLocalizePoints), hint,
-      config.relocalize_candidates);
+  const std::vector<Eigen::Vector3f> points =
+      localizationPoints(scan.cloud, config.relocalize_voxel_size, kMaxLocalizePoints);
+  const std::vector<Eigen::Isometry3d> candidates =
+      map.candidates(points, hint, config.relocalize_candidates);
   out.candidates = static_cast<int>(candidates.size());
   if (candidates.empty()) {
     out.problem = "no candidate pose: the scan matches nothing in the map";
     return out;
   }
-  const std::vector<Verified> places = verify(config, scan, map, candidates);
+  const std::vector<Verified> places =
+      consistentPlaces(config, verify(config, scan, map, candidates), points, map, out);
   if (places.empty()) {
-    out.problem = "no candidate survived registration";
+    if (out.problem.empty()) out.problem = "no candidate survived registration";
     return out;
   }
   out.fitness = places[0].fitness;

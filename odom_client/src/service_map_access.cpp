@@ -34,6 +34,20 @@ std::vector<Eigen::Isometry3d> ServiceMapAccess::candidates(
   return out;
 }
 
+std::vector<SpaceCheck> ServiceMapAccess::check(const std::vector<Eigen::Vector3f>& scan,
+                                                const std::vector<Eigen::Isometry3d>& poses) {
+  localize_request_t request = rpc::makeLocalizeRequest(scan, 1);
+  for (const Eigen::Isometry3d& pose : poses) request.check_pose.push_back(toLcm(pose));
+  request.num_check = static_cast<std::int32_t>(request.check_pose.size());
+  const rpc::Result<localize_reply_t> reply = client_.localize(std::move(request));
+  if (!reply.ok()) throw std::runtime_error(callError("LOCALIZE", reply.error, reply.attempts));
+  std::vector<SpaceCheck> out;
+  for (std::int32_t i = 0; i < reply.reply->num_checked; ++i)
+    out.push_back({reply.reply->observed[static_cast<std::size_t>(i)],
+                   reply.reply->free[static_cast<std::size_t>(i)]});
+  return out;
+}
+
 LocalMap ServiceMapAccess::chunk(const Eigen::Vector3d& center) {
   chunk_request_t request = rpc::sphereChunkRequest(center, config_.chunk_radius);
   request.occupancy_threshold = static_cast<float>(config_.occupancy_threshold);

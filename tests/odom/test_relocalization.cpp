@@ -4,40 +4,19 @@
 // map frame, and a scan from a place A never mapped is not localized.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "closed_loop_harness.hpp"
-#include "global_localizer.hpp"
-#include "socc/odom/relocalization.hpp"
+#include "in_process_map.hpp"
+#include "socc/kitti_io.hpp"
 
 namespace {
 
+namespace fs = std::filesystem;
 using namespace socc::odom;
 using harness::ClosedLoop;
+using harness::InProcessMap;
 using harness::simulated;
-
-// MapAccess over the in-process grid: what map_server answers to LOCALIZE and GET_CHUNK.
-class InProcessMap : public MapAccess {
- public:
-  InProcessMap(const socc::map::SemanticOccupancyMap& map, const OdomConfig& cfg)
-      : map_(map), cfg_(cfg) {}
-  std::vector<Eigen::Isometry3d> candidates(const std::vector<Eigen::Vector3f>& scan,
-                                            const std::optional<PoseHint>& hint, int max) override {
-    std::optional<socc::localization::LocalizeHint> h;
-    if (hint)
-      h = socc::localization::LocalizeHint{hint->position, hint->yaw, hint->radius,
-                                           hint->yaw_tolerance};
-    std::vector<Eigen::Isometry3d> out;
-    for (const auto& c : localizer_.localize(map_, scan, h, max).candidates) out.push_back(c.pose);
-    return out;
-  }
-  LocalMap chunk(const Eigen::Vector3d& center) override {
-    return harness::chunkAround(map_, center, cfg_);
-  }
-
- private:
-  const socc::map::SemanticOccupancyMap& map_;
-  OdomConfig cfg_;
-  socc::localization::GlobalLocalizer localizer_;
-};
 
 double degrees(const Eigen::Isometry3d& d) {
   return Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI;
@@ -117,6 +96,55 @@ TEST(Relocalize, AnUnmappedPlaceIsNotLocalized) {
       EXPECT_FALSE(r.pose) << "a place that is not in the map was localized";
     }
   }
+}
+
+}  // namespace
+
+namespace {
+
+socc::LabeledCloud kitti08(int frame) {
+  char name[16];
+  std::snprintf(name, sizeof(name), "%06d.bin", frame);
+  socc::LabeledCloud c;
+  c.points =
+      socc::readKittiBin(fs::path(SOCC_SHARED_DATA_DIR) / "kitti_pairs" / "08" / "velodyne" / name);
+  return c;
+}
+
+// Issue 12 item 4, real data: KITTI 08 frames 720 and 1500 are the same place driven in opposite
+// directions (148.5 deg apart). 1500 is localized in a map built from 720 alone, with no guess.
+// The GT is good to about 1 m there: the pose must lie within 1.5 m / 3 deg of it, and within
+// 0.1 m / 0.5 deg of a fine registration started from the GT.
+TEST(Relocalize, KittiReverseRevisitWithoutAGuess) {
+  const fs::path data = SOCC_SHARED_DATA_DIR;
+  if (!fs::exists(data / "kitti_pairs" / "08")) GTEST_SKIP() << "shared data folder absent";
+  const socc::Poses cam = socc::readKittiPoses(data / "kitti_gt" / "poses" / "08.txt");
+  const Eigen::Isometry3d tr = socc::readKittiCalibTr(data / "kitti_gt" / "calib_04-10_Tr.txt");
+  const socc::Poses gt = socc::cameraToLidarPoses({cam.at(720), cam.at(1500)}, tr);
+
+  const OdomConfig cfg;
+  socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
+  map.integrate(gt[0], kitti08(720));
+  InProcessMap access(map, cfg);
+  Odometry odom(cfg, Eigen::Isometry3d::Identity());
+  const PreparedScan scan = odom.prepare(kitti08(1500), 1500, 0);
+
+  const Relocalization r = relocalize(cfg, scan, access, {});
+  ASSERT_TRUE(r.pose) << r.problem;
+  Odometry fine(cfg, gt[1]);
+  const FrameEstimate from_gt = fine.registerAt(scan, access.chunk(gt[1].translation()), gt[1]);
+  ASSERT_TRUE(from_gt.health.healthy()) << from_gt.health.problem;
+  const Eigen::Isometry3d to_gt = gt[1].inverse() * *r.pose;
+  const Eigen::Isometry3d to_fine = from_gt.pose.inverse() * *r.pose;
+  std::printf(
+      "fitness %.2f (runner-up %.2f); %.3f m %.3f deg from GT, %.4f m %.4f deg from the "
+      "fine registration\n",
+      r.fitness, r.runner_up, to_gt.translation().norm(), degrees(to_gt),
+      to_fine.translation().norm(), degrees(to_fine));
+  EXPECT_LT(to_gt.translation().norm(), 1.5);
+  EXPECT_LT(degrees(to_gt), 3.0);
+  EXPECT_LT(to_fine.translation().norm(), 0.1);
+  EXPECT_LT(degrees(to_fine), 0.5);
 }
 
 }  // namespace

@@ -81,7 +81,7 @@ FeatureCloud describe(const std::vector<Eigen::Vector3f>& points, const FeatureP
   fpfh.setRadiusSearch(params.feature_radius);
   fpfh.compute(features);
   for (std::size_t i = 0; i < keypoints->size(); ++i) {
-    if (!finiteHistogram(features[i])) continue;
+    if (!finiteHistogram(features[i]) || (*keypoints)[i].curvature < params.min_curvature) continue;
     out.keypoints->push_back((*keypoints)[i]);
     out.features->push_back(features[i]);
   }

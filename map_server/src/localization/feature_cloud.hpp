@@ -16,7 +16,10 @@ namespace socc::localization {
 struct FeatureParams {
   double keypoint_voxel = 1.0;  // [m] keypoint spacing
   double normal_radius = 2.0;   // [m]
-  double feature_radius = 3.0;  // [m] FPFH support
+  double feature_radius = 4.0;  // [m] FPFH support
+  // Keypoints on flat surfaces (road, facades) all carry the same descriptor and only add wrong
+  // matches: kept are those whose neighbourhood's surface variation (PCL curvature) exceeds this.
+  double min_curvature = 0.05;
 };
 
 struct FeatureCloud {

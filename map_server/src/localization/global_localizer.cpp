@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "socc/map/semantic_voxel.hpp"
+
 namespace socc::localization {
 namespace {
 
@@ -77,6 +79,28 @@ double reachOf(const FeatureCloud& scan) {
 }
 
 }  // namespace
+
+SpaceCheck checkFreeSpace(const map::SemanticOccupancyMap& map,
+                          const std::vector<Eigen::Vector3f>& scan, const Eigen::Isometry3d& pose) {
+  // Free space is weighed by the evidence for it: a voxel at the lower clamp (missed by many
+  // rays) counts fully, one missed by a single ray (a map of one scan) or flickering at a
+  // surface hardly at all.
+  const double confident = std::abs(map::logit(map.config().clamp_min));
+  std::size_t observed = 0;
+  double free = 0.0;
+  for (const Eigen::Vector3f& p : scan) {
+    const double occupancy = map.occupancyAt(pose * p.cast<double>());
+    if (occupancy < 0.0) continue;
+    ++observed;
+    if (occupancy < map.config().occupancy_threshold)
+      free += std::min(1.0, -map::logit(occupancy) / confident);
+  }
+  SpaceCheck out;
+  if (scan.empty() || observed == 0) return out;
+  out.observed = static_cast<double>(observed) / static_cast<double>(scan.size());
+  out.free = free / static_cast<double>(observed);
+  return out;
+}
 
 double yawOf(const Eigen::Isometry3d& pose) {
   return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));

@@ -22,11 +22,11 @@ namespace socc::localization {
 
 struct LocalizerParams {
   FeatureParams features;
-  int iterations = 5000;              // RANSAC iterations per run
-  int runs = 3;                       // seeded runs; each may find another hypothesis
-  int correspondence_randomness = 3;  // each sample picks one of this many nearest features
+  int iterations = 100000;            // RANSAC iterations per run
+  int runs = 6;                       // seeded runs; each may find another hypothesis
+  int correspondence_randomness = 6;  // each sample picks one of this many nearest features
   double similarity = 0.9;            // edge-length ratio a sample must keep
-  double inlier_distance = 1.5;       // [m] keypoint match distance (1.5 keypoint spacings)
+  double inlier_distance = 1.0;       // [m] keypoint match distance (one keypoint spacing)
   double min_inlier_fraction = 0.1;   // of the scan keypoints, for a hypothesis to count
   double rebuild_change = 0.02;       // relative change of occupied voxels that rebuilds
   double distinct_translation = 2.0;  // [m] hypotheses closer than this and
@@ -74,5 +74,13 @@ class GlobalLocalizer {
 
 /// Heading of a pose: the sensor's x axis about the map's z axis [rad].
 double yawOf(const Eigen::Isometry3d& pose);
+
+/// Where a scan's points (sensor frame) land in the map at pose.
+struct SpaceCheck {
+  double observed = 0.0;  // share of the points in voxels the map observed
+  double free = 0.0;      // of those, the share in free space, weighed by its evidence (0..1)
+};
+SpaceCheck checkFreeSpace(const map::SemanticOccupancyMap& map,
+                          const std::vector<Eigen::Vector3f>& scan, const Eigen::Isometry3d& pose);
 
 }  // namespace socc::localization

@@ -25,7 +25,8 @@ LabeledCloud toCloud(const integrate_request_t& request) {
 
 }  // namespace
 
-MapService::MapService(const ServerConfig& config) : config_(config), map_(config.map) {}
+MapService::MapService(const ServerConfig& config)
+    : config_(config), map_(config.map), localizer_(config.localization) {}
 
 integrate_reply_t MapService::integrate(const integrate_request_t& request,
                                         const std::uint8_t* received, std::size_t received_size) {

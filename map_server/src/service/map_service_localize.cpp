@@ -37,6 +37,17 @@ void addCandidates(const localization::LocalizeAnswer& answer, localize_reply_t&
   reply.num_candidates = static_cast<std::int32_t>(reply.pose.size());
 }
 
+// Check mode: where the points land in the map at each given pose.
+void addChecks(const map::SemanticOccupancyMap& map, const localize_request_t& request,
+               const std::vector<Eigen::Vector3f>& points, localize_reply_t& reply) {
+  for (const pose3d_t& pose : request.check_pose) {
+    const localization::SpaceCheck check = localization::checkFreeSpace(map, points, fromLcm(pose));
+    reply.observed.push_back(static_cast<float>(check.observed));
+    reply.free.push_back(static_cast<float>(check.free));
+  }
+  reply.num_checked = static_cast<std::int32_t>(reply.observed.size());
+}
+
 }  // namespace
 
 localize_reply_t MapService::localize(const localize_request_t& request) {
@@ -46,9 +57,12 @@ localize_reply_t MapService::localize(const localize_request_t& request) {
     return setStatus(reply, s);
   const auto start = std::chrono::steady_clock::now();
   try {
-    addCandidates(
-        localizer_.localize(map_, pointsOf(request), hintOf(request), request.max_candidates),
-        reply);
+    const std::vector<Eigen::Vector3f> points = pointsOf(request);
+    if (request.num_check > 0)
+      addChecks(map_, request, points, reply);
+    else
+      addCandidates(localizer_.localize(map_, points, hintOf(request), request.max_candidates),
+                    reply);
   } catch (const std::exception& e) {
     setStatus(reply, Status::internal(std::string("localization failed: ") + e.what()));
   }

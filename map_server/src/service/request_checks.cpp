@@ -130,6 +130,11 @@ Status checkLocalizeRequest(const localize_request_t& request, const map::MapCon
   constexpr std::int32_t kMaxCandidates = 16;
   if (request.max_candidates < 1 || request.max_candidates > kMaxCandidates)
     return Status::invalid("max_candidates must be in 1.." + std::to_string(kMaxCandidates));
+  if (request.num_check < 0 || request.num_check > kMaxCandidates)
+    return Status::invalid("num_check must be in 0.." + std::to_string(kMaxCandidates));
+  for (const pose3d_t& pose : request.check_pose)
+    if (const std::string why = checkPose(pose, config.max_abs_coordinate); !why.empty())
+      return Status::invalid("check_pose: " + why);
   return {};
 }
 

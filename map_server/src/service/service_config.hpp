@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 
+#include "global_localizer.hpp"
 #include "socc/map/map_config.hpp"
 
 namespace socc::service {
@@ -36,6 +37,7 @@ struct ServerConfig {
   map::MapConfig map;
   ServiceLimits limits;
   PlausibilityLimits plausibility;
+  localization::LocalizerParams localization;  // LOCALIZE search (docs/relocalization.md)
   // MAP_COMMAND paths (save/load/export) are resolved inside this directory, so a client
   // cannot make the server read or write arbitrary files.
   std::filesystem::path file_dir = ".";

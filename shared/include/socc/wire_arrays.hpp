@@ -97,6 +97,7 @@ inline std::string checkArrays(const integrate_request_t& m) {
 inline std::string checkArrays(const localize_request_t& m) {
   if (!hasRows(m.xyz, 3, m.num_points))
     return "num_points does not match the point array (xyz must be 3 rows of num_points)";
+  if (!hasCount(m.check_pose, m.num_check)) return "num_check does not match check_pose";
   return {};
 }
 

@@ -3,9 +3,11 @@
 // LOST, --resume after an outage; docs/relocalization.md). The server proposes candidate poses
 // for the scan (LOCALIZE: FPFH + RANSAC over its whole map); each is verified here by SOCC-ICP
 // against the map around it. A pose is accepted only when its registration is healthy, it
-// explains at least relocalize_min_fitness of the scan, and relocalize_margin more than any
-// other distinct candidate: a place that only looks like another is left unlocalized rather
-// than guessed, and the caller tries the next scan.
+// explains at least relocalize_min_fitness of the scan, puts at most relocalize_max_free of its
+// points where the map's rays passed freely (the server's free-space check: a scan seen from the
+// wrong place sees through the map's walls), and explains relocalize_margin more than any other
+// such place: a place that only looks like another is left unlocalized rather than guessed, and
+// the caller tries the next scan.
 #include <Eigen/Geometry>
 #include <cmath>
 #include <optional>
@@ -27,6 +29,12 @@ struct PoseHint {
   double yaw_tolerance = M_PI;  // [rad]; pi: any heading
 };
 
+/// Where a scan's points land in the map at a pose (LOCALIZE check mode).
+struct SpaceCheck {
+  double observed = 0.0;  // share of the points in voxels the map observed
+  double free = 0.0;      // of those, the share in voxels the map holds free
+};
+
 /// What relocalization needs of the map service (MapClient over LCM, or an in-process map).
 class MapAccess {
  public:
@@ -37,6 +45,9 @@ class MapAccess {
                                                     int max) = 0;
   /// The registration target around center.
   virtual LocalMap chunk(const Eigen::Vector3d& center) = 0;
+  /// The free-space check of scan at each pose.
+  virtual std::vector<SpaceCheck> check(const std::vector<Eigen::Vector3f>& scan,
+                                        const std::vector<Eigen::Isometry3d>& poses) = 0;
 };
 
 struct Relocalization {
@@ -45,6 +56,7 @@ struct Relocalization {
   int candidates = 0;                     // proposed by the server
   double fitness = 0.0;                   // of the best verified candidate
   double runner_up = 0.0;                 // of the next distinct verified candidate
+  double free = 0.0;                      // free-space share of the best verified candidate
 };
 
 /// One attempt on one scan.

@@ -15,6 +15,8 @@ class ServiceMapAccess : public MapAccess {
   std::vector<Eigen::Isometry3d> candidates(const std::vector<Eigen::Vector3f>& scan,
                                             const std::optional<PoseHint>& hint, int max) override;
   LocalMap chunk(const Eigen::Vector3d& center) override;
+  std::vector<SpaceCheck> check(const std::vector<Eigen::Vector3f>& scan,
+                                const std::vector<Eigen::Isometry3d>& poses) override;
 
  private:
   rpc::MapClient& client_;

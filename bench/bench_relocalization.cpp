@@ -1,0 +1,217 @@
+// Relocalization benchmark (issue 12, docs/relocalization.md): a socc-sim world is mapped from its
+// exact trajectory (so the map frame is the GT frame), then robots are dropped at many random
+// places and times along that trajectory, each trying its first scans until one is localized
+// (server search + client verification in process, no LCM). Prints one markdown row per scene:
+// success within --max-scans scans, wrong acceptances, seconds per attempt, error of the
+// accepted poses. Targets: >= 95 % localized within 5 scans, 0 wrong acceptances, <= 2 s mean
+// per attempt on a map of >= 1 M voxels (street).
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <random>
+#include <string>
+
+#include "in_process_map.hpp"
+#include "socc/progress_bar.hpp"
+
+using namespace socc::odom;
+
+namespace {
+
+struct SceneRun {
+  std::string name;
+  socc::sim::SceneType type;
+  int map_frames;
+};
+
+struct Tally {
+  int starts = 0, localized = 0, first_scan = 0, wrong = 0;
+  std::vector<double> attempt_seconds, server_seconds, error_m, error_deg;
+  std::int64_t voxels = 0, occupied = 0;
+  std::size_t keypoints = 0;
+  double build_seconds = 0.0;
+};
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
+}
+
+double mean(const std::vector<double>& v) {
+  double s = 0.0;
+  for (const double x : v) s += x;
+  return v.empty() ? 0.0 : s / static_cast<double>(v.size());
+}
+
+socc::LabeledCloud scanOf(const socc::sim::Scene& scene, const socc::sim::LidarModel& lidar,
+                          double t, std::uint64_t frame, std::uint64_t seed) {
+  const socc::sim::SimulatedScan s = socc::sim::simulateScan(scene, lidar, t, frame, {false, seed});
+  socc::LabeledCloud c;
+  c.points = s.points;
+  for (const std::uint32_t raw : s.labels) c.labels.push_back(socc::mapSemanticKittiLabel(raw));
+  return c;
+}
+
+// The world mapped at its exact poses (every frame, as a robot with perfect odometry would).
+void mapWorld(const socc::sim::Scene& scene, const socc::sim::LidarModel& lidar, int frames,
+              socc::map::SemanticOccupancyMap& map, bool progress) {
+  socc::ProgressBar bar("mapping", static_cast<std::size_t>(frames), progress);
+  for (int k = 0; k < frames; ++k) {
+    map.integrate(scene.trajectory.poseAt(0.1 * k), scanOf(scene, lidar, 0.1 * k, k, 7));
+    bar.tick();
+  }
+}
+
+// One robot dropped at time t: tries scans t, t + 0.1, ... until one is localized.
+void dropRobot(const OdomConfig& cfg, const socc::sim::Scene& scene,
+               const socc::sim::LidarModel& lidar, double t, int max_scans, std::uint64_t seed,
+               harness::InProcessMap& access, Tally& tally, bool verbose) {
+  ++tally.starts;
+  for (int j = 0; j < max_scans; ++j) {
+    const double when = t + 0.1 * j;
+    Odometry odom(cfg, Eigen::Isometry3d::Identity());
+    const PreparedScan scan = odom.prepare(scanOf(scene, lidar, when, 100000 + seed, seed), 0, 0);
+    const auto start = std::chrono::steady_clock::now();
+    const Relocalization r = relocalize(cfg, scan, access, {});
+    tally.attempt_seconds.push_back(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    tally.server_seconds.push_back(access.serverSeconds());
+    if (!r.pose) {
+      if (j + 1 == max_scans && verbose)
+        std::fprintf(stderr, "not localized at t = %.2f: %s\n", t, r.problem.c_str());
+      continue;
+    }
+    const Eigen::Isometry3d d = scene.trajectory.poseAt(when).inverse() * *r.pose;
+    const double m = d.translation().norm();
+    const double deg = Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI;
+    if (m > 0.5 || deg > 2.0) {
+      ++tally.wrong;
+      std::fprintf(stderr,
+                   "WRONG acceptance at t = %.2f: %.2f m %.2f deg off (explains %.2f, next place "
+                   "%.2f, free %.2f)\n",
+                   when, m, deg, r.fitness, r.runner_up, r.free);
+      return;
+    }
+    ++tally.localized;
+    tally.first_scan += j == 0 ? 1 : 0;
+    tally.error_m.push_back(m);
+    tally.error_deg.push_back(deg);
+    return;
+  }
+}
+
+Tally runScene(const SceneRun& run, const std::string& sensor, int starts, int max_scans,
+               std::uint64_t seed, const socc::localization::LocalizerParams& params,
+               bool progress) {
+  socc::sim::SceneOptions options;
+  options.type = run.type;
+  options.frames = static_cast<std::size_t>(run.map_frames);
+  const socc::sim::Scene scene = socc::sim::buildScene(options);
+  const socc::sim::LidarModel lidar = socc::sim::lidarPreset(sensor);
+  const OdomConfig cfg;
+  socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
+  mapWorld(scene, lidar, run.map_frames, map, progress);
+
+  Tally tally;
+  tally.voxels = map.stats().num_voxels;
+  tally.occupied = map.stats().num_occupied;
+  harness::InProcessMap access(map, cfg, params);
+  {  // the descriptors of the whole map, built at the first LOCALIZE (then cached)
+    const auto start = std::chrono::steady_clock::now();
+    access.candidates({Eigen::Vector3f::Zero()}, std::nullopt, 1);
+    tally.build_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    tally.keypoints = access.mapKeypoints();
+  }
+  std::mt19937_64 rng(seed);
+  // Drop places along the mapped trajectory, leaving room for max_scans scans after them.
+  const double last = 0.1 * (run.map_frames - 1) - 0.1 * max_scans;
+  std::uniform_real_distribution<double> when(0.0, std::max(0.0, last));
+  socc::ProgressBar bar(run.name + " starts", static_cast<std::size_t>(starts), progress);
+  for (int i = 0; i < starts; ++i) {
+    dropRobot(cfg, scene, lidar, when(rng), max_scans, seed * 1000 + static_cast<std::uint64_t>(i),
+              access, tally, !progress);
+    bar.tick();
+  }
+  return tally;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "bench_relocalization: success, wrong acceptances, time per attempt and error of\n"
+      "relocalization (LOCALIZE search + SOCC-ICP verification, in process) for robots dropped\n"
+      "at random places of a mapped socc-sim world. Targets: >= 95 % localized within 5 scans,\n"
+      "0 wrong acceptances, <= 2 s mean per attempt on the >= 1 M-voxel street map."};
+  int starts = 100, max_scans = 5, street_frames = 900, indoor_frames = 300;
+  std::string sensor = "hdl64";
+  std::uint64_t seed = 1;
+  bool smoke = false, quiet = false;
+  app.add_option("--starts", starts, "robots dropped per scene")->capture_default_str();
+  app.add_option("--max-scans", max_scans, "scans a robot may try")->capture_default_str();
+  app.add_option("--street-frames", street_frames, "frames mapped of the street")
+      ->capture_default_str();
+  app.add_option("--indoor-frames", indoor_frames, "frames mapped of the indoor world")
+      ->capture_default_str();
+  app.add_option("--sensor", sensor, "hdl64, vlp32 or vlp16")->capture_default_str();
+  app.add_option("--seed", seed, "seed of the drop places and scan noise")->capture_default_str();
+  socc::localization::LocalizerParams params;
+  app.add_option("--min-curvature", params.features.min_curvature, "map_server localization")
+      ->capture_default_str();
+  app.add_option("--feature-radius", params.features.feature_radius, "FPFH radius [m]")
+      ->capture_default_str();
+  app.add_option("--keypoint-voxel", params.features.keypoint_voxel, "[m]")->capture_default_str();
+  app.add_option("--iterations", params.iterations, "RANSAC iterations per run")
+      ->capture_default_str();
+  app.add_option("--runs", params.runs, "RANSAC runs")->capture_default_str();
+  app.add_option("--randomness", params.correspondence_randomness, "feature neighbours per sample")
+      ->capture_default_str();
+  app.add_option("--similarity", params.similarity, "edge-length similarity")
+      ->capture_default_str();
+  app.add_flag("--smoke", smoke, "a tiny run, targets not judged (CI: the benchmark must run)");
+  app.add_flag("--quiet", quiet, "no progress bars");
+  CLI11_PARSE(app, argc, argv);
+  if (smoke) {
+    starts = 2;
+    street_frames = indoor_frames = 12;
+    sensor = "vlp16";
+  }
+
+  const std::vector<SceneRun> runs = {{"street", socc::sim::SceneType::kStreet, street_frames},
+                                      {"indoor", socc::sim::SceneType::kIndoor, indoor_frames}};
+  std::printf(
+      "| scene | map voxels | occupied | map keypoints | descriptor build s | starts | "
+      "localized <= %d scans | at the first scan | wrong | attempt s mean | p95 | server s "
+      "mean | error m median | error deg median |\n|---|---|---|---|---|---|---|---|---|---|---|"
+      "---|---|---|\n",
+      max_scans);
+  bool pass = true;
+  for (const SceneRun& run : runs) {
+    const Tally t = runScene(run, sensor, starts, max_scans, seed, params, !quiet);
+    const double success = t.starts ? static_cast<double>(t.localized) / t.starts : 0.0;
+    const double attempt = mean(t.attempt_seconds);
+    std::printf(
+        "| %s | %lld | %lld | %zu | %.2f | %d | %.1f %% | %.1f %% | %d | %.2f | %.2f | %.2f | "
+        "%.3f | %.3f |\n",
+        run.name.c_str(), static_cast<long long>(t.voxels), static_cast<long long>(t.occupied),
+        t.keypoints, t.build_seconds, t.starts, 100.0 * success,
+        t.starts ? 100.0 * t.first_scan / t.starts : 0.0, t.wrong, attempt,
+        percentile(t.attempt_seconds, 0.95), mean(t.server_seconds), percentile(t.error_m, 0.5),
+        percentile(t.error_deg, 0.5));
+    pass = pass && success >= 0.95 && t.wrong == 0;
+    if (run.type == socc::sim::SceneType::kStreet)
+      pass = pass && attempt <= 2.0 && t.voxels >= 1'000'000;
+  }
+  if (smoke) {
+    std::printf("smoke run: targets not judged\n");
+    return 0;
+  }
+  std::printf(
+      "%s: >= 95 %% localized within %d scans, 0 wrong, <= 2 s per attempt on a >= 1 M "
+      "voxel street map\n",
+      pass ? "PASS" : "FAIL", max_scans);
+  return pass ? 0 : 1;
+}

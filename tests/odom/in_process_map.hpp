@@ -1,0 +1,57 @@
+#pragma once
+// Relocalization's MapAccess over an in-process grid: what map_server answers to LOCALIZE
+// (GlobalLocalizer) and GET_CHUNK, without LCM. For the relocalization tests and benchmark.
+#include <chrono>
+#include <optional>
+#include <vector>
+
+#include "closed_loop_harness.hpp"
+#include "global_localizer.hpp"
+#include "socc/odom/relocalization.hpp"
+
+namespace socc::odom::harness {
+
+class InProcessMap : public MapAccess {
+ public:
+  InProcessMap(const socc::map::SemanticOccupancyMap& map, const OdomConfig& cfg,
+               const socc::localization::LocalizerParams& params = {})
+      : map_(map), cfg_(cfg), localizer_(params) {}
+
+  std::vector<Eigen::Isometry3d> candidates(const std::vector<Eigen::Vector3f>& scan,
+                                            const std::optional<PoseHint>& hint, int max) override {
+    std::optional<socc::localization::LocalizeHint> h;
+    if (hint)
+      h = socc::localization::LocalizeHint{hint->position, hint->yaw, hint->radius,
+                                           hint->yaw_tolerance};
+    const auto start = std::chrono::steady_clock::now();
+    const auto answer = localizer_.localize(map_, scan, h, max);
+    server_seconds_ =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::vector<Eigen::Isometry3d> out;
+    for (const auto& c : answer.candidates) out.push_back(c.pose);
+    return out;
+  }
+  LocalMap chunk(const Eigen::Vector3d& center) override { return chunkAround(map_, center, cfg_); }
+  std::vector<SpaceCheck> check(const std::vector<Eigen::Vector3f>& scan,
+                                const std::vector<Eigen::Isometry3d>& poses) override {
+    std::vector<SpaceCheck> out;
+    for (const Eigen::Isometry3d& pose : poses) {
+      const auto c = socc::localization::checkFreeSpace(map_, scan, pose);
+      out.push_back({c.observed, c.free});
+    }
+    return out;
+  }
+
+  /// Server time of the last candidates() call (descriptor upkeep included) [s].
+  double serverSeconds() const { return server_seconds_; }
+  std::size_t mapKeypoints() const { return localizer_.mapKeypoints(); }
+  const socc::map::SemanticOccupancyMap& map() const { return map_; }
+
+ private:
+  const socc::map::SemanticOccupancyMap& map_;
+  OdomConfig cfg_;
+  socc::localization::GlobalLocalizer localizer_;
+  double server_seconds_ = 0.0;
+};
+
+}  // namespace socc::odom::harness
