@@ -8,6 +8,7 @@
 
 #include "socc/channels.hpp"
 #include "socc/rpc/client_id.hpp"
+#include "socc/rpc/status_names.hpp"
 #include "socc/rpc/safe_decode.hpp"
 #include "socc/wall_clock.hpp"
 #include "wire_guard.hpp"
@@ -77,7 +78,7 @@ std::string RequestRouter::admitRate(std::string_view service, const std::string
   std::snprintf(rate, sizeof(rate), "%g", limiter.rate());
   return "'" + client + "' exceeds its " + rate + " " + std::string(service) +
          " requests/s (limits." + (integrate ? "robot_integrate_rate" : "robot_chunk_rate") +
-         "): slow down";
+         "): " + std::string(rpc::kRateLimited);
 }
 
 void RequestRouter::rejectUndecodable(std::string_view service, const std::string& why) {

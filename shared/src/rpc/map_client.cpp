@@ -119,9 +119,30 @@ struct MapClient::Impl {
     return call<Reply>(service, request, options.timeout);
   }
 
+  // A request refused only for the robot's rate (rpc::kRateLimited) was not applied: it is sent
+  // again after a pause that grows with each refusal, so a client replaying data faster than
+  // the server's per-robot limit slows down instead of failing.
   template <typename Reply, typename Request>
   Result<Reply> call(std::string_view service, Request& request,
                      std::chrono::milliseconds timeout) {
+    constexpr int kMaxRateRetries = 50;
+    for (int refused = 0;; ++refused) {
+      Result<Reply> result = callOnce<Reply>(service, request, timeout);
+      const bool rate_limited = result.error.status == reply_header_t::RESOURCE_EXHAUSTED &&
+                                endsWith(result.error.message, kRateLimited);
+      if (!rate_limited || refused == kMaxRateRetries) return result;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10 * std::min(refused + 1, 10)));
+    }
+  }
+
+  static bool endsWith(const std::string& text, std::string_view tail) {
+    return text.size() >= tail.size() &&
+           text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
+  }
+
+  template <typename Reply, typename Request>
+  Result<Reply> callOnce(std::string_view service, Request& request,
+                         std::chrono::milliseconds timeout) {
     request.header.request_id = next_request_id.fetch_add(1);
     request.header.client_id = options.client_id;
     request.header.reply_channel = channels::reply(service, options.client_id);

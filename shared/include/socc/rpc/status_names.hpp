@@ -3,6 +3,7 @@
 // number. The one place they are spelled (socc-cli, odom_client and logs use these).
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 namespace socc::rpc {
 
@@ -10,5 +11,10 @@ namespace socc::rpc {
 std::string statusName(std::int8_t status);
 /// robot_status_request_t tracking state, e.g. "LOST"; unknown values as "state <n>".
 std::string trackingStateName(std::int8_t state);
+
+/// The end of a RESOURCE_EXHAUSTED message that refuses a request only for its rate (per-robot
+/// limits): nothing was applied, and the same request may be sent again a little later
+/// (MapClient does). Other RESOURCE_EXHAUSTED refusals (too large an ask) are final.
+inline constexpr std::string_view kRateLimited = "slow down";
 
 }  // namespace socc::rpc
