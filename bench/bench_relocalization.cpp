@@ -138,6 +138,64 @@ Tally runScene(const SceneRun& run, const std::string& sensor, int starts, int m
   return tally;
 }
 
+struct Options {
+  int starts = 100, max_scans = 5, street_frames = 1000, indoor_frames = 300;
+  std::string sensor = "hdl64";
+  std::uint64_t seed = 1;
+  bool smoke = false, quiet = false;
+  socc::localization::LocalizerParams params;
+};
+
+void addOptions(CLI::App& app, Options& o) {
+  app.add_option("--starts", o.starts, "robots dropped per scene")->capture_default_str();
+  app.add_option("--max-scans", o.max_scans, "scans a robot may try")->capture_default_str();
+  app.add_option("--street-frames", o.street_frames, "frames mapped of the street")
+      ->capture_default_str();
+  app.add_option("--indoor-frames", o.indoor_frames, "frames mapped of the indoor world")
+      ->capture_default_str();
+  app.add_option("--sensor", o.sensor, "hdl64, vlp32 or vlp16")->capture_default_str();
+  app.add_option("--seed", o.seed, "seed of the drop places and scan noise")->capture_default_str();
+  socc::localization::LocalizerParams& p = o.params;  // map_server's search parameters
+  app.add_option("--min-curvature", p.features.min_curvature, "keypoints on structure only")
+      ->capture_default_str();
+  app.add_option("--feature-radius", p.features.feature_radius, "FPFH radius [m]")
+      ->capture_default_str();
+  app.add_option("--keypoint-voxel", p.features.keypoint_voxel, "[m]")->capture_default_str();
+  app.add_option("--iterations", p.iterations, "RANSAC iterations per run")->capture_default_str();
+  app.add_option("--runs", p.runs, "RANSAC runs")->capture_default_str();
+  app.add_option("--randomness", p.correspondence_randomness, "feature neighbours per sample")
+      ->capture_default_str();
+  app.add_option("--similarity", p.similarity, "edge-length similarity")->capture_default_str();
+  app.add_flag("--smoke", o.smoke, "a tiny run, targets not judged (CI: the benchmark must run)");
+  app.add_flag("--quiet", o.quiet, "no progress bars");
+}
+
+void printHeader(int max_scans) {
+  std::printf(
+      "| scene | map voxels | occupied | map keypoints | descriptor build s | starts | "
+      "localized <= %d scans | at the first scan | wrong | attempt s mean | p95 | server s "
+      "mean | error m median | error deg median |\n|---|---|---|---|---|---|---|---|---|---|---|"
+      "---|---|---|\n",
+      max_scans);
+}
+
+// Prints the scene's row; true when it meets its targets.
+bool printRow(const SceneRun& run, const Tally& t) {
+  const double success = t.starts ? static_cast<double>(t.localized) / t.starts : 0.0;
+  const double attempt = mean(t.attempt_seconds);
+  std::printf(
+      "| %s | %lld | %lld | %zu | %.2f | %d | %.1f %% | %.1f %% | %d | %.2f | %.2f | %.2f | "
+      "%.3f | %.3f |\n",
+      run.name.c_str(), static_cast<long long>(t.voxels), static_cast<long long>(t.occupied),
+      t.keypoints, t.build_seconds, t.starts, 100.0 * success,
+      t.starts ? 100.0 * t.first_scan / t.starts : 0.0, t.wrong, attempt,
+      percentile(t.attempt_seconds, 0.95), mean(t.server_seconds), percentile(t.error_m, 0.5),
+      percentile(t.error_deg, 0.5));
+  const bool street_map =
+      run.type != socc::sim::SceneType::kStreet || (attempt <= 2.0 && t.voxels >= 1'000'000);
+  return success >= 0.95 && t.wrong == 0 && street_map;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -146,72 +204,29 @@ int main(int argc, char** argv) {
       "relocalization (LOCALIZE search + SOCC-ICP verification, in process) for robots dropped\n"
       "at random places of a mapped socc-sim world. Targets: >= 95 % localized within 5 scans,\n"
       "0 wrong acceptances, <= 2 s mean per attempt on the >= 1 M-voxel street map."};
-  int starts = 100, max_scans = 5, street_frames = 900, indoor_frames = 300;
-  std::string sensor = "hdl64";
-  std::uint64_t seed = 1;
-  bool smoke = false, quiet = false;
-  app.add_option("--starts", starts, "robots dropped per scene")->capture_default_str();
-  app.add_option("--max-scans", max_scans, "scans a robot may try")->capture_default_str();
-  app.add_option("--street-frames", street_frames, "frames mapped of the street")
-      ->capture_default_str();
-  app.add_option("--indoor-frames", indoor_frames, "frames mapped of the indoor world")
-      ->capture_default_str();
-  app.add_option("--sensor", sensor, "hdl64, vlp32 or vlp16")->capture_default_str();
-  app.add_option("--seed", seed, "seed of the drop places and scan noise")->capture_default_str();
-  socc::localization::LocalizerParams params;
-  app.add_option("--min-curvature", params.features.min_curvature, "map_server localization")
-      ->capture_default_str();
-  app.add_option("--feature-radius", params.features.feature_radius, "FPFH radius [m]")
-      ->capture_default_str();
-  app.add_option("--keypoint-voxel", params.features.keypoint_voxel, "[m]")->capture_default_str();
-  app.add_option("--iterations", params.iterations, "RANSAC iterations per run")
-      ->capture_default_str();
-  app.add_option("--runs", params.runs, "RANSAC runs")->capture_default_str();
-  app.add_option("--randomness", params.correspondence_randomness, "feature neighbours per sample")
-      ->capture_default_str();
-  app.add_option("--similarity", params.similarity, "edge-length similarity")
-      ->capture_default_str();
-  app.add_flag("--smoke", smoke, "a tiny run, targets not judged (CI: the benchmark must run)");
-  app.add_flag("--quiet", quiet, "no progress bars");
+  Options o;
+  addOptions(app, o);
   CLI11_PARSE(app, argc, argv);
-  if (smoke) {
-    starts = 2;
-    street_frames = indoor_frames = 12;
-    sensor = "vlp16";
+  if (o.smoke) {
+    o.starts = 2;
+    o.street_frames = o.indoor_frames = 12;
+    o.sensor = "vlp16";
   }
-
-  const std::vector<SceneRun> runs = {{"street", socc::sim::SceneType::kStreet, street_frames},
-                                      {"indoor", socc::sim::SceneType::kIndoor, indoor_frames}};
-  std::printf(
-      "| scene | map voxels | occupied | map keypoints | descriptor build s | starts | "
-      "localized <= %d scans | at the first scan | wrong | attempt s mean | p95 | server s "
-      "mean | error m median | error deg median |\n|---|---|---|---|---|---|---|---|---|---|---|"
-      "---|---|---|\n",
-      max_scans);
+  const std::vector<SceneRun> runs = {{"street", socc::sim::SceneType::kStreet, o.street_frames},
+                                      {"indoor", socc::sim::SceneType::kIndoor, o.indoor_frames}};
+  printHeader(o.max_scans);
   bool pass = true;
   for (const SceneRun& run : runs) {
-    const Tally t = runScene(run, sensor, starts, max_scans, seed, params, !quiet);
-    const double success = t.starts ? static_cast<double>(t.localized) / t.starts : 0.0;
-    const double attempt = mean(t.attempt_seconds);
-    std::printf(
-        "| %s | %lld | %lld | %zu | %.2f | %d | %.1f %% | %.1f %% | %d | %.2f | %.2f | %.2f | "
-        "%.3f | %.3f |\n",
-        run.name.c_str(), static_cast<long long>(t.voxels), static_cast<long long>(t.occupied),
-        t.keypoints, t.build_seconds, t.starts, 100.0 * success,
-        t.starts ? 100.0 * t.first_scan / t.starts : 0.0, t.wrong, attempt,
-        percentile(t.attempt_seconds, 0.95), mean(t.server_seconds), percentile(t.error_m, 0.5),
-        percentile(t.error_deg, 0.5));
-    pass = pass && success >= 0.95 && t.wrong == 0;
-    if (run.type == socc::sim::SceneType::kStreet)
-      pass = pass && attempt <= 2.0 && t.voxels >= 1'000'000;
+    const Tally t = runScene(run, o.sensor, o.starts, o.max_scans, o.seed, o.params, !o.quiet);
+    pass = printRow(run, t) && pass;
   }
-  if (smoke) {
+  if (o.smoke) {
     std::printf("smoke run: targets not judged\n");
     return 0;
   }
   std::printf(
       "%s: >= 95 %% localized within %d scans, 0 wrong, <= 2 s per attempt on a >= 1 M "
       "voxel street map\n",
-      pass ? "PASS" : "FAIL", max_scans);
+      pass ? "PASS" : "FAIL", o.max_scans);
   return pass ? 0 : 1;
 }

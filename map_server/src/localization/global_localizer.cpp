@@ -3,6 +3,7 @@
 #include <pcl/registration/sample_consensus_prerejective.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 
@@ -143,7 +144,13 @@ struct GlobalLocalizer::Impl {
     a.setSourceFeatures(scan.features);
     std::vector<PoseCandidate> found;
     pcl::PointCloud<pcl::PointNormal> aligned;
-    for (int run = 0; run < params.runs; ++run) {
+    // On a small or repetitive map most samples pass the pre-rejection and are scored, so the
+    // cost of a run varies by orders of magnitude: runs go on until the time budget is spent.
+    const auto start = std::chrono::steady_clock::now();
+    const auto spent = [&start] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    for (int run = 0; run < params.runs && (run == 0 || spent() < params.max_seconds); ++run) {
       // PCL draws its samples with std::rand: seeded per run, answers are reproducible.
       std::srand(static_cast<unsigned>(run + 1));
       a.align(aligned);

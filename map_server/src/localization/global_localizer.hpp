@@ -22,8 +22,9 @@ namespace socc::localization {
 
 struct LocalizerParams {
   FeatureParams features;
-  int iterations = 100000;            // RANSAC iterations per run
-  int runs = 6;                       // seeded runs; each may find another hypothesis
+  int iterations = 20000;    // RANSAC iterations per run
+  int runs = 30;             // seeded runs, each may find another hypothesis; at least one, and
+  double max_seconds = 1.0;  // no new run after this long: bounds the search on any map
   int correspondence_randomness = 6;  // each sample picks one of this many nearest features
   double similarity = 0.9;            // edge-length ratio a sample must keep
   double inlier_distance = 1.0;       // [m] keypoint match distance (one keypoint spacing)
