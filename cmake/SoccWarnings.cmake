@@ -13,6 +13,11 @@ if(SOCC_SANITIZE)
     # LCM's own lcm-cpp-impl.hpp casts handler objects in a way the vptr check rejects.
     -fno-sanitize=vptr)
   add_link_options(-fsanitize=address,undefined)
+  # Under ASan, Eigen switches to its own aligned allocator (it no longer trusts malloc), while
+  # PCL's libraries were built with malloc: a matrix allocated inside PCL and freed in our code
+  # (FPFHEstimation's members) would be freed the wrong way. ASan's malloc aligns to 16 bytes,
+  # as Eigen needs on x86-64, so both sides keep using malloc.
+  add_compile_definitions(EIGEN_MALLOC_ALREADY_ALIGNED=1)
 endif()
 
 # Third-party headers are included as SYSTEM so their warnings do not break -Werror.
