@@ -239,10 +239,7 @@ void OdomRunner::integrate(FrameEstimate estimate, const FrameStats& stats) {
 void OdomRunner::reportTracking(TrackingState state, const FrameEstimate& frame) {
   // Other robots and operators see it in SOCC/STATUS; a LOST robot's INTEGRATEs are refused by
   // the server too, should anything still send one.
-  std::int8_t wire = robot_status_request_t::TRACKING;
-  if (state == TrackingState::kDegraded) wire = robot_status_request_t::DEGRADED;
-  if (state == TrackingState::kLost) wire = robot_status_request_t::LOST;
-  sendStatus(wire, frame.health.problem.substr(0, 200), frame.seq, frame.utime);
+  sendStatus(toWire(state), frame.health.problem.substr(0, 200), frame.seq, frame.utime);
 }
 
 void OdomRunner::sendStatus(std::int8_t wire, const std::string& reason, std::int64_t seq,
