@@ -46,7 +46,8 @@ LabeledCloud transformed(LabeledCloud cloud, const Eigen::Isometry3d& pose) {
 
 struct Odometry::Sweep {
   RegistrationResult registration;
-  std::size_t points = 0;
+  LabeledCloud cloud;  // the deskewed, downsampled points registered
+  std::size_t points() const { return cloud.size(); }
 };
 
 Odometry::Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_pose,
@@ -144,7 +145,7 @@ FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, 
   for (int pass = 0; pass < config_.deskew_iterations; ++pass) {
     const Sweep s = registerSweep(scan, map, mid, twist, sigma);
     out.registration = s.registration;
-    out.registered_points = s.points;
+    out.registered_points = s.points();
     out.deskew_passes = pass + 1;
     mid = s.registration.pose;
     if (!anchored || !scan.cloud.hasTimes()) break;
@@ -163,9 +164,9 @@ FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, 
 Odometry::Sweep Odometry::registerSweep(const PreparedScan& scan, const LocalMap& map,
                                         const Eigen::Isometry3d& guess, const Vector6d& twist,
                                         double sigma) {
-  const LabeledCloud down = downsample(deskew(scan.cloud, twist, scan.mid_time));
   Sweep out;
-  out.points = down.size();
+  out.cloud = downsample(deskew(scan.cloud, twist, scan.mid_time));
+  const LabeledCloud& down = out.cloud;
   out.registration = registerScan(down, map, guess, sigma, params_);
   // The initial threshold is wide so that it catches an unknown motion (or a rough initial pose
   // in a map other robots built): its kernel also gives weight to wrong correspondences, which
@@ -186,13 +187,13 @@ FrameEstimate Odometry::registerAt(const PreparedScan& scan, const LocalMap& map
   out.sigma = threshold_.sigma();
   const Sweep s = registerSweep(scan, map, guess, Vector6d::Zero(), out.sigma);
   out.registration = s.registration;
-  out.registered_points = s.points;
+  out.registered_points = s.points();
   out.deskew_passes = 1;
   out.voxel_size = voxel_size_.size();
   finish(scan, s.registration.pose, Vector6d::Zero(), out);
   out.registered = registrable(map);
   out.health = judgeRegistration(out.registration, out.registered_points, out.sigma, config_);
-  out.fitness = fractionNearMap(downsample(scan.cloud).points, map, out.pose, kNearMap);
+  out.fitness = fractionNearMap(s.cloud.points, map, s.registration.pose, kNearMap);
   return out;
 }
 
@@ -262,7 +263,7 @@ FrameEstimate Odometry::bootstrap(const PreparedScan& scan, const LocalMap& map)
     }
     const Sweep s = registerSweep(scan, target, mid1, twist, sigma);
     e1.registration = s.registration;
-    e1.registered_points = s.points;
+    e1.registered_points = s.points();
     e1.deskew_passes = pass + 1;
     mid1 = s.registration.pose;
     const Vector6d next = logSe3(mid0.inverse() * mid1) / dt;

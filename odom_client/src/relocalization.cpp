@@ -45,7 +45,12 @@ std::vector<Verified> verify(const OdomConfig& config, const PreparedScan& scan,
   return places;
 }
 
-std::string percent(double v);
+std::string percent(double v) {
+  std::ostringstream out;
+  out.precision(0);
+  out << std::fixed << v * 100.0 << " %";
+  return out.str();
+}
 
 // The verified places whose scan does not see through the map's observed free space.
 std::vector<Verified> consistentPlaces(const OdomConfig& config, std::vector<Verified> places,
@@ -67,13 +72,6 @@ std::vector<Verified> consistentPlaces(const OdomConfig& config, std::vector<Ver
   }
   if (!consistent.empty()) out.problem.clear();
   return consistent;
-}
-
-std::string percent(double v) {
-  std::ostringstream out;
-  out.precision(0);
-  out << std::fixed << v * 100.0 << " %";
-  return out.str();
 }
 
 }  // namespace
