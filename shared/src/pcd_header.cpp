@@ -26,12 +26,29 @@ bool parseCount(const std::string& text, unsigned long long& value) {
   return true;
 }
 
+constexpr const char* kKeys[] = {"VERSION", "FIELDS", "SIZE",      "TYPE",   "COUNT",
+                                 "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+
+// PCL's header loop does not stop at DATA: it goes on reading lines of the body while they are
+// blank, comments or start with a header key, and a key line there rewrites the header it has
+// already used (a binary body starting with "COLUMNS" frees the fields: use after free). Such a
+// body is refused.
+void checkBodyStart(const std::filesystem::path& file, std::istream& in) {
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream tokens(line);
+    std::string first;
+    if (!(tokens >> first) || first[0] == '#') continue;
+    const auto starts_with = [&first](const char* key) { return first.rfind(key, 0) == 0; };
+    if (std::any_of(std::begin(kKeys), std::end(kKeys), starts_with) || starts_with("COLUMNS"))
+      headerError(file, "PCD body starts with a header line (" + first.substr(0, 16) + ")");
+    return;
+  }
+}
+
 // The header lines up to DATA (at most 64, known keys only); header_bytes is their size.
 PcdHeader readHeaderLines(const std::filesystem::path& file, std::uintmax_t& header_bytes) {
   std::ifstream in(file, std::ios::binary);
   if (!in) headerError(file, "cannot open");
-  static const char* const kKeys[] = {"VERSION", "FIELDS", "SIZE",      "TYPE",   "COUNT",
-                                      "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
   PcdHeader header;
   header_bytes = 0;
   std::string line;
@@ -45,6 +62,7 @@ PcdHeader readHeaderLines(const std::filesystem::path& file, std::uintmax_t& hea
     std::vector<std::string>& values = header[key];
     for (std::string v; tokens >> v;) values.push_back(v);
   }
+  checkBodyStart(file, in);
   for (const char* key : {"FIELDS", "SIZE", "TYPE", "WIDTH", "POINTS", "DATA"})
     if (header.count(key) == 0)
       headerError(file, std::string("PCD header has no ") + key + " line");

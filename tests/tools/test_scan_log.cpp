@@ -187,6 +187,9 @@ TEST_F(TinyScanLog, MalformedPcdIsAnErrorNotACrash) {
       fields + "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA zip\n",
       fields + "WIDTH 1000\nHEIGHT 1\nPOINTS 1000\nDATA binary\nshort",  // truncated body
       "FIELDS a b c\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2 3\n",
+      // PCL reads on past DATA while lines look like header lines: bodies that start so.
+      fields + "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA binary\nCOLUMNS" + std::string(5, '\0'),
+      fields + "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA binary\n\n# c\n  SIZE\n" + std::string(12, '\1'),
   };
   for (std::size_t i = 0; i < bad.size(); ++i) {
     const fs::path f = dir_ / ("bad" + std::to_string(i) + ".pcd");
