@@ -1,27 +1,14 @@
 #include "socc/map/map_config.hpp"
 
-#include <yaml-cpp/yaml.h>
-
 #include <cmath>
-#include <functional>
-#include <map>
-#include <stdexcept>
+
+#include "socc/yaml_fields.hpp"
 
 namespace socc::map {
 namespace {
 
 bool inOpen(double v, double lo, double hi) {
   return v > lo && v < hi;
-}
-
-template <typename T>
-void read(const YAML::Node& node, const std::string& key, T& out) {
-  try {
-    out = node.as<T>();
-  } catch (const YAML::Exception&) {
-    throw std::runtime_error("map config key '" + key + "': bad value '" +
-                             (node.IsScalar() ? node.Scalar() : std::string("<non-scalar>")) + "'");
-  }
 }
 
 }  // namespace
@@ -53,54 +40,26 @@ std::string validate(const MapConfig& c) {
 }
 
 MapConfig loadMapConfig(const std::filesystem::path& file) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::BadFile&) {
-    throw std::runtime_error("cannot read map config " + file.string());
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error("map config " + file.string() + ": " + e.what());
-  }
   MapConfig c;
-  if (root.IsNull()) return c;  // empty file: all defaults
-  if (!root.IsMap()) throw std::runtime_error("map config " + file.string() + " is not a mapping");
-
-  using Setter = std::function<void(const YAML::Node&, const std::string&)>;
-  const auto d = [](double& v) -> Setter {
-    return [&v](const YAML::Node& n, const std::string& k) { read(n, k, v); };
-  };
-  const std::map<std::string, Setter> setters = {
-      {"voxel_size", d(c.voxel_size)},
-      {"max_range", d(c.max_range)},
-      {"min_range", d(c.min_range)},
-      {"raycast", [&c](const YAML::Node& n, const std::string& k) { read(n, k, c.raycast); }},
-      {"semantics", [&c](const YAML::Node& n, const std::string& k) { read(n, k, c.semantics); }},
-      {"p_hit", d(c.p_hit)},
-      {"p_miss", d(c.p_miss)},
-      {"p_miss_static", d(c.p_miss_static)},
-      {"p_miss_moving", d(c.p_miss_moving)},
-      {"clamp_min", d(c.clamp_min)},
-      {"clamp_max", d(c.clamp_max)},
-      {"occupancy_threshold", d(c.occupancy_threshold)},
-      {"ema_alpha", d(c.ema_alpha)},
-      {"max_points_per_scan",
-       [&c](const YAML::Node& n, const std::string& k) {
-         long long v = 0;
-         read(n, k, v);
-         if (v <= 0) throw std::runtime_error("map config key '" + k + "' must be positive");
-         c.max_points_per_scan = static_cast<std::size_t>(v);
-       }},
-      {"max_abs_coordinate", d(c.max_abs_coordinate)},
-  };
-  for (const auto& kv : root) {
-    const std::string key = kv.first.as<std::string>();
-    const auto it = setters.find(key);
-    if (it == setters.end())
-      throw std::runtime_error("map config " + file.string() + ": unknown key '" + key + "'");
-    it->second(kv.second, key);
-  }
-  if (const std::string err = validate(c); !err.empty())
-    throw std::runtime_error("map config " + file.string() + ": " + err);
+  loadYamlFields(file, "map config",
+                 {
+                     {"voxel_size", &c.voxel_size},
+                     {"max_range", &c.max_range},
+                     {"min_range", &c.min_range},
+                     {"raycast", &c.raycast},
+                     {"semantics", &c.semantics},
+                     {"p_hit", &c.p_hit},
+                     {"p_miss", &c.p_miss},
+                     {"p_miss_static", &c.p_miss_static},
+                     {"p_miss_moving", &c.p_miss_moving},
+                     {"clamp_min", &c.clamp_min},
+                     {"clamp_max", &c.clamp_max},
+                     {"occupancy_threshold", &c.occupancy_threshold},
+                     {"ema_alpha", &c.ema_alpha},
+                     {"max_points_per_scan", &c.max_points_per_scan},
+                     {"max_abs_coordinate", &c.max_abs_coordinate},
+                 },
+                 [&c] { return validate(c); });
   return c;
 }
 

@@ -1,81 +1,66 @@
 #include "socc/odom/odom_config.hpp"
 
-#include <yaml-cpp/yaml.h>
-
 #include <cmath>
-#include <map>
-#include <stdexcept>
-#include <variant>
+
+#include "socc/yaml_fields.hpp"
 
 namespace socc::odom {
 namespace {
 
-// Every YAML key maps to exactly one field, so unknown keys can be reported.
-using Field = std::variant<double OdomConfig::*, int OdomConfig::*, bool OdomConfig::*>;
-
-const std::map<std::string, Field>& fields() {
-  static const std::map<std::string, Field> table = {
-      {"min_range", &OdomConfig::min_range},
-      {"max_range", &OdomConfig::max_range},
-      {"deskew", &OdomConfig::deskew},
-      {"frame_period", &OdomConfig::frame_period},
-      {"deskew_reference_time", &OdomConfig::deskew_reference_time},
-      {"deskew_iterations", &OdomConfig::deskew_iterations},
-      {"azimuth_times", &OdomConfig::azimuth_times},
-      {"azimuth_start_deg", &OdomConfig::azimuth_start_deg},
-      {"azimuth_clockwise", &OdomConfig::azimuth_clockwise},
-      {"scan_time_in_sweep", &OdomConfig::scan_time_in_sweep},
-      {"min_inlier_fraction", &OdomConfig::min_inlier_fraction},
-      {"max_residual_ratio", &OdomConfig::max_residual_ratio},
-      {"min_constraint", &OdomConfig::min_constraint},
-      {"max_linear_speed", &OdomConfig::max_linear_speed},
-      {"max_angular_speed", &OdomConfig::max_angular_speed},
-      {"max_linear_acceleration", &OdomConfig::max_linear_acceleration},
-      {"max_angular_acceleration", &OdomConfig::max_angular_acceleration},
-      {"max_unhealthy_frames", &OdomConfig::max_unhealthy_frames},
-      {"target_points", &OdomConfig::target_points},
-      {"initial_voxel_size", &OdomConfig::initial_voxel_size},
-      {"min_voxel_size", &OdomConfig::min_voxel_size},
-      {"max_voxel_size", &OdomConfig::max_voxel_size},
-      {"alpha_human", &OdomConfig::alpha_human},
-      {"alpha_pole_sign", &OdomConfig::alpha_pole_sign},
-      {"alpha_ground", &OdomConfig::alpha_ground},
-      {"alpha_default", &OdomConfig::alpha_default},
-      {"use_semantics", &OdomConfig::use_semantics},
-      {"initial_threshold", &OdomConfig::initial_threshold},
-      {"min_motion", &OdomConfig::min_motion},
-      {"refine_threshold", &OdomConfig::refine_threshold},
-      {"refine_initial_pose", &OdomConfig::refine_initial_pose},
-      {"chunk_radius", &OdomConfig::chunk_radius},
-      {"occupancy_threshold", &OdomConfig::occupancy_threshold},
-      {"min_map_points", &OdomConfig::min_map_points},
-      {"planarity_threshold", &OdomConfig::planarity_threshold},
-      {"point_to_plane", &OdomConfig::point_to_plane},
-      {"sparse_voxel_pairs", &OdomConfig::sparse_voxel_pairs},
-      {"gamma", &OdomConfig::gamma},
-      {"w_lower", &OdomConfig::w_lower},
-      {"max_iterations", &OdomConfig::max_iterations},
-      {"convergence", &OdomConfig::convergence},
-      {"relocalize_candidates", &OdomConfig::relocalize_candidates},
-      {"relocalize_min_fitness", &OdomConfig::relocalize_min_fitness},
-      {"relocalize_max_free", &OdomConfig::relocalize_max_free},
-      {"relocalize_margin", &OdomConfig::relocalize_margin},
-      {"relocalize_timeout", &OdomConfig::relocalize_timeout},
-      {"relocalize_voxel_size", &OdomConfig::relocalize_voxel_size},
-      {"relocalize_hint_radius", &OdomConfig::relocalize_hint_radius},
-      {"timeout_ms", &OdomConfig::timeout_ms},
-      {"max_attempts", &OdomConfig::max_attempts},
+// The YAML keys, named like the fields (config/default.yaml documents each).
+YamlFields fields(OdomConfig& c) {
+  return {
+      {"min_range", &c.min_range},
+      {"max_range", &c.max_range},
+      {"deskew", &c.deskew},
+      {"frame_period", &c.frame_period},
+      {"deskew_reference_time", &c.deskew_reference_time},
+      {"deskew_iterations", &c.deskew_iterations},
+      {"azimuth_times", &c.azimuth_times},
+      {"azimuth_start_deg", &c.azimuth_start_deg},
+      {"azimuth_clockwise", &c.azimuth_clockwise},
+      {"scan_time_in_sweep", &c.scan_time_in_sweep},
+      {"min_inlier_fraction", &c.min_inlier_fraction},
+      {"max_residual_ratio", &c.max_residual_ratio},
+      {"min_constraint", &c.min_constraint},
+      {"max_linear_speed", &c.max_linear_speed},
+      {"max_angular_speed", &c.max_angular_speed},
+      {"max_linear_acceleration", &c.max_linear_acceleration},
+      {"max_angular_acceleration", &c.max_angular_acceleration},
+      {"max_unhealthy_frames", &c.max_unhealthy_frames},
+      {"target_points", &c.target_points},
+      {"initial_voxel_size", &c.initial_voxel_size},
+      {"min_voxel_size", &c.min_voxel_size},
+      {"max_voxel_size", &c.max_voxel_size},
+      {"alpha_human", &c.alpha_human},
+      {"alpha_pole_sign", &c.alpha_pole_sign},
+      {"alpha_ground", &c.alpha_ground},
+      {"alpha_default", &c.alpha_default},
+      {"use_semantics", &c.use_semantics},
+      {"initial_threshold", &c.initial_threshold},
+      {"min_motion", &c.min_motion},
+      {"refine_threshold", &c.refine_threshold},
+      {"refine_initial_pose", &c.refine_initial_pose},
+      {"chunk_radius", &c.chunk_radius},
+      {"occupancy_threshold", &c.occupancy_threshold},
+      {"min_map_points", &c.min_map_points},
+      {"planarity_threshold", &c.planarity_threshold},
+      {"point_to_plane", &c.point_to_plane},
+      {"sparse_voxel_pairs", &c.sparse_voxel_pairs},
+      {"gamma", &c.gamma},
+      {"w_lower", &c.w_lower},
+      {"max_iterations", &c.max_iterations},
+      {"convergence", &c.convergence},
+      {"relocalize_candidates", &c.relocalize_candidates},
+      {"relocalize_min_fitness", &c.relocalize_min_fitness},
+      {"relocalize_max_free", &c.relocalize_max_free},
+      {"relocalize_margin", &c.relocalize_margin},
+      {"relocalize_timeout", &c.relocalize_timeout},
+      {"relocalize_voxel_size", &c.relocalize_voxel_size},
+      {"relocalize_hint_radius", &c.relocalize_hint_radius},
+      {"timeout_ms", &c.timeout_ms},
+      {"max_attempts", &c.max_attempts},
   };
-  return table;
-}
-
-template <typename T>
-T as(const YAML::Node& node, const std::string& key) {
-  try {
-    return node.as<T>();
-  } catch (const YAML::Exception&) {
-    throw std::runtime_error("key '" + key + "' has a value of the wrong type");
-  }
 }
 
 }  // namespace
@@ -99,33 +84,8 @@ std::array<double, kNumClasses> classFactors(const OdomConfig& cfg) {
 }
 
 OdomConfig loadOdomConfig(const std::filesystem::path& file) {
-  const std::string where = file.string() + ": ";
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(where + "cannot parse YAML: " + e.what());
-  }
   OdomConfig cfg;
-  if (root.IsNull()) return cfg;  // empty file: all defaults
-  if (!root.IsMap()) throw std::runtime_error(where + "expected a map of key: value");
-  for (const auto& kv : root) {
-    const std::string key = kv.first.as<std::string>();
-    const auto it = fields().find(key);
-    if (it == fields().end()) throw std::runtime_error(where + "unknown key '" + key + "'");
-    try {
-      std::visit(
-          [&](auto member) {
-            using T = std::remove_reference_t<decltype(cfg.*member)>;
-            cfg.*member = as<T>(kv.second, key);
-          },
-          it->second);
-    } catch (const std::runtime_error& e) {
-      throw std::runtime_error(where + e.what());
-    }
-  }
-  if (const std::string problem = validate(cfg); !problem.empty())
-    throw std::runtime_error(where + problem);
+  loadYamlFields(file, "odom config", fields(cfg), [&cfg] { return validate(cfg); });
   return cfg;
 }
 

@@ -232,10 +232,13 @@ TEST(Config, YamlDefaultsAndErrors) {
       EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
     }
   };
-  expectError("voxel_sise: 0.5\n", "unknown key 'voxel_sise'");
-  expectError("voxel_size: big\n", "voxel_size");
-  expectError("p_hit: 0.3\n", "p_hit");
-  expectError("max_points_per_scan: -5\n", "max_points_per_scan");
+  const std::string at = "map config " + (dir / "b.yaml").string() + ": ";
+  expectError("voxel_sise: 0.5\n", at + "unknown key 'voxel_sise'");
+  expectError("voxel_size: big\n", at + "key 'voxel_size': bad value 'big' (expected a number)");
+  expectError("p_hit: 0.3\n", at + "p_hit must be in (0.5, 1)");
+  expectError("max_points_per_scan: -5\n",
+              at + "key 'max_points_per_scan': bad value '-5' (expected a non-negative integer)");
+  expectError("max_points_per_scan: 0\n", at + "max_points_per_scan must be in [1, 1e8]");
   EXPECT_THROW(loadMapConfig(dir / "missing.yaml"), std::runtime_error);
 }
 

@@ -47,8 +47,8 @@ struct ServerConfig {
 };
 
 /// Loads server.yaml: optional `map_config` and `key_file` (relative to this file), `file_dir`,
-/// `auth_queries`, `limits:` and `plausibility:` keys. Unknown keys or bad values throw
-/// std::runtime_error naming the key.
+/// `auth_queries`, `limits:` and `plausibility:` keys. Unknown keys, bad or out-of-range values
+/// throw std::runtime_error naming the file and the key (socc/yaml_fields.hpp).
 ServerConfig loadServerConfig(const std::filesystem::path& file);
 
 }  // namespace socc::service

@@ -27,8 +27,8 @@ struct MapConfig {
   double max_abs_coordinate = 1.0e5;  // [m] map-frame bound for poses and points
 };
 
-/// Loads a YAML file; unknown keys and out-of-range values throw std::runtime_error
-/// naming the key. Missing keys keep their defaults.
+/// Loads a YAML file; unknown keys, bad and out-of-range values throw std::runtime_error
+/// naming the file and the key (socc/yaml_fields.hpp). Missing keys keep their defaults.
 MapConfig loadMapConfig(const std::filesystem::path& file);
 /// Empty when cfg is valid, otherwise the first problem found.
 std::string validate(const MapConfig& cfg);

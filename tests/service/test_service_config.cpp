@@ -1,0 +1,59 @@
+// loadServerConfig: the server.yaml keys (socc/yaml_fields.hpp), paths resolved beside the file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "service/service_config.hpp"
+#include "service_test_helpers.hpp"
+
+namespace socc::service {
+namespace {
+
+TEST(ServerConfig, RelativePathsResolveBesideTheFile) {
+  test::TempDir dir;
+  const auto server = dir.path() / "server.yaml";
+  std::ofstream(dir.path() / "grid.yaml") << "voxel_size: 0.25\n";
+  std::ofstream(server) << "map_config: grid.yaml\nkey_file: map.key\nfile_dir: maps\n"
+                           "auth_queries: true\nlimits:\n  max_robots: 8\n";
+  const ServerConfig c = loadServerConfig(server);
+  EXPECT_EQ(c.map.voxel_size, 0.25);
+  EXPECT_EQ(c.key_file, dir.path() / "map.key");
+  EXPECT_EQ(c.file_dir, "maps");  // resolved by map_server against its working directory
+  EXPECT_TRUE(c.auth_queries);
+  EXPECT_EQ(c.limits.max_robots, 8);
+
+  std::ofstream(server) << "key_file: /etc/socc/map.key\n";
+  EXPECT_EQ(loadServerConfig(server).key_file, "/etc/socc/map.key");
+  std::ofstream(server) << "";
+  EXPECT_TRUE(loadServerConfig(server).key_file.empty());  // no key: unauthenticated
+}
+
+TEST(ServerConfig, ErrorsNameTheFileAndTheKey) {
+  test::TempDir dir;
+  const auto server = dir.path() / "server.yaml";
+  const auto error = [&](const std::string& text) -> std::string {
+    std::ofstream(server) << text;
+    try {
+      loadServerConfig(server);
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  const std::string at = "server config " + server.string() + ": ";
+  EXPECT_EQ(error("limits:\n  max_robots: 0\n"), at + "limits.max_robots must be > 0");
+  EXPECT_EQ(error("plausibility:\n  linear_slack: -1\n"),
+            at + "plausibility.linear_slack must be >= 0");
+  EXPECT_EQ(error("plausibility:\n  speed: 3\n"), at + "unknown key 'plausibility.speed'");
+  EXPECT_EQ(error("limits:\n  max_robots: many\n"),
+            at + "key 'limits.max_robots': bad value 'many' (expected an integer)");
+  // The grid file reports its own name.
+  std::ofstream(dir.path() / "grid.yaml") << "voxel_size: big\n";
+  EXPECT_EQ(error("map_config: grid.yaml\n"),
+            "map config " + (dir.path() / "grid.yaml").string() +
+                ": key 'voxel_size': bad value 'big' (expected a number)");
+}
+
+}  // namespace
+}  // namespace socc::service
