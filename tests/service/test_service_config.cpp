@@ -45,6 +45,9 @@ TEST(ServerConfig, ErrorsNameTheFileAndTheKey) {
   EXPECT_EQ(error("limits:\n  max_robots: 0\n"), at + "limits.max_robots must be > 0");
   EXPECT_EQ(error("plausibility:\n  linear_slack: -1\n"),
             at + "plausibility.linear_slack must be >= 0");
+  EXPECT_EQ(error("limits:\n  robot_chunk_rate: -1\n"),
+            at + "limits.robot_chunk_rate must be >= 0");
+  EXPECT_EQ(error("limits:\n  robot_integrate_rate: 0\n"), "accepted");  // 0: no limit
   EXPECT_EQ(error("plausibility:\n  speed: 3\n"), at + "unknown key 'plausibility.speed'");
   EXPECT_EQ(error("limits:\n  max_robots: many\n"),
             at + "key 'limits.max_robots': bad value 'many' (expected an integer)");

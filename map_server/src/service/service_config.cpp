@@ -20,13 +20,14 @@ std::string validate(const ServerConfig& c) {
       {"limits.max_render_pixels", static_cast<double>(l.max_render_pixels)},
       {"limits.max_robots", static_cast<double>(l.max_robots)},
       {"limits.max_localize_points", static_cast<double>(l.max_localize_points)},
-      {"limits.robot_integrate_rate", l.robot_integrate_rate},
-      {"limits.robot_chunk_rate", l.robot_chunk_rate},
       {"plausibility.max_linear_speed", p.max_linear_speed},
       {"plausibility.max_angular_speed", p.max_angular_speed},
   };
   for (const auto& [key, value] : positive)
     if (!(value > 0.0)) return std::string(key) + " must be > 0";  // NaN too
+  // 0: no per-robot limit (RobotRateLimiter), as server.yaml documents.
+  if (!(l.robot_integrate_rate >= 0.0)) return "limits.robot_integrate_rate must be >= 0";
+  if (!(l.robot_chunk_rate >= 0.0)) return "limits.robot_chunk_rate must be >= 0";
   if (!(p.linear_slack >= 0.0)) return "plausibility.linear_slack must be >= 0";
   if (!(p.angular_slack >= 0.0)) return "plausibility.angular_slack must be >= 0";
   return {};
