@@ -9,11 +9,13 @@
 # most frames.
 #
 # Usage: scripts/bench_robustness.sh [--build BUILD] [--out OUT] [--frames N] [--config ODOM_YAML]
-#        [--kitti-sweep]   (--kitti-sweep: instead of the matrix, two segments of every KITTI GT
-#        trajectory 00-10 but 03, sensors rotating HDL-64 / VLP-32 / VLP-16, with distortion)
+#        [--kitti-sweep] [--keep-sequences]   (--kitti-sweep: instead of the matrix, two segments
+#        of every KITTI GT trajectory 00-10 but 03, sensors rotating HDL-64 / VLP-32 / VLP-16, with
+#        distortion. The simulated sequences, ~0.8 GB per HDL-64 case, are deleted once evaluated
+#        unless --keep-sequences.)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build="$root/build"; out="$root/out/robustness"; frames=150; odom_args=(); sweep=0
+build="$root/build"; out="$root/out/robustness"; frames=150; odom_args=(); sweep=0; keep=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
@@ -21,7 +23,8 @@ while [ $# -gt 0 ]; do
     --frames) frames="$2"; shift 2 ;;
     --config) odom_args+=(--config "$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"); shift 2 ;;
     --kitti-sweep) sweep=1; shift ;;
-    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --keep-sequences) keep=1; shift ;;
+    -h|--help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench_robustness: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -86,6 +89,7 @@ for c in "${cases[@]}"; do
     simulate "$out/$name/$variant/seq" "$([ $variant = distorted ] && echo 1 || echo 0)" "${args[@]}"
     "$root/scripts/bench_odometry.sh" "$out/$name/$variant/seq" --build "$build" \
       --out "$out/$name/$variant" "${odom_args[@]}" >"$out/$name/$variant.txt" 2>"$out/$name/$variant.log" || true
+    ((keep)) || rm -rf "$out/$name/$variant/seq"
   done
   row="$(python3 - "$out/$name" "$name" "$target" <<'PY'
 import csv, json, os, re, sys

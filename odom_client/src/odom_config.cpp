@@ -16,6 +16,8 @@ YamlFields fields(OdomConfig& c) {
       {"frame_period", &c.frame_period},
       {"deskew_reference_time", &c.deskew_reference_time},
       {"deskew_iterations", &c.deskew_iterations},
+      {"sweep_twist_sigma_linear", &c.sweep_twist_sigma_linear},
+      {"sweep_twist_sigma_angular", &c.sweep_twist_sigma_angular},
       {"azimuth_times", &c.azimuth_times},
       {"azimuth_start_deg", &c.azimuth_start_deg},
       {"azimuth_clockwise", &c.azimuth_clockwise},
@@ -98,6 +100,9 @@ std::string validate(const OdomConfig& c) {
   if (!finite_pos(c.frame_period)) return "frame_period must be > 0";
   if (!std::isfinite(c.deskew_reference_time)) return "deskew_reference_time must be finite";
   if (c.deskew_iterations < 1) return "deskew_iterations must be >= 1";
+  if (!std::isfinite(c.sweep_twist_sigma_linear) || c.sweep_twist_sigma_linear < 0.0 ||
+      !std::isfinite(c.sweep_twist_sigma_angular) || c.sweep_twist_sigma_angular < 0.0)
+    return "sweep_twist_sigma_linear/angular must be >= 0";
   if (!std::isfinite(c.azimuth_start_deg)) return "azimuth_start_deg must be finite";
   if (!unit(c.scan_time_in_sweep)) return "scan_time_in_sweep must be within [0, 1]";
   if (!unit(c.min_inlier_fraction)) return "min_inlier_fraction must be within [0, 1]";

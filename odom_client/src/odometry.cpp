@@ -143,13 +143,17 @@ FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, 
     twist = twistTo(mid, scan.time());
   }
   for (int pass = 0; pass < config_.deskew_iterations; ++pass) {
-    const Sweep s = registerSweep(scan, map, mid, twist, sigma);
+    // The twist measured from the last pose to this one is the prior of the sweep's own.
+    std::optional<SweepTwistPrior> prior;
+    if (anchored && scan.cloud.hasTimes()) prior = sweepPrior(twist, twistTo(mid, scan.time()));
+    const Sweep s = registerSweep(scan, map, mid, twist, sigma, prior ? &*prior : nullptr);
     out.registration = s.registration;
     out.registered_points = s.points();
     out.deskew_passes = pass + 1;
     mid = s.registration.pose;
     if (!anchored || !scan.cloud.hasTimes()) break;
-    const Vector6d next = twistTo(mid, scan.time());
+    const Vector6d next =
+        prior ? Vector6d(twist + s.registration.twist_correction) : twistTo(mid, scan.time());
     const bool done = settled(next - twist, config_.frame_period);
     twist = next;
     if (done) break;
@@ -161,21 +165,37 @@ FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, 
   return out;
 }
 
+std::optional<SweepTwistPrior> Odometry::sweepPrior(const Vector6d& deskew_twist,
+                                                    const Vector6d& measured) const {
+  if (config_.sweep_twist_sigma_linear <= 0.0 && config_.sweep_twist_sigma_angular <= 0.0)
+    return std::nullopt;
+  SweepTwistPrior prior;
+  prior.offset = deskew_twist - measured;
+  prior.sigma << Eigen::Vector3d::Constant(config_.sweep_twist_sigma_linear),
+      Eigen::Vector3d::Constant(config_.sweep_twist_sigma_angular);
+  return prior;
+}
+
 Odometry::Sweep Odometry::registerSweep(const PreparedScan& scan, const LocalMap& map,
                                         const Eigen::Isometry3d& guess, const Vector6d& twist,
-                                        double sigma) {
+                                        double sigma, const SweepTwistPrior* prior) {
   Sweep out;
   out.cloud = downsample(deskew(scan.cloud, twist, scan.mid_time));
-  const LabeledCloud& down = out.cloud;
-  out.registration = registerScan(down, map, guess, sigma, params_);
+  LabeledCloud& down = out.cloud;
+  for (float& t : down.times) t -= static_cast<float>(scan.mid_time);  // the pose's instant
   // The initial threshold is wide so that it catches an unknown motion (or a rough initial pose
   // in a map other robots built): its kernel also gives weight to wrong correspondences, which
   // leaves the pose biased by centimetres. Halving sigma from the coarse result removes them;
   // a pose that enters another robot's map this way would otherwise shift that map for everyone.
-  if (threshold_.calibrated() || config_.refine_threshold <= 0.0) return out;
+  // Only the last registration estimates the sweep's twist (the points stay deskewed with twist).
+  const bool refine = !threshold_.calibrated() && config_.refine_threshold > 0.0;
+  const auto last = [&](double s) { return !refine || s / 2.0 < config_.refine_threshold; };
+  out.registration = registerScan(down, map, guess, sigma, params_, last(sigma) ? prior : nullptr);
+  if (!refine) return out;
   for (double s = sigma / 2.0; s >= config_.refine_threshold; s /= 2.0) {
     const int iterations = out.registration.iterations;
-    out.registration = registerScan(down, map, out.registration.pose, s, params_);
+    out.registration =
+        registerScan(down, map, out.registration.pose, s, params_, last(s) ? prior : nullptr);
     out.registration.iterations += iterations;
   }
   return out;

@@ -3,8 +3,10 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
+#include <type_traits>
 
 #include "socc/odom/se3.hpp"
 #include "socc/odom/weights.hpp"
@@ -14,18 +16,49 @@ namespace {
 
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
-// Normal equations of one residual type (left-perturbation Jacobians in the map frame).
+// Normal equations of one residual type (left-perturbation Jacobians J in the map frame). For the
+// continuous-time part the moments in the point's time s are kept too: the Jacobian of the twist
+// correction is s * M * J with one matrix M per iteration (see twistJacobianMap), so three 6x6
+// sums give the whole 12x12 system.
 struct System {
-  Matrix6d H = Matrix6d::Zero();
-  Vector6d b = Vector6d::Zero();
+  Matrix6d H = Matrix6d::Zero();   // sum w J J^T
+  Matrix6d H1 = Matrix6d::Zero();  // sum w s J J^T
+  Matrix6d H2 = Matrix6d::Zero();  // sum w s^2 J J^T
+  Vector6d b = Vector6d::Zero();   // sum w J e
+  Vector6d b1 = Vector6d::Zero();  // sum w s J e
   int count = 0;
   double squared_residuals = 0.0;  // unweighted, for the health check
+  double weighted_squares = 0.0;   // sum w e^2: the residuals' scale for the twist prior
+  double weights = 0.0;
   System& operator+=(const System& o) {
     H += o.H;
+    H1 += o.H1;
+    H2 += o.H2;
     b += o.b;
+    b1 += o.b1;
     count += o.count;
     squared_residuals += o.squared_residuals;
+    weighted_squares += o.weighted_squares;
+    weights += o.weights;
     return *this;
+  }
+  // jt: the residual's Jacobian transposed (6 x rows), e: the residual.
+  template <int Rows>
+  void add(const Eigen::Matrix<double, 6, Rows>& jt, const Eigen::Matrix<double, Rows, 1>& e,
+           double w, double squared_residual, const double* time) {
+    const Matrix6d jjt = w * jt * jt.transpose();
+    const Vector6d je = w * jt * e;
+    H += jjt;
+    b += je;
+    if (time) {
+      H1 += *time * jjt;
+      H2 += *time * *time * jjt;
+      b1 += *time * je;
+    }
+    squared_residuals += squared_residual;
+    weighted_squares += w * squared_residual;
+    weights += w;
+    ++count;
   }
 };
 
@@ -40,28 +73,83 @@ struct Systems {
 };
 
 void accumulate(const Eigen::Vector3d& p, const MapVoxel& v, const Correspondence& c,
-                Systems& out) {
+                const double* time, Systems& out) {
   if (c.planar) {
     // e = n . (p - q);  de/d(rho, phi) = [n^T, (p x n)^T]
-    Vector6d J;
-    J.head<3>() = v.normal;
-    J.tail<3>() = p.cross(v.normal);
-    const double e = v.normal.dot(p - v.point);
-    out.planar.H.noalias() += c.weight * J * J.transpose();
-    out.planar.b.noalias() += c.weight * J * e;
-    out.planar.squared_residuals += c.squared_residual;
-    ++out.planar.count;
+    Vector6d jt;
+    jt.head<3>() = v.normal;
+    jt.tail<3>() = p.cross(v.normal);
+    const Eigen::Matrix<double, 1, 1> e(v.normal.dot(p - v.point));
+    out.planar.add<1>(jt, e, c.weight, c.squared_residual, time);
   } else {
     // e = p - q;  de/d(rho, phi) = [I, -[p]x]
-    Eigen::Matrix<double, 3, 6> J;
-    J.leftCols<3>().setIdentity();
-    J.rightCols<3>() = -skew(p);
-    const Eigen::Vector3d e = p - v.point;
-    out.point.H.noalias() += c.weight * J.transpose() * J;
-    out.point.b.noalias() += c.weight * J.transpose() * e;
-    out.point.squared_residuals += c.squared_residual;
-    ++out.point.count;
+    Eigen::Matrix<double, 6, 3> jt;
+    jt.topRows<3>().setIdentity();
+    jt.bottomRows<3>() = skew(p);
+    out.point.add<3>(jt, p - v.point, c.weight, c.squared_residual, time);
   }
+}
+
+// M with (Jacobian of the body-twist correction) = s * M * J: J taken about the sensor's position
+// t instead of the map origin ([I 0; -[t]x I]), then rotated into the body frame (R^T).
+Matrix6d twistJacobianMap(const Eigen::Isometry3d& pose) {
+  Matrix6d about_sensor = Matrix6d::Identity();
+  about_sensor.bottomLeftCorner<3, 3>() = -skew(pose.translation());
+  Matrix6d to_body = Matrix6d::Zero();
+  to_body.topLeftCorner<3, 3>() = pose.linear().transpose();
+  to_body.bottomRightCorner<3, 3>() = pose.linear().transpose();
+  return to_body * about_sensor;
+}
+
+// The body twist c as a map-frame velocity field: a point p at time s moves by
+// s * (v + w x p), (v, w) returned translation first.
+Vector6d mapFrameTwist(const Eigen::Isometry3d& pose, const Vector6d& c) {
+  Vector6d out;
+  out.tail<3>() = pose.linear() * c.tail<3>();
+  out.head<3>() = pose.linear() * c.head<3>() + pose.translation().cross(out.tail<3>());
+  return out;
+}
+
+// One Gauss-Newton step of pose and (with a prior) the twist correction c.
+struct Step {
+  Vector6d pose = Vector6d::Zero();
+  Vector6d twist = Vector6d::Zero();
+};
+
+Step solve(const Systems& sys, double alpha, const Eigen::Isometry3d& pose, const Vector6d& c,
+           const SweepTwistPrior* prior) {
+  const auto mix = [alpha](const auto& planar, const auto& point) {
+    using T = std::decay_t<decltype(planar)>;
+    return T(alpha * planar + (1.0 - alpha) * point);
+  };
+  const Matrix6d H = mix(sys.planar.H, sys.point.H);
+  const Vector6d b = mix(sys.planar.b, sys.point.b);
+  Step step;
+  if (!prior) {
+    step.pose = H.ldlt().solve(-b);
+    return step;
+  }
+  const Matrix6d M = twistJacobianMap(pose);
+  // The data term is sum w e^2 in m^2: the prior's information is scaled by the residuals'
+  // (robustly weighted) variance so that both are in the same units.
+  const double weights = mix(sys.planar.weights, sys.point.weights);
+  const double variance =
+      weights > 0.0 ? mix(sys.planar.weighted_squares, sys.point.weighted_squares) / weights : 0.0;
+  const Vector6d info = std::max(variance, 2.5e-5) *
+                        prior->sigma.cwiseAbs2().cwiseMax(1e-12).cwiseInverse();  // 0: held
+  Eigen::Matrix<double, 12, 12> A;
+  A.topLeftCorner<6, 6>() = H;
+  A.topRightCorner<6, 6>() = mix(sys.planar.H1, sys.point.H1) * M.transpose();
+  A.bottomLeftCorner<6, 6>() = A.topRightCorner<6, 6>().transpose();
+  A.bottomRightCorner<6, 6>() = M * mix(sys.planar.H2, sys.point.H2) * M.transpose();
+  A.bottomRightCorner<6, 6>().diagonal() += info;
+  Eigen::Matrix<double, 12, 1> g;
+  g.head<6>() = b;
+  g.tail<6>() = M * mix(sys.planar.b1, sys.point.b1) + info.cwiseProduct(c + prior->offset);
+  const Eigen::Matrix<double, 12, 1> x = A.ldlt().solve(-g);
+  step.pose = x.head<6>();
+  step.twist = x.tail<6>();
+  return step;
 }
 
 }  // namespace
@@ -84,10 +172,15 @@ Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t
 
 RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
                                 const Eigen::Isometry3d& initial_guess, double sigma,
-                                const RegistrationParams& params) {
+                                const RegistrationParams& params,
+                                const SweepTwistPrior* twist_prior) {
   RegistrationResult result;
   result.pose = initial_guess;
   if (scan.size() == 0 || map.empty()) return result;
+  if (!scan.hasTimes()) twist_prior = nullptr;
+  // The change of the twist correction that moves the sweep's ends by one convergence step.
+  double half_span = 0.0;
+  for (const float t : scan.times) half_span = std::max(half_span, std::abs(double{t}));
   const double max_distance = 3.0 * sigma;
   // Re-association can make the iteration cycle through a few correspondence sets with steps
   // above the tolerance: returning to a pose of the last kCycle iterations also ends it.
@@ -96,16 +189,20 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
 
   for (int it = 0; it < params.max_iterations; ++it) {
     const Eigen::Isometry3d pose = result.pose;
+    const Vector6d motion = mapFrameTwist(pose, result.twist_correction);
     const Systems sys = tbb::parallel_deterministic_reduce(
         tbb::blocked_range<std::size_t>(0, scan.size(), 256), Systems{},
         [&](const tbb::blocked_range<std::size_t>& range, Systems local) {
           for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            const Eigen::Vector3d p = pose * scan.points[i].cast<double>();
+            Eigen::Vector3d p = pose * scan.points[i].cast<double>();
+            const double s = twist_prior ? double{scan.times[i]} : 0.0;
+            if (twist_prior) p += s * (motion.head<3>() + motion.tail<3>().cross(p));
             const auto nn = map.nearest(p, max_distance);
             if (!nn) continue;
             const MapVoxel& v = map.voxel(nn->index);
             const std::uint8_t label = scan.hasLabels() ? scan.labels[i] : 0;
-            accumulate(p, v, evaluateCorrespondence(p, label, v, sigma, params), local);
+            accumulate(p, v, evaluateCorrespondence(p, label, v, sigma, params),
+                       twist_prior ? &s : nullptr, local);
           }
           return local;
         },
@@ -119,14 +216,13 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
     result.alpha = static_cast<double>(sys.planar.count) / total;
     result.rms_residual =
         std::sqrt((sys.planar.squared_residuals + sys.point.squared_residuals) / total);
-    const Matrix6d H = result.alpha * sys.planar.H + (1.0 - result.alpha) * sys.point.H;
-    result.information = H;
+    result.information = result.alpha * sys.planar.H + (1.0 - result.alpha) * sys.point.H;
     result.planar_information = sys.planar.H;
-    const Vector6d b = result.alpha * sys.planar.b + (1.0 - result.alpha) * sys.point.b;
-    const Vector6d dx = H.ldlt().solve(-b);
-    if (!dx.allFinite()) break;
-    result.pose = applyIncrement(dx, result.pose);
-    if (dx.norm() < params.convergence) {
+    const Step step = solve(sys, result.alpha, pose, result.twist_correction, twist_prior);
+    if (!step.pose.allFinite() || !step.twist.allFinite()) break;
+    result.pose = applyIncrement(step.pose, result.pose);
+    result.twist_correction += step.twist;
+    if (step.pose.norm() + step.twist.norm() * half_span < params.convergence) {
       result.converged = true;
       break;
     }

@@ -24,6 +24,7 @@ struct VoxelKeyHash {
 
 struct Sum {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double time_sum = 0.0;
   int count = 0;
   std::size_t order = 0;  // first point's index: keeps the output deterministic
 };
@@ -48,22 +49,23 @@ LabeledCloud semanticVoxelDownsample(const LabeledCloud& cloud, double voxel_siz
     Sum& s = it.value();
     if (inserted) s.order = i;
     s.sum += p;
+    if (cloud.hasTimes()) s.time_sum += cloud.times[i];
     ++s.count;
   }
 
-  std::vector<std::pair<std::size_t, std::pair<Eigen::Vector3f, std::uint8_t>>> ordered;
+  std::vector<std::pair<std::size_t, const Sum*>> ordered;
   ordered.reserve(voxels.size());
-  for (const auto& [key, s] : voxels)
-    ordered.push_back({s.order, {(s.sum / s.count).cast<float>(), key.label}});
+  for (const auto& [key, s] : voxels) ordered.push_back({s.order, &s});
   std::sort(ordered.begin(), ordered.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });
 
   LabeledCloud out;
   out.points.reserve(ordered.size());
   out.labels.reserve(ordered.size());
-  for (const auto& [order, point] : ordered) {
-    out.points.push_back(point.first);
-    out.labels.push_back(point.second);
+  for (const auto& [order, s] : ordered) {
+    out.points.push_back((s->sum / s->count).cast<float>());
+    out.labels.push_back(cloud.hasLabels() ? cloud.labels[order] : std::uint8_t{kUnlabeled});
+    if (cloud.hasTimes()) out.times.push_back(static_cast<float>(s->time_sum / s->count));
   }
   return out;
 }

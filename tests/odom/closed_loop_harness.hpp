@@ -25,7 +25,7 @@ inline socc::LabeledCloud simulated(const socc::sim::Scene& scene,
       socc::sim::simulateScan(scene, lidar, 0.1 * frame, frame, {distortion, 7});
   socc::LabeledCloud c;
   c.points = s.points;
-  c.times = s.times;
+  if (distortion) c.times = s.times;  // taken at one instant otherwise: nothing to deskew
   for (const std::uint32_t raw : s.labels) c.labels.push_back(socc::mapSemanticKittiLabel(raw));
   return c;
 }

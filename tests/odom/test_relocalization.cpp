@@ -31,9 +31,7 @@ struct MappedWorld {
   MappedWorld(const socc::sim::SceneOptions& options, int frames)
       : scene(socc::sim::buildScene(options)), loop(scene.trajectory.poseAt(0.0)) {
     for (int k = 0; k < frames; ++k) {
-      socc::LabeledCloud scan = simulated(scene, lidar, k, false);
-      scan.times.clear();  // taken at one instant: nothing to deskew
-      loop.step(scan, k);
+      loop.step(simulated(scene, lidar, k, false), k);
     }
   }
   // A's estimated pose at time t (its map frame), interpolated between its frames.

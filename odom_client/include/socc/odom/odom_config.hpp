@@ -17,6 +17,11 @@ struct OdomConfig {
   double frame_period = 0.1;           // [s] used when scans carry no timestamps
   double deskew_reference_time = 0.0;  // [s, relative to scan time] the instant the pose refers to
   int deskew_iterations = 3;  // deskew + register passes per frame with the frame's own motion
+  // Continuous-time registration (SweepTwistPrior): how far the twist within a sweep may be from
+  // the one measured between the last two poses (standard deviations; 0 holds that part at the
+  // measured twist; both 0: off). docs/robustness.md says how they were chosen.
+  double sweep_twist_sigma_linear = 0.05;    // [m/s]
+  double sweep_twist_sigma_angular = 0.005;  // [rad/s]
 
   // Per-point times of scans that carry none, derived from each point's azimuth (a spinning
   // sensor, e.g. KITTI): the sweep starts at azimuth_start_deg and turns one revolution per

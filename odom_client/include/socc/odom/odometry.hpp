@@ -85,7 +85,11 @@ class Odometry {
  private:
   struct Sweep;  // one deskew + registration pass's result
   Sweep registerSweep(const PreparedScan& scan, const LocalMap& map, const Eigen::Isometry3d& guess,
-                      const Vector6d& twist, double sigma);
+                      const Vector6d& twist, double sigma, const SweepTwistPrior* prior = nullptr);
+  // The continuous-time registration's prior for a sweep deskewed with deskew_twist (none when
+  // sweep_twist_sigma_* are 0).
+  std::optional<SweepTwistPrior> sweepPrior(const Vector6d& deskew_twist,
+                                            const Vector6d& measured) const;
   LabeledCloud downsample(const LabeledCloud& cloud);  // semantic, adaptive voxel size
   bool registrable(const LocalMap& map) const;         // holds at least min_map_points
   Eigen::Isometry3d searchFirstMotion(const PreparedScan& scan, const LocalMap& map,

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 
 #include "socc/odom/local_map.hpp"
+#include "socc/odom/se3.hpp"
 #include "socc/point_cloud.hpp"
 
 namespace socc::odom {
@@ -38,7 +39,22 @@ struct RegistrationResult {
   // The point-to-plane part alone: a point-to-point pair with a voxel's first point seems to
   // constrain every direction even on a plane, so only this part shows what the geometry pins.
   Eigen::Matrix<double, 6, 6> planar_information = Eigen::Matrix<double, 6, 6>::Zero();
+  // Continuous-time registration only (SweepTwistPrior given): the correction of the body twist
+  // the scan was deskewed with [per second, translation first].
+  Vector6d twist_correction = Vector6d::Zero();
   int correspondences() const { return planar + non_planar; }
+};
+
+/// Continuous-time registration of a sweep (the scan must carry times relative to the pose's
+/// instant, i.e. the middle of the sweep). Besides the pose it estimates a correction c of the
+/// body twist the scan was deskewed with: a point taken at time s moves by s * c. A twist
+/// measured between two poses lags the sweep by half a frame where the motion accelerates; the
+/// scan's own shape says how it moved while it was taken. The prior keeps (twist + c) near a
+/// measured twist, with a standard deviation per component, so that what the scan does not
+/// constrain (a straight corridor) stays as measured.
+struct SweepTwistPrior {
+  Vector6d offset = Vector6d::Zero();  // deskew twist minus the prior's mean [per second]
+  Vector6d sigma = Vector6d::Ones();   // standard deviation of the prior [m/s, rad/s]
 };
 
 /// One correspondence's contribution, exposed so tests can check the formulas.
@@ -56,6 +72,7 @@ Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t
 /// adaptive threshold (correspondences within 3 sigma, kernel sigma / 3).
 RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
                                 const Eigen::Isometry3d& initial_guess, double sigma,
-                                const RegistrationParams& params);
+                                const RegistrationParams& params,
+                                const SweepTwistPrior* twist_prior = nullptr);
 
 }  // namespace socc::odom

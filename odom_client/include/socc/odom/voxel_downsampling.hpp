@@ -9,7 +9,8 @@
 
 namespace socc::odom {
 
-/// The output has one label per point (0 when the input had none) and no times.
+/// The output has one label per point (0 when the input had none) and, when the input has
+/// times, each voxel's mean time (what a continuous-time registration needs of the sweep).
 LabeledCloud semanticVoxelDownsample(const LabeledCloud& cloud, double voxel_size,
                                      const std::array<double, kNumClasses>& class_factor);
 
