@@ -102,7 +102,7 @@ table = [
     ("RPE trans RMSE", f"{ev['rpe_trans_m']['rmse']:.3f} m"),
     ("RPE rot RMSE", f"{ev['rpe_rot_deg']['rmse']:.3f} deg"),
     ("preprocess", f"{mean('preprocess_ms'):.1f} ms/frame"),
-    ("fetch chunk", f"{mean('fetch_ms'):.1f} ms/frame"),
+    ("fetch chunk", f"{mean('fetch_ms'):.1f} ms/frame (map build {mean('map_build_ms'):.1f})"),
     ("register", f"{mean('register_ms'):.1f} ms/frame"),
     ("integrate (wait)", f"{mean('integrate_ms'):.1f} ms/frame"),
     ("total", f"{mean('total_ms'):.1f} ms/frame"),

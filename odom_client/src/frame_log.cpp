@@ -10,7 +10,7 @@ FrameLog::FrameLog(const std::filesystem::path& csv_file) {
   if (csv_file.empty()) return;
   csv_.open(csv_file, std::ios::trunc);
   if (!csv_) throw std::runtime_error(csv_file.string() + ": cannot open for writing");
-  csv_ << "frame,preprocess_ms,fetch_ms,register_ms,integrate_ms,total_ms,corr_planar,"
+  csv_ << "frame,preprocess_ms,fetch_ms,map_build_ms,register_ms,integrate_ms,total_ms,corr_planar,"
           "corr_non_planar,alpha,iterations,chunk_voxels,bytes_received,sigma,points,"
           "downsampled_points,deskew_passes,status,inlier_fraction,residual_ratio,weakest_"
           "constraint,"
@@ -22,6 +22,7 @@ void FrameLog::add(const FrameStats& s) {
   rows_.push_back(s);
   sum_.preprocess_ms += s.preprocess_ms;
   sum_.fetch_ms += s.fetch_ms;
+  sum_.map_build_ms += s.map_build_ms;
   sum_.register_ms += s.register_ms;
   sum_.integrate_ms += s.integrate_ms;
   sum_.total_ms += s.total_ms;
@@ -36,9 +37,9 @@ void FrameLog::add(const FrameStats& s) {
   sum_.downsampled_points += s.downsampled_points;
   if (!csv_.is_open()) return;
   csv_ << s.frame << std::fixed << std::setprecision(3) << ',' << s.preprocess_ms << ','
-       << s.fetch_ms << ',' << s.register_ms << ',' << s.integrate_ms << ',' << s.total_ms << ','
-       << s.planar << ',' << s.non_planar << ',' << std::setprecision(4) << s.alpha << ','
-       << s.iterations << ',' << s.chunk_voxels << ',' << s.bytes_received << ','
+       << s.fetch_ms << ',' << s.map_build_ms << ',' << s.register_ms << ',' << s.integrate_ms
+       << ',' << s.total_ms << ',' << s.planar << ',' << s.non_planar << ',' << std::setprecision(4)
+       << s.alpha << ',' << s.iterations << ',' << s.chunk_voxels << ',' << s.bytes_received << ','
        << std::setprecision(4) << s.sigma << ',' << s.points << ',' << s.downsampled_points << ','
        << s.deskew_passes << ',' << s.status << ',' << s.inlier_fraction << ',' << s.residual_ratio
        << ',' << s.weakest_constraint << ',' << s.speed << ',' << (s.integrated ? 1 : 0) << ",\""
@@ -58,6 +59,7 @@ FrameStats FrameLog::mean() const {
   const double n = static_cast<double>(frames_);
   m.preprocess_ms = sum_.preprocess_ms / n;
   m.fetch_ms = sum_.fetch_ms / n;
+  m.map_build_ms = sum_.map_build_ms / n;
   m.register_ms = sum_.register_ms / n;
   m.integrate_ms = sum_.integrate_ms / n;
   m.total_ms = sum_.total_ms / n;
@@ -79,6 +81,7 @@ std::string FrameLog::summary(double wall_seconds) const {
   std::ostringstream out;
   out << std::fixed << std::setprecision(2) << "frames: " << frames_ << "\n"
       << "mean ms/frame: preprocess " << m.preprocess_ms << ", fetch " << m.fetch_ms
+      << " (of which map build " << m.map_build_ms << ")"
       << ", register " << m.register_ms << ", integrate wait " << m.integrate_ms << ", total "
       << m.total_ms << "\n"
       << "rate: " << (wall_seconds > 0.0 ? frames_ / wall_seconds : 0.0) << " Hz over "

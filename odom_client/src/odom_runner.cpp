@@ -174,7 +174,9 @@ LocalMap OdomRunner::fetchMap(const Eigen::Vector3d& center, FrameStats& stats) 
     chunk = fetchChunk(center);
     ++refetched_chunks_;
   }
+  const Clock::time_point build = Clock::now();
   LocalMap map = LocalMap::fromChunk(*chunk.reply, config_.occupancy_threshold);
+  stats.map_build_ms = msSince(build);
   stats.fetch_ms = msSince(start);
   stats.chunk_voxels = static_cast<std::int64_t>(map.size());
   stats.bytes_received = chunk.bytes_received;

@@ -13,6 +13,7 @@ struct FrameStats {
   double preprocess_ms = 0.0;  // read + range filter + deskew + downsampling
   double fetch_ms = 0.0;       // GET_CHUNK round trip (queued behind the previous Integrate on
                                // the server) + LocalMap build
+  double map_build_ms = 0.0;   // of fetch_ms: decoding the chunk and building the search tree
   double register_ms = 0.0;
   double integrate_ms = 0.0;  // time the pipeline waited for this frame's Integrate ack
   double total_ms = 0.0;      // wall time of the frame in the pipeline
