@@ -49,6 +49,7 @@ YamlFields fields(OdomConfig& c) {
       {"planarity_threshold", &c.planarity_threshold},
       {"point_to_plane", &c.point_to_plane},
       {"sparse_voxel_pairs", &c.sparse_voxel_pairs},
+      {"sparse_pairs_along_scan_normal", &c.sparse_pairs_along_scan_normal},
       {"gamma", &c.gamma},
       {"w_lower", &c.w_lower},
       {"max_iterations", &c.max_iterations},

@@ -7,6 +7,7 @@
 #include "socc/odom/point_times.hpp"
 #include "socc/odom/preprocessing.hpp"
 #include "socc/odom/scan_map.hpp"
+#include "socc/odom/scan_normals.hpp"
 
 namespace socc::odom {
 namespace {
@@ -47,6 +48,7 @@ LabeledCloud transformed(LabeledCloud cloud, const Eigen::Isometry3d& pose) {
 struct Odometry::Sweep {
   RegistrationResult registration;
   LabeledCloud cloud;  // the deskewed, downsampled points registered
+  Points normals;      // their surface normals (sparse_pairs_along_scan_normal), else empty
   std::size_t points() const { return cloud.size(); }
 };
 
@@ -183,6 +185,9 @@ Odometry::Sweep Odometry::registerSweep(const PreparedScan& scan, const LocalMap
   out.cloud = downsample(deskew(scan.cloud, twist, scan.mid_time));
   LabeledCloud& down = out.cloud;
   for (float& t : down.times) t -= static_cast<float>(scan.mid_time);  // the pose's instant
+  // Neighbourhoods of a few downsampling cells span two or more rings of a sparse sensor.
+  if (config_.sparse_pairs_along_scan_normal)
+    out.normals = scanNormals(down.points, 3.0 * voxel_size_.size(), config_.planarity_threshold);
   // The initial threshold is wide so that it catches an unknown motion (or a rough initial pose
   // in a map other robots built): its kernel also gives weight to wrong correspondences, which
   // leaves the pose biased by centimetres. Halving sigma from the coarse result removes them;
@@ -190,12 +195,13 @@ Odometry::Sweep Odometry::registerSweep(const PreparedScan& scan, const LocalMap
   // Only the last registration estimates the sweep's twist (the points stay deskewed with twist).
   const bool refine = !threshold_.calibrated() && config_.refine_threshold > 0.0;
   const auto last = [&](double s) { return !refine || s / 2.0 < config_.refine_threshold; };
-  out.registration = registerScan(down, map, guess, sigma, params_, last(sigma) ? prior : nullptr);
+  out.registration =
+      registerScan(down, map, guess, sigma, params_, last(sigma) ? prior : nullptr, out.normals);
   if (!refine) return out;
   for (double s = sigma / 2.0; s >= config_.refine_threshold; s /= 2.0) {
     const int iterations = out.registration.iterations;
-    out.registration =
-        registerScan(down, map, out.registration.pose, s, params_, last(s) ? prior : nullptr);
+    out.registration = registerScan(down, map, out.registration.pose, s, params_,
+                                    last(s) ? prior : nullptr, out.normals);
     out.registration.iterations += iterations;
   }
   return out;

@@ -77,9 +77,9 @@ void accumulate(const Eigen::Vector3d& p, const MapVoxel& v, const Correspondenc
   if (c.planar) {
     // e = n . (p - q);  de/d(rho, phi) = [n^T, (p x n)^T]
     Vector6d jt;
-    jt.head<3>() = v.normal;
-    jt.tail<3>() = p.cross(v.normal);
-    const Eigen::Matrix<double, 1, 1> e(v.normal.dot(p - v.point));
+    jt.head<3>() = c.normal;
+    jt.tail<3>() = p.cross(c.normal);
+    const Eigen::Matrix<double, 1, 1> e(c.normal.dot(p - v.point));
     out.planar.add<1>(jt, e, c.weight, c.squared_residual, time);
   } else {
     // e = p - q;  de/d(rho, phi) = [I, -[p]x]
@@ -156,13 +156,19 @@ Step solve(const Systems& sys, double alpha, const Eigen::Isometry3d& pose, cons
 
 Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t label,
                                       const MapVoxel& voxel, double sigma,
-                                      const RegistrationParams& params) {
+                                      const RegistrationParams& params,
+                                      const Eigen::Vector3d& scan_normal) {
   Correspondence c;
-  c.planar = params.point_to_plane && isPlanar(voxel, params.planarity_threshold);
-  const Eigen::Vector3d d = point - voxel.point;
-  const double e = c.planar ? voxel.normal.dot(d) : 0.0;
-  c.squared_residual = c.planar ? e * e : d.squaredNorm();
   const bool known_geometry = voxel.planarity >= 0.f;
+  c.planar = params.point_to_plane && isPlanar(voxel, params.planarity_threshold);
+  c.normal = voxel.normal;
+  if (params.point_to_plane && !known_geometry && scan_normal.squaredNorm() > 0.5) {
+    c.planar = true;  // along the scan's surface: no pull along it (scan_normals.hpp)
+    c.normal = scan_normal;
+  }
+  const Eigen::Vector3d d = point - voxel.point;
+  const double e = c.planar ? c.normal.dot(d) : 0.0;
+  c.squared_residual = c.planar ? e * e : d.squaredNorm();
   if (!known_geometry && !params.sparse_voxel_pairs) return c;  // weight 0
   c.weight = gemanMcClureWeight(c.squared_residual, sigma / 3.0) *
              occupancyWeight(voxel.occupancy, params.gamma) *
@@ -173,11 +179,12 @@ Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t
 RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
                                 const Eigen::Isometry3d& initial_guess, double sigma,
                                 const RegistrationParams& params,
-                                const SweepTwistPrior* twist_prior) {
+                                const SweepTwistPrior* twist_prior, const Points& scan_normals) {
   RegistrationResult result;
   result.pose = initial_guess;
   if (scan.size() == 0 || map.empty()) return result;
   if (!scan.hasTimes()) twist_prior = nullptr;
+  const bool with_normals = scan_normals.size() == scan.size();
   // The change of the twist correction that moves the sweep's ends by one convergence step.
   double half_span = 0.0;
   for (const float t : scan.times) half_span = std::max(half_span, std::abs(double{t}));
@@ -201,7 +208,10 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
             if (!nn) continue;
             const MapVoxel& v = map.voxel(nn->index);
             const std::uint8_t label = scan.hasLabels() ? scan.labels[i] : 0;
-            accumulate(p, v, evaluateCorrespondence(p, label, v, sigma, params),
+            const Eigen::Vector3d normal =
+                with_normals ? Eigen::Vector3d(pose.linear() * scan_normals[i].cast<double>())
+                             : Eigen::Vector3d::Zero();
+            accumulate(p, v, evaluateCorrespondence(p, label, v, sigma, params, normal),
                        twist_prior ? &s : nullptr, local);
           }
           return local;

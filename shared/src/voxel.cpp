@@ -19,6 +19,7 @@ VoxelFeatures voxelFeatures(const Eigen::Matrix3d& covariance, std::uint32_t cou
   const int major = f.normal.z() != 0.0 ? 2 : (f.normal.y() != 0.0 ? 1 : 0);
   if (f.normal[major] < 0.0) f.normal = -f.normal;
   f.planarity = sum > 0.0 ? l[0] / sum : 0.0;
+  f.eigenvalues = l;
   f.valid = true;
   return f;
 }

@@ -125,8 +125,7 @@ TEST(AzimuthTimes, DeskewASimulatedStreetAsWellAsTheWrittenTimes) {
   EXPECT_LT(azimuth.drift, 0.0005 * travelled);
   EXPECT_LE(azimuth.drift, 1.5 * written.drift + 0.01);
   EXPECT_LT(apart, 0.02);
-  // Why deskew matters: the undeskewed sweeps are smeared by 1.4 m, differently at each place.
-  // (8.0 mm RMS step error against 5.9 mm; the sweep's own twist, estimated by the continuous-time
-  // registration, costs a straight street some step noise: 2.5 mm with the twist between poses.)
-  EXPECT_GT(none.rms_step, 1.25 * std::max(written.rms_step, azimuth.rms_step));
+  // Why deskew matters: the undeskewed sweeps are smeared by 1.4 m, differently at each place
+  // (RMS step error 5.4 mm against 2.5 mm).
+  EXPECT_GT(none.rms_step, 1.8 * std::max(written.rms_step, azimuth.rms_step));
 }

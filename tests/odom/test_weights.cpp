@@ -98,3 +98,22 @@ TEST(Weights, VoxelsOfUnknownGeometryArePairedOnlyWhenAskedFor) {
   sparse.planarity = 0.2f;  // known, non-planar geometry: point-to-point as in the paper
   EXPECT_GT(evaluateCorrespondence(p, 0, sparse, 1.0, params).weight, 0.5);
 }
+
+TEST(Weights, VoxelsOfUnknownGeometryArePairedAlongTheScansSurface) {
+  // A sparse voxel's first point 0.3 m along a wall from the scan point, 0.02 m off the wall:
+  // along the scan's normal only the 0.02 m count (no pull along the wall).
+  MapVoxel sparse;
+  sparse.point = Eigen::Vector3d(0.3, 0.0, 0.0);
+  sparse.occupancy = 1.f;
+  const RegistrationParams params;
+  const Eigen::Vector3d p(0.0, 0.02, 0.0);
+  const Correspondence along = evaluateCorrespondence(p, 0, sparse, 1.0, params, {0.0, 1.0, 0.0});
+  EXPECT_TRUE(along.planar);
+  EXPECT_NEAR(along.squared_residual, 0.02 * 0.02, 1e-12);
+  const Correspondence to_point = evaluateCorrespondence(p, 0, sparse, 1.0, params);
+  EXPECT_FALSE(to_point.planar);
+  EXPECT_NEAR(to_point.squared_residual, 0.3 * 0.3 + 0.02 * 0.02, 1e-12);
+  // A voxel of known geometry keeps its own classification.
+  sparse.planarity = 0.2f;
+  EXPECT_FALSE(evaluateCorrespondence(p, 0, sparse, 1.0, params, {0.0, 1.0, 0.0}).planar);
+}

@@ -68,9 +68,10 @@ inline Eigen::Matrix3d sampleCovariance(const Eigen::Matrix3d& m2, std::uint32_t
 
 /// Registration features of a voxel derived from its covariance.
 struct VoxelFeatures {
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // eigenvector of the smallest eigenvalue
-  double planarity = -1.0;                           // tau = l3 / (l1 + l2 + l3)
-  bool valid = false;                                // false below kMinPointsForFeatures points
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();       // eigenvector of the smallest eigenvalue
+  double planarity = -1.0;                                // tau = l3 / (l1 + l2 + l3)
+  Eigen::Vector3d eigenvalues = Eigen::Vector3d::Zero();  // ascending: l3 <= l2 <= l1
+  bool valid = false;  // false below kMinPointsForFeatures points
 };
 
 /// How voxelFeatures decomposes the covariance. The closed form is several times faster (the

@@ -70,8 +70,11 @@ struct OdomConfig {
   double planarity_threshold = 0.1;  // tau < this (and n >= 5) => point-to-plane
   bool point_to_plane = true;        // false: point-to-point only (the demo's baseline)
   bool sparse_voxel_pairs = true;    // pairs with voxels of < 5 points (see RegistrationParams)
-  double gamma = 1.5;                // w_occ = p_occ^gamma
-  double w_lower = 0.25;             // semantic weight of non-matching labels
+  // ... taken along the scan's own surface normal where it has one (scan_normals.hpp), else to
+  // the voxel's first point.
+  bool sparse_pairs_along_scan_normal = true;
+  double gamma = 1.5;     // w_occ = p_occ^gamma
+  double w_lower = 0.25;  // semantic weight of non-matching labels
   int max_iterations = 100;
   double convergence = 1e-4;  // ||dx|| below this stops the iterations
 

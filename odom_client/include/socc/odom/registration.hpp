@@ -60,19 +60,25 @@ struct SweepTwistPrior {
 /// One correspondence's contribution, exposed so tests can check the formulas.
 struct Correspondence {
   bool planar = false;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // of a planar pair (the voxel's or the scan's)
   double squared_residual = 0.0;
   double weight = 0.0;  // w_gm * w_occ * w_sem
 };
 /// Classifies and weighs the pair (map-frame point with its label, voxel) with sigma's kernel.
+/// scan_normal (map frame, zero when none): the scan's surface at the point (scan_normals.hpp),
+/// along which a voxel of unknown geometry is paired instead of to its first point.
 Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t label,
                                       const MapVoxel& voxel, double sigma,
-                                      const RegistrationParams& params);
+                                      const RegistrationParams& params,
+                                      const Eigen::Vector3d& scan_normal = Eigen::Vector3d::Zero());
 
 /// Registers scan (sensor frame, labels optional) against map from initial_guess; sigma is the
-/// adaptive threshold (correspondences within 3 sigma, kernel sigma / 3).
+/// adaptive threshold (correspondences within 3 sigma, kernel sigma / 3). scan_normals: empty,
+/// or the scan's surface normals (sensor frame, zero where none; scanNormals).
 RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
                                 const Eigen::Isometry3d& initial_guess, double sigma,
                                 const RegistrationParams& params,
-                                const SweepTwistPrior* twist_prior = nullptr);
+                                const SweepTwistPrior* twist_prior = nullptr,
+                                const Points& scan_normals = {});
 
 }  // namespace socc::odom

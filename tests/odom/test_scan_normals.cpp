@@ -1,0 +1,30 @@
+// scanNormals: the surface a scan shows around each of its points, or none.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "socc/odom/scan_normals.hpp"
+
+using namespace socc::odom;
+
+TEST(ScanNormals, RingsOnAWallGiveTheWallsNormalALoneRingGivesNone) {
+  socc::Points wall;  // three rings 0.3 m apart on the plane y = 5, points 0.25 m apart
+  for (int ring = 0; ring < 3; ++ring)
+    for (int k = -8; k <= 8; ++k) wall.push_back({0.25f * k, 5.f, 0.3f * ring});
+  const socc::Points normals = scanNormals(wall, 1.0, 0.1);
+  ASSERT_EQ(normals.size(), wall.size());
+  for (const Eigen::Vector3f& n : normals) EXPECT_NEAR(std::abs(n.y()), 1.f, 1e-3f);
+
+  socc::Points ring;  // one ring: a line, its normal undefined
+  for (int k = -8; k <= 8; ++k) ring.push_back({0.25f * k, 5.f, 0.f});
+  for (const Eigen::Vector3f& n : scanNormals(ring, 1.0, 0.1)) EXPECT_EQ(n.squaredNorm(), 0.f);
+
+  socc::Points few(wall.begin(), wall.begin() + 4);  // too few points for a plane
+  for (const Eigen::Vector3f& n : scanNormals(few, 1.0, 0.1)) EXPECT_EQ(n.squaredNorm(), 0.f);
+  socc::Points scattered;  // a blob: no plane
+  for (int i = 0; i < 30; ++i)
+    scattered.push_back({std::sin(1.7f * i), std::cos(2.3f * i), std::sin(0.9f * i + 1.f)});
+  int planes = 0;
+  for (const Eigen::Vector3f& n : scanNormals(scattered, 3.0, 0.1)) planes += n.squaredNorm() > 0;
+  EXPECT_EQ(planes, 0);
+}
