@@ -44,6 +44,11 @@ AbsoluteTrajectoryError computeAbsoluteTrajectoryError(const Poses& gt, const Po
     ate.errors.push_back((gt[i].translation() - ate.aligned_estimate.back().translation()).norm());
   }
   ate.stats = computeStatistics(ate.errors);
+  std::vector<double> unaligned;
+  unaligned.reserve(est.size());
+  for (std::size_t i = 0; i < est.size(); ++i)
+    unaligned.push_back((gt[i].translation() - est[i].translation()).norm());
+  ate.unaligned = computeStatistics(unaligned);
   return ate;
 }
 

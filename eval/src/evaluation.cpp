@@ -56,6 +56,7 @@ void printTable(std::ostream& out, const Evaluation& e) {
       << "median" << std::setw(10) << "max" << std::setw(10) << "rmse" << std::setw(10) << "std"
       << '\n';
   printStatsRow(out, "ATE (SE3-aligned) [m]", e.ate.stats);
+  printStatsRow(out, "ATE (unaligned) [m]", e.ate.unaligned);
   printStatsRow(out, "RPE trans [m]", e.rpe.translation);
   printStatsRow(out, "RPE rot [deg]", e.rpe.rotation);
 }
@@ -79,6 +80,7 @@ nlohmann::json toJson(const Evaluation& e) {
           {"gt_length_m", e.gt_length},
           {"kitti", kitti},
           {"ate_m", statsJson(e.ate.stats)},
+          {"ate_unaligned_m", statsJson(e.ate.unaligned)},
           {"rpe_trans_m", statsJson(e.rpe.translation)},
           {"rpe_rot_deg", statsJson(e.rpe.rotation)}};
 }

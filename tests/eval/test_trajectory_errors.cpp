@@ -1,6 +1,7 @@
 // Hand-computed ATE and RPE cases.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -36,6 +37,12 @@ TEST(AbsoluteTrajectoryError, RigidOffsetIsAlignedAway) {
   const AbsoluteTrajectoryError ate = computeAbsoluteTrajectoryError(gt, est);
   EXPECT_LT(ate.stats.max, 1e-9);
   EXPECT_TRUE(ate.alignment.isApprox(offset.inverse(), 1e-9));
+  // Without the alignment the offset is the error.
+  double farthest = 0.0;
+  for (std::size_t i = 0; i < gt.size(); ++i)
+    farthest = std::max(farthest, (gt[i].translation() - est[i].translation()).norm());
+  EXPECT_NEAR(ate.unaligned.max, farthest, 1e-9);
+  EXPECT_GT(ate.unaligned.min, 1.0);
 }
 
 TEST(AbsoluteTrajectoryError, AlternatingNoiseGivesItsRms) {

@@ -1,7 +1,9 @@
 #pragma once
 // Absolute trajectory error (ATE) after rigid alignment, as `evo_ape -a`: the estimate's
 // positions are aligned to the ground truth with the least-squares SE(3) transform
-// (Umeyama without scale), then the per-pose error is |t_gt - t_aligned_est|.
+// (Umeyama without scale), then the per-pose error is |t_gt - t_aligned_est|. Also without the
+// alignment: where the estimate is in the ground truth's own frame, e.g. robots that start at
+// their true pose in a shared map, an offset alignment would hide is an error of the map.
 #include <vector>
 
 #include "socc/eval/error_statistics.hpp"
@@ -14,6 +16,7 @@ struct AbsoluteTrajectoryError {
   Poses aligned_estimate;
   std::vector<double> errors;  // [m], one per pose
   ErrorStatistics stats;
+  ErrorStatistics unaligned;  // of |t_gt - t_est| in the ground truth's frame
 };
 
 /// Least-squares rigid transform T minimising sum |gt_i - T est_i|^2 over the positions.
