@@ -187,7 +187,8 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
   const bool with_normals = scan_normals.size() == scan.size();
   // The change of the twist correction that moves the sweep's ends by one convergence step.
   double half_span = 0.0;
-  for (const float t : scan.times) half_span = std::max(half_span, std::abs(double{t}));
+  if (twist_prior)
+    for (const float t : scan.times) half_span = std::max(half_span, std::abs(double{t}));
   const double max_distance = 3.0 * sigma;
   // Re-association can make the iteration cycle through a few correspondence sets with steps
   // above the tolerance: returning to a pose of the last kCycle iterations also ends it.

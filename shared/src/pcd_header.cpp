@@ -62,10 +62,10 @@ PcdHeader readHeaderLines(const std::filesystem::path& file, std::uintmax_t& hea
     std::vector<std::string>& values = header[key];
     for (std::string v; tokens >> v;) values.push_back(v);
   }
-  checkBodyStart(file, in);
   for (const char* key : {"FIELDS", "SIZE", "TYPE", "WIDTH", "POINTS", "DATA"})
     if (header.count(key) == 0)
       headerError(file, std::string("PCD header has no ") + key + " line");
+  checkBodyStart(file, in);  // only a file with a DATA line has a body
   return header;
 }
 
