@@ -1,5 +1,7 @@
 #include "socc/odom/local_map.hpp"
 
+#include <tsl/robin_set.h>
+
 #include <cmath>
 #include <limits>
 #include <nanoflann.hpp>
@@ -8,6 +10,7 @@
 
 #include "socc/chunk_request_t.hpp"
 #include "socc/labels.hpp"
+#include "socc/voxel.hpp"
 #include "socc/wire_arrays.hpp"
 
 namespace socc::odom {
@@ -44,11 +47,15 @@ class NearestWithin {
 }  // namespace
 
 struct LocalMap::Impl {
-  // nanoflann dataset adaptor over the first-inserted points.
+  // nanoflann dataset adaptor over the first-inserted points voxels[offset, offset + count).
   struct PointsAdaptor {
     const std::vector<MapVoxel>* voxels;
-    std::size_t kdtree_get_point_count() const { return voxels->size(); }
-    double kdtree_get_pt(std::uint32_t i, std::size_t dim) const { return (*voxels)[i].point[dim]; }
+    std::size_t offset;
+    std::size_t count;
+    std::size_t kdtree_get_point_count() const { return count; }
+    double kdtree_get_pt(std::uint32_t i, std::size_t dim) const {
+      return (*voxels)[offset + i].point[dim];
+    }
     template <typename Box>
     bool kdtree_get_bbox(Box&) const {
       return false;
@@ -59,13 +66,32 @@ struct LocalMap::Impl {
       nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
                                           PointsAdaptor, 3, std::uint32_t>;
 
-  explicit Impl(std::vector<MapVoxel> v)
-      : voxels(std::move(v)),
-        adaptor{&voxels},
-        tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {}
-  std::vector<MapVoxel> voxels;
-  PointsAdaptor adaptor;
-  KdTree tree;
+  // The tree over voxels[offset, voxels.size()): the whole map, or the overlay.
+  struct Tree {
+    Tree(const std::vector<MapVoxel>& voxels, std::size_t offset)
+        : adaptor{&voxels, offset, voxels.size() - offset},
+          tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {}
+    std::optional<Neighbor> nearest(const Eigen::Vector3d& query, double bound2) const {
+      if (adaptor.count == 0) return std::nullopt;
+      NearestWithin result(bound2);
+      tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
+      std::optional<Neighbor> n = result.result();
+      if (n) n->index += adaptor.offset;
+      return n;
+    }
+    PointsAdaptor adaptor;
+    KdTree tree;
+  };
+
+  explicit Impl(std::vector<MapVoxel> v) : voxels(std::move(v)) {
+    base = std::make_unique<Tree>(voxels, 0);
+  }
+  std::vector<MapVoxel> voxels;  // the chunk's, then the overlay's
+  std::unique_ptr<Tree> base;    // over the chunk's voxels
+  std::unique_ptr<Tree> overlay;
+  double voxel_size = 0.0;  // from the chunk; 0: not a chunk
+  double hit_occupancy = 0.0;
+  tsl::robin_set<VoxelIndex, VoxelIndexHash> keys;  // the chunk's voxels (when voxel_size > 0)
 };
 
 LocalMap::LocalMap() : LocalMap(std::vector<MapVoxel>{}) {}
@@ -81,19 +107,57 @@ std::size_t LocalMap::size() const {
 const MapVoxel& LocalMap::voxel(std::size_t i) const {
   return impl_->voxels[i];
 }
+double LocalMap::voxelSize() const {
+  return impl_->voxel_size;
+}
+double LocalMap::hitOccupancy() const {
+  return impl_->hit_occupancy;
+}
 
 std::optional<Neighbor> LocalMap::nearest(const Eigen::Vector3d& query, double max_distance) const {
   if (impl_->voxels.empty() || !query.allFinite()) return std::nullopt;
-  NearestWithin result(max_distance * max_distance);
-  impl_->tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
-  return result.result();
+  const double bound2 = max_distance * max_distance;
+  std::optional<Neighbor> best = impl_->base->nearest(query, bound2);
+  if (impl_->overlay) {
+    const std::optional<Neighbor> o =
+        impl_->overlay->nearest(query, best ? best->squared_distance : bound2);
+    if (o) best = o;
+  }
+  return best;
+}
+
+LabeledCloud LocalMap::pointsOutside(const LabeledCloud& cloud) const {
+  if (impl_->voxel_size <= 0.0) return cloud;
+  const double inv_size = 1.0 / impl_->voxel_size;
+  LabeledCloud out;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Eigen::Vector3f& p = cloud.points[i];
+    if (!p.allFinite() || impl_->keys.count(voxelIndex(p.cast<double>(), inv_size)) != 0) continue;
+    out.points.push_back(p);
+    if (cloud.hasLabels()) out.labels.push_back(cloud.labels[i]);
+  }
+  return out;
+}
+
+LocalMap LocalMap::withOverlay(std::vector<MapVoxel> overlay) && {
+  LocalMap out(std::move(*this));
+  Impl& m = *out.impl_;
+  if (overlay.empty()) return out;
+  if (m.overlay) throw std::logic_error("LocalMap::withOverlay: the map has an overlay already");
+  const std::size_t offset = m.voxels.size();
+  m.voxels.insert(m.voxels.end(), overlay.begin(), overlay.end());
+  // The base tree reads points through a pointer to the vector: its indices stay valid.
+  m.overlay = std::make_unique<Impl::Tree>(m.voxels, offset);
+  return out;
 }
 
 LocalMap LocalMap::fromChunk(const chunk_reply_t& chunk, double occupancy_threshold) {
   const int n = chunk.num_voxels;
   if (n < 0) malformed("negative num_voxels");
-  if (n == 0) return LocalMap();
-  if (!(chunk.fields & chunk_request_t::FIELD_FEATURES) || chunk.n_features != n)
+  if (!(std::isfinite(chunk.voxel_size) && chunk.voxel_size > 0.0))
+    malformed("voxel_size " + std::to_string(chunk.voxel_size));
+  if (!(chunk.p_hit >= 0.f && chunk.p_hit <= 1.f)) malformed("p_hit outside [0, 1]");
+  if (n > 0 && (!(chunk.fields & chunk_request_t::FIELD_FEATURES) || chunk.n_features != n))
     malformed("FIELD_FEATURES missing or n_features (" + std::to_string(chunk.n_features) +
               ") != num_voxels (" + std::to_string(n) + ")");
   if (const std::string why = wire::checkArrays(chunk); !why.empty()) malformed(why);
@@ -123,7 +187,13 @@ LocalMap LocalMap::fromChunk(const chunk_reply_t& chunk, double occupancy_thresh
     v.label_prob = chunk.label_prob[i] / 255.f;
     voxels.push_back(v);
   }
-  return LocalMap(std::move(voxels));
+  LocalMap map(std::move(voxels));
+  map.impl_->voxel_size = chunk.voxel_size;
+  map.impl_->hit_occupancy = chunk.p_hit;
+  const double inv_size = 1.0 / chunk.voxel_size;
+  map.impl_->keys.reserve(map.size());
+  for (const MapVoxel& v : map.impl_->voxels) map.impl_->keys.insert(voxelIndex(v.point, inv_size));
+  return map;
 }
 
 double fractionNearMap(const std::vector<Eigen::Vector3f>& points, const LocalMap& map,

@@ -46,6 +46,7 @@ YamlFields fields(OdomConfig& c) {
       {"chunk_radius", &c.chunk_radius},
       {"occupancy_threshold", &c.occupancy_threshold},
       {"min_map_points", &c.min_map_points},
+      {"pipelined_map", &c.pipelined_map},
       {"planarity_threshold", &c.planarity_threshold},
       {"point_to_plane", &c.point_to_plane},
       {"sparse_voxel_pairs", &c.sparse_voxel_pairs},

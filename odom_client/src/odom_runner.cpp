@@ -62,6 +62,7 @@ OdomRunner::OdomRunner(const OdomConfig& config, rpc::MapClient& client, RunOpti
 
 void OdomRunner::run(ScanSource& source, FrameLog& log) {
   log_ = &log;
+  pipeline_.emplace(client_, config_, log);
   Odometry odometry(config_, options_.initial_pose, options_.initial_pose_known);
   ProgressBar bar("odom_client", source.remaining(), options_.progress);
   const Clock::time_point run_start = Clock::now();
@@ -77,7 +78,7 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
     if (const std::optional<FrameStats> stats = processScan(odometry, *scan, frame_start))
       bar.tick(progressText(*stats, tracking_.state()));
   }
-  finishPending();
+  pipeline_->finish();
   bar.finish();
   wall_seconds_ = std::chrono::duration<double>(Clock::now() - run_start).count();
 }
@@ -94,17 +95,19 @@ std::optional<FrameStats> OdomRunner::processScan(Odometry& odometry, const Scan
     return std::nullopt;
   }
   stats.preprocess_ms = msSince(start);
-  const LocalMap map = fetchMap(odometry.predictedPose(prepared).translation(), stats);
+  const LocalMap map = pipeline_->target(odometry.predictedPose(prepared).translation(), stats);
   const Clock::time_point register_start = Clock::now();
   FrameEstimate estimate = odometry.registerFrame(prepared, map);
   stats.register_ms = msSince(register_start);
   stats.total_ms = msSince(start);
+  // The chunk fetched after this frame serves the frame after the next.
+  const Eigen::Vector3d ahead = odometry.predictedPosition(2.0 * config_.frame_period);
   if (std::optional<FrameEstimate> first = odometry.takeReleasedFrame()) {
     FrameStats first_stats;  // its time was spent when it arrived
     first_stats.frame = first->seq;
-    submit(std::move(*first), first_stats);
+    submit(std::move(*first), first_stats, ahead);
   }
-  if (!estimate.held) submit(std::move(estimate), stats);
+  if (!estimate.held) submit(std::move(estimate), stats, ahead);
   return stats;
 }
 
@@ -154,46 +157,7 @@ void OdomRunner::startRelocalizing(std::int64_t utime) {
   std::cerr << "odom_client: searching the robot's pose in the map (relocalization)\n";
 }
 
-rpc::Result<chunk_reply_t> OdomRunner::fetchChunk(const Eigen::Vector3d& center) {
-  chunk_request_t request = rpc::sphereChunkRequest(center, config_.chunk_radius);
-  request.occupancy_threshold = static_cast<float>(config_.occupancy_threshold);
-  rpc::Result<chunk_reply_t> chunk = client_.getChunk(request);
-  if (!chunk.ok()) throw std::runtime_error(callError("GET_CHUNK", chunk.error, chunk.attempts));
-  return chunk;
-}
-
-LocalMap OdomRunner::fetchMap(const Eigen::Vector3d& center, FrameStats& stats) {
-  // GET_CHUNK goes out while the previous Integrate may still be unanswered: the server is
-  // single-threaded and handles requests in arrival order, so the chunk already holds the
-  // previous scan. If the Integrate reached the server after the GET_CHUNK (a retry after a
-  // lost datagram, or a worker thread slower to publish than preprocessing), the chunk's map
-  // version is older than the Integrate's and it is fetched again.
-  const Clock::time_point start = Clock::now();
-  rpc::Result<chunk_reply_t> chunk = fetchChunk(center);
-  if (chunk.reply->map_version < finishPending()) {
-    chunk = fetchChunk(center);
-    ++refetched_chunks_;
-  }
-  const Clock::time_point build = Clock::now();
-  LocalMap map = LocalMap::fromChunk(*chunk.reply, config_.occupancy_threshold);
-  stats.map_build_ms = msSince(build);
-  stats.fetch_ms = msSince(start);
-  stats.chunk_voxels = static_cast<std::int64_t>(map.size());
-  stats.bytes_received = chunk.bytes_received;
-  return map;
-}
-
-std::int64_t OdomRunner::finishPending() {
-  if (!pending_) return -1;
-  auto [result, latency_ms] = pending_->reply.get();
-  if (!result.ok()) throw std::runtime_error(callError("INTEGRATE", result.error, result.attempts));
-  pending_->stats.integrate_ms = latency_ms;
-  log_->add(pending_->stats);
-  pending_.reset();
-  return result.reply->map_version;
-}
-
-void OdomRunner::submit(FrameEstimate estimate, FrameStats stats) {
+void OdomRunner::submit(FrameEstimate estimate, FrameStats stats, const Eigen::Vector3d& ahead) {
   const TrackingState before = tracking_.state();
   const TrackingState state = tracking_.update(estimate.health.healthy());
   addHealth(estimate, stats);
@@ -202,7 +166,7 @@ void OdomRunner::submit(FrameEstimate estimate, FrameStats stats) {
     std::cerr << "odom_client: frame " << estimate.seq << " unhealthy (" << estimate.health.problem
               << "): not integrated\n";
   if (state != before) {
-    finishPending();  // the server applies requests in order: the report follows the Integrate
+    pipeline_->finish();  // the server applies requests in order: the report follows the Integrate
     std::cerr << "odom_client: tracking state " << trackingStateName(state) << " at frame "
               << estimate.seq << "\n";
     reportTracking(state, estimate);
@@ -217,25 +181,12 @@ void OdomRunner::submit(FrameEstimate estimate, FrameStats stats) {
   trajectory_.stamps.push_back(estimate.utime * 1e-6);
   trajectory_.poses.push_back(estimate.pose);
   if (state == TrackingState::kLost || !estimate.health.healthy()) {
-    finishPending();  // keeps the frames.csv rows in frame order
+    pipeline_->finish();  // keeps the frames.csv rows in frame order
     log_->add(stats);
     return;
   }
   stats.integrated = true;
-  integrate(std::move(estimate), stats);
-}
-
-void OdomRunner::integrate(FrameEstimate estimate, const FrameStats& stats) {
-  finishPending();
-  integrate_request_t request =
-      rpc::makeIntegrateRequest(estimate.seq, estimate.utime, estimate.pose, estimate.cloud);
-  pending_.emplace();
-  pending_->stats = stats;
-  pending_->reply = std::async(std::launch::async, [this, r = std::move(request)]() mutable {
-    const Clock::time_point start = Clock::now();
-    auto result = client_.integrate(std::move(r));
-    return std::make_pair(std::move(result), msSince(start));
-  });
+  pipeline_->integrate(std::move(estimate), stats, ahead);
 }
 
 void OdomRunner::reportTracking(TrackingState state, const FrameEstimate& frame) {

@@ -89,6 +89,10 @@ Eigen::Isometry3d Odometry::predictedPose(const PreparedScan& scan) const {
   return pose_ * expSe3(twist_ * (scan.time() - time_));
 }
 
+Eigen::Vector3d Odometry::predictedPosition(double seconds) const {
+  return (pose_ * expSe3(twist_ * seconds)).translation();
+}
+
 Vector6d Odometry::twistTo(const Eigen::Isometry3d& mid_pose, double time) const {
   return logSe3(pose_.inverse() * mid_pose) / (time - time_);
 }

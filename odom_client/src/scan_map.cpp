@@ -17,7 +17,7 @@ struct ScanVoxel {
 
 }  // namespace
 
-LocalMap buildScanMap(const LabeledCloud& cloud, double voxel_size) {
+std::vector<MapVoxel> scanVoxels(const LabeledCloud& cloud, double voxel_size) {
   const double inv_size = 1.0 / voxel_size;
   tsl::robin_map<VoxelIndex, ScanVoxel, VoxelIndexHash> grid;
   std::vector<VoxelIndex> order;  // insertion order: deterministic output
@@ -57,7 +57,11 @@ LocalMap buildScanMap(const LabeledCloud& cloud, double voxel_size) {
     v.label_prob = static_cast<float>(s.labels[best]) / static_cast<float>(m.count);
     voxels.push_back(v);
   }
-  return LocalMap(std::move(voxels));
+  return voxels;
+}
+
+LocalMap buildScanMap(const LabeledCloud& cloud, double voxel_size) {
+  return LocalMap(scanVoxels(cloud, voxel_size));
 }
 
 }  // namespace socc::odom

@@ -295,3 +295,29 @@ TEST_F(OdomOnSimulatedDrive, TwoRobotsShareOneMap) {
   EXPECT_EQ(last_seq.at("a"), 19);
   EXPECT_EQ(last_seq.at("b"), 39);
 }
+
+// The pipelined target (the chunk after the frame before last plus the last frame's own voxels,
+// map_pipeline.hpp) against the serial one (the chunk after the last frame), each on a fresh
+// map: both within the GT bounds, and within 1 cm of each other at every frame.
+TEST_F(OdomOnSimulatedDrive, PipelinedTargetAgreesWithTheSerialOne) {
+  const fs::path pipelined = work_ / "pipelined", serial = work_ / "serial";
+  ASSERT_EQ(runClient("sim", pipelined, {}, seq()), 0);
+  server_.reset();
+  server_ = std::make_unique<socc::testing::ChildProcess>(  // a fresh, empty map
+      std::vector<std::string>{SOCC_MAP_SERVER_BIN, "--lcm-url", url_, "--quiet", "--status-period",
+                               "0"},
+      work_ / "server2.log");
+  ASSERT_TRUE(client_->getStats().ok()) << readFile(work_ / "server2.log");
+  const fs::path config = work_ / "serial.yaml";
+  std::ofstream(config) << "pipelined_map: false\n";
+  ASSERT_EQ(runClient("sim", serial, {"--config", config.string()}, seq()), 0);
+  const socc::Poses p = socc::readKittiPoses(pipelined / "poses_kitti.txt");
+  const socc::Poses s = socc::readKittiPoses(serial / "poses_kitti.txt");
+  const socc::Poses gt = groundTruth();
+  ASSERT_EQ(p.size(), gt.size());
+  ASSERT_EQ(s.size(), gt.size());
+  expectStepsMatchGroundTruth(gt, p, 0);
+  expectStepsMatchGroundTruth(gt, s, 0);
+  for (std::size_t k = 0; k < p.size(); ++k)
+    EXPECT_LT((p[k].translation() - s[k].translation()).norm(), 0.01) << "frame " << k;
+}

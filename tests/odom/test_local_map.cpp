@@ -12,6 +12,8 @@ namespace {
 socc::chunk_reply_t makeChunk(const std::vector<Eigen::Vector3f>& points, std::uint8_t occupancy) {
   socc::chunk_reply_t c{};
   c.fields = socc::chunk_request_t::FIELD_FEATURES;
+  c.voxel_size = 0.5;
+  c.p_hit = 0.55f;
   c.num_voxels = static_cast<int>(points.size());
   c.n_index = 0;
   c.n_features = c.num_voxels;
@@ -77,14 +79,43 @@ TEST(LocalMap, RejectsMalformedChunks) {
   bad = chunk;
   bad.num_voxels = -3;
   EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
+  bad = chunk;
+  bad.voxel_size = 0.0;
+  EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
+  bad = chunk;
+  bad.voxel_size = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
+  bad = chunk;
+  bad.p_hit = 1.5f;
+  EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
 }
 
-TEST(LocalMap, NearestIsExactWithinTheBound) {
-  std::mt19937 rng(7);
+TEST(LocalMap, KeepsTheMapsResolutionEvenWhenEmpty) {
+  const LocalMap map = LocalMap::fromChunk(makeChunk({}, 200), 0.5);
+  EXPECT_TRUE(map.empty());
+  EXPECT_DOUBLE_EQ(map.voxelSize(), 0.5);
+  EXPECT_FLOAT_EQ(static_cast<float>(map.hitOccupancy()), 0.55f);
+}
+
+TEST(LocalMap, PointsOutsideAreThoseInVoxelsTheChunkLacks) {
+  // Voxel (2, 4, 6) of 0.5 m is in the chunk; (20, 20, 20) is not.
+  const LocalMap map = LocalMap::fromChunk(makeChunk({{1.1f, 2.1f, 3.1f}}, 200), 0.5);
+  socc::LabeledCloud cloud;
+  cloud.points = {{1.4f, 2.4f, 3.4f}, {10.1f, 10.1f, 10.1f}, {1.0f, 2.0f, 3.0f}};
+  cloud.labels = {socc::kRoad, socc::kCar, socc::kRoad};
+  const socc::LabeledCloud outside = map.pointsOutside(cloud);
+  ASSERT_EQ(outside.size(), 1u);
+  EXPECT_TRUE(outside.points[0].isApprox(Eigen::Vector3f(10.1f, 10.1f, 10.1f)));
+  EXPECT_EQ(outside.labels[0], socc::kCar);
+  // A map not made from a chunk knows no voxel grid: every point adds.
+  EXPECT_EQ(LocalMap().pointsOutside(cloud).size(), 3u);
+}
+
+namespace {
+// Every query's nearest voxel of map within 2 m is the brute-force nearest of voxels.
+void expectExactNearest(const LocalMap& map, const std::vector<MapVoxel>& voxels,
+                        std::mt19937& rng) {
   std::uniform_real_distribution<float> u(-20.f, 20.f);
-  std::vector<MapVoxel> voxels(3000);
-  for (auto& v : voxels) v.point = Eigen::Vector3d(u(rng), u(rng), u(rng));
-  const LocalMap map(voxels);
   for (int q = 0; q < 300; ++q) {
     const Eigen::Vector3d query(u(rng), u(rng), u(rng));
     const double bound = 2.0;
@@ -106,5 +137,32 @@ TEST(LocalMap, NearestIsExactWithinTheBound) {
       EXPECT_NEAR(nn->squared_distance, best2, 1e-9);
     }
   }
+}
+
+std::vector<MapVoxel> randomVoxels(std::size_t n, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(-20.f, 20.f);
+  std::vector<MapVoxel> voxels(n);
+  for (auto& v : voxels) v.point = Eigen::Vector3d(u(rng), u(rng), u(rng));
+  return voxels;
+}
+}  // namespace
+
+TEST(LocalMap, NearestIsExactWithinTheBound) {
+  std::mt19937 rng(7);
+  const std::vector<MapVoxel> voxels = randomVoxels(3000, rng);
+  expectExactNearest(LocalMap(voxels), voxels, rng);
   EXPECT_FALSE(LocalMap().nearest(Eigen::Vector3d::Zero(), 100.0).has_value());
+}
+
+TEST(LocalMap, AnOverlayIsSearchedWithTheMap) {
+  std::mt19937 rng(11);
+  const std::vector<MapVoxel> voxels = randomVoxels(3000, rng);
+  const std::vector<MapVoxel> base(voxels.begin(), voxels.begin() + 2500);
+  const std::vector<MapVoxel> overlay(voxels.begin() + 2500, voxels.end());
+  const LocalMap map = LocalMap(base).withOverlay(overlay);
+  ASSERT_EQ(map.size(), voxels.size());
+  expectExactNearest(map, voxels, rng);
+  // Only an overlay.
+  const LocalMap only = LocalMap().withOverlay(overlay);
+  expectExactNearest(only, overlay, rng);
 }

@@ -229,8 +229,9 @@ TEST(FrameLog, WritesCsvRowsAndMeans) {
   std::ifstream in(csv);
   std::string header;
   std::getline(in, header);
-  EXPECT_EQ(header.rfind(
-                "frame,preprocess_ms,fetch_ms,map_build_ms,register_ms,integrate_ms,total_ms", 0),
+  EXPECT_EQ(header.rfind("frame,preprocess_ms,fetch_ms,map_build_ms,chunk_ms,register_ms,integrate_"
+                         "ms,wait_ms,total_ms",
+                         0),
             0u);
   int rows = 0;
   for (std::string line; std::getline(in, line);) ++rows;

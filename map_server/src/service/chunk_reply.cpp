@@ -45,11 +45,16 @@ void toChunkReply(map::ChunkVoxels&& voxels, chunk_reply_t& out) {
   out.n_free = static_cast<std::int32_t>(out.free_index[0].size());
 }
 
+void setMapInfo(const map::SemanticOccupancyMap& map, chunk_reply_t& out) {
+  out.voxel_size = map.config().voxel_size;
+  out.map_version = map.version();
+  out.p_hit = static_cast<float>(map.config().p_hit);
+}
+
 chunk_reply_t queryChunkReply(const map::SemanticOccupancyMap& map, const map::ChunkQuery& query) {
   chunk_reply_t reply{};
   toChunkReply(map.queryChunk(query), reply);
-  reply.voxel_size = map.config().voxel_size;
-  reply.map_version = map.version();
+  setMapInfo(map, reply);
   return reply;
 }
 

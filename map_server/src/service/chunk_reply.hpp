@@ -6,11 +6,14 @@
 
 namespace socc::service {
 
-/// Moves the voxel columns into out and sets its counts; voxel_size, map_version and the
+/// Moves the voxel columns into out and sets its counts; the map's fields (setMapInfo) and the
 /// header are left to the caller.
 void toChunkReply(map::ChunkVoxels&& voxels, chunk_reply_t& out);
 
-/// out.voxel_size and out.map_version set from map: the whole reply of a successful query.
+/// Sets what every chunk reply says of the map: voxel_size, map_version, p_hit.
+void setMapInfo(const map::SemanticOccupancyMap& map, chunk_reply_t& out);
+
+/// The whole reply of a successful query (columns and setMapInfo).
 chunk_reply_t queryChunkReply(const map::SemanticOccupancyMap& map, const map::ChunkQuery& query);
 
 }  // namespace socc::service

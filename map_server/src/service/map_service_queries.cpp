@@ -10,8 +10,7 @@ namespace socc::service {
 
 chunk_reply_t MapService::getChunk(const chunk_request_t& request) const {
   chunk_reply_t reply{};
-  reply.voxel_size = map_.config().voxel_size;
-  reply.map_version = map_.version();
+  setMapInfo(map_, reply);
   if (Status s = checkChunkRequest(request, config_.limits); !s.ok()) {
     setStatus(reply, s);
     return reply;
@@ -34,13 +33,10 @@ chunk_reply_t MapService::getChunk(const chunk_request_t& request) const {
       request.limit == 0 ? server_max : std::min<std::int64_t>(request.limit, server_max));
 
   toChunkReply(map_.queryChunk(query), reply);
-  reply.voxel_size = map_.config().voxel_size;
-  reply.map_version = map_.version();
   if (reply.getEncodedSize() > config_.limits.max_reply_bytes) {
     const std::int64_t bytes = reply.getEncodedSize();
     reply = chunk_reply_t{};
-    reply.voxel_size = map_.config().voxel_size;
-    reply.map_version = map_.version();
+    setMapInfo(map_, reply);
     setStatus(reply, Status::exhausted("reply would be " + std::to_string(bytes) +
                                        " bytes (server limit " +
                                        std::to_string(config_.limits.max_reply_bytes) +

@@ -11,18 +11,22 @@ namespace socc::odom {
 struct FrameStats {
   std::int64_t frame = 0;      // sequence number
   double preprocess_ms = 0.0;  // read + range filter + deskew + downsampling
-  double fetch_ms = 0.0;       // GET_CHUNK round trip (queued behind the previous Integrate on
-                               // the server) + LocalMap build
-  double map_build_ms = 0.0;   // of fetch_ms: decoding the chunk and building the search tree
+  double fetch_ms = 0.0;       // the frame waited for its registration target (map_pipeline.hpp)
+  double map_build_ms = 0.0;   // of fetch_ms: decoding the chunk and building search trees
+  double chunk_ms = 0.0;       // GET_CHUNK round trip + decoding of the target's chunk (in the
+                               // worker thread when pipelined, else part of fetch_ms)
   double register_ms = 0.0;
-  double integrate_ms = 0.0;  // time the pipeline waited for this frame's Integrate ack
-  double total_ms = 0.0;      // wall time of the frame in the pipeline
+  double integrate_ms = 0.0;  // Integrate round trip (in the worker thread)
+  double wait_ms = 0.0;       // the frame waited for the previous frame's Integrate (and chunk)
+                              // before its own Integrate went out
+  double total_ms = 0.0;      // wall time of the frame in the pipeline, wait_ms included
   int planar = 0;
   int non_planar = 0;
   double alpha = 0.0;
   int iterations = 0;
   std::int64_t chunk_voxels = 0;
   std::int64_t bytes_received = 0;  // encoded chunk reply
+  std::int64_t bytes_sent = 0;      // encoded Integrate request
   double sigma = 0.0;
   std::int64_t points = 0;              // range-filtered (integrated) points
   std::int64_t downsampled_points = 0;  // registered points

@@ -2,6 +2,9 @@
 // The registration target of one frame: the occupied voxels of a fetched map chunk, represented
 // by their FIRST-INSERTED points (stable references, paper Sec. data association) with normal,
 // planarity, occupancy and semantic label. Nearest-neighbour search is exact (KD-tree).
+// A chunk may carry an overlay: voxels of the robot's own frames the chunk predates (their
+// first points are the ones the server will keep), searched in a small second tree so the
+// chunk's tree is built once (map_pipeline.hpp).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
@@ -10,6 +13,7 @@
 #include <vector>
 
 #include "socc/chunk_reply_t.hpp"
+#include "socc/point_cloud.hpp"
 
 namespace socc::odom {
 
@@ -42,6 +46,17 @@ class LocalMap {
   std::size_t size() const;
   bool empty() const { return size() == 0; }
   const MapVoxel& voxel(std::size_t i) const;
+
+  /// The chunk's voxel size and the p_occ of a voxel hit once (0 when not made from a chunk).
+  double voxelSize() const;
+  double hitOccupancy() const;
+
+  /// The points of cloud (map frame) in voxels that hold none of this chunk's voxels: where
+  /// integrating the cloud adds voxels. All of them when this map was not made from a chunk.
+  LabeledCloud pointsOutside(const LabeledCloud& cloud) const;
+
+  /// This map plus overlay, searched together; this map's search tree is kept.
+  LocalMap withOverlay(std::vector<MapVoxel> overlay) &&;
 
   /// The nearest first-inserted point within max_distance of query, if any (exact).
   std::optional<Neighbor> nearest(const Eigen::Vector3d& query, double max_distance) const;

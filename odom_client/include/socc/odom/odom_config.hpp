@@ -65,6 +65,10 @@ struct OdomConfig {
   double chunk_radius = 125.0;       // [m]
   double occupancy_threshold = 0.5;  // voxels with p_occ >= this are correspondence candidates
   int min_map_points = 100;  // fewer occupied voxels: keep the prediction (e.g. first frame)
+  // Register each frame against the chunk fetched after the frame before last plus the last
+  // frame's own voxels, while the server integrates (map_pipeline.hpp); false: wait for the
+  // server to integrate the last frame and fetch the chunk after it.
+  bool pipelined_map = true;
 
   // Registration.
   double planarity_threshold = 0.1;  // tau < this (and n >= 5) => point-to-plane

@@ -1,18 +1,15 @@
 #pragma once
 // The client pipeline against the map service, per scan:
-//   prepare -> GET_CHUNK around the prediction -> (previous Integrate ack) -> LocalMap ->
-//   register (deskew iterated, health judged) -> Integrate (asynchronous, in a worker thread).
-// The next scan is prepared while the previous Integrate is in flight, and its GET_CHUNK is
-// queued behind that Integrate on the single-threaded server without waiting for the ack; a
-// chunk whose map version predates the Integrate's is fetched again.
+//   prepare -> registration target (map_pipeline.hpp) -> register (deskew iterated, health
+//   judged) -> Integrate (in a worker thread, which then fetches the next chunk).
 // Only healthy frames are integrated; after max_unhealthy_frames in a row the robot is lost and
 // integrates nothing more (the shared map is never fed a pose the robot does not trust).
-// Stateless between frames apart from the odometry state: no map is kept beyond one chunk.
+// Stateless between frames apart from the odometry state: no map is kept beyond one chunk and
+// the voxels of the last frame.
 #include <Eigen/Geometry>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
-#include <future>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -20,6 +17,7 @@
 
 #include "socc/kitti_io.hpp"
 #include "socc/odom/frame_log.hpp"
+#include "socc/odom/map_pipeline.hpp"
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/odometry.hpp"
 #include "socc/odom/relocalization.hpp"
@@ -62,18 +60,12 @@ class OdomRunner {
   const Trajectory& trajectory() const { return trajectory_; }
   double wallSeconds() const { return wall_seconds_; }
   /// Chunks fetched twice because the first one predated the previous frame's Integrate.
-  std::int64_t refetchedChunks() const { return refetched_chunks_; }
+  std::int64_t refetchedChunks() const { return pipeline_ ? pipeline_->refetchedChunks() : 0; }
   TrackingState trackingState() const { return tracking_.state(); }
   /// Scans localized in the map by relocalization (the first, and each recovery).
   int relocalizations() const { return relocalizations_; }
 
  private:
-  // One Integrate in flight, answered in a worker thread; its row of stats waits with it.
-  struct PendingIntegrate {
-    std::future<std::pair<rpc::Result<integrate_reply_t>, double>> reply;  // result, latency ms
-    FrameStats stats;
-  };
-
   /// One scan through the pipeline; its stats, or nullopt when the scan was unusable (skipped).
   std::optional<FrameStats> processScan(Odometry& odometry, const Scan& scan,
                                         std::chrono::steady_clock::time_point start);
@@ -81,14 +73,9 @@ class OdomRunner {
   /// robot is still unlocalized (the scan is logged, not integrated).
   bool relocalize(Odometry& odometry, const Scan& scan);
   void startRelocalizing(std::int64_t utime);
-  LocalMap fetchMap(const Eigen::Vector3d& center, FrameStats& stats);
-  rpc::Result<chunk_reply_t> fetchChunk(const Eigen::Vector3d& center);
-  /// Waits for the Integrate in flight, logs its frame; returns the map version it produced
-  /// (-1 when none was in flight).
-  std::int64_t finishPending();
-  /// Judges, records and (when healthy and not lost) integrates one finished frame.
-  void submit(FrameEstimate estimate, FrameStats stats);
-  void integrate(FrameEstimate estimate, const FrameStats& stats);
+  /// Judges, records and (when healthy and not lost) integrates one finished frame; ahead: see
+  /// MapPipeline::integrate.
+  void submit(FrameEstimate estimate, FrameStats stats, const Eigen::Vector3d& ahead);
   void reportTracking(TrackingState state, const FrameEstimate& frame);
   void sendStatus(std::int8_t wire, const std::string& reason, std::int64_t seq,
                   std::int64_t utime);
@@ -98,10 +85,9 @@ class OdomRunner {
   RunOptions options_;
   FrameLog* log_ = nullptr;
   TrackingMonitor tracking_;
-  std::optional<PendingIntegrate> pending_;
+  std::optional<MapPipeline> pipeline_;  // during run()
   Trajectory trajectory_;
   double wall_seconds_ = 0.0;
-  std::int64_t refetched_chunks_ = 0;
   bool localized_ = true;
   std::int64_t search_since_utime_ = -1;  // scan time the current search began; -1: not yet
   std::optional<PoseHint> hint_;          // for the next search only

@@ -62,6 +62,8 @@ class Odometry {
 
   /// Pose predicted at the middle of scan's sweep (constant velocity).
   Eigen::Isometry3d predictedPose(const PreparedScan& scan) const;
+  /// Position predicted seconds after the last registered sweep's middle (constant velocity).
+  Eigen::Vector3d predictedPosition(double seconds) const;
 
   /// Registers scan against map and advances the state. An unhealthy estimate does not move the
   /// state: the pose follows the prediction and the estimate says why (health.problem).

@@ -9,4 +9,7 @@ namespace socc::odom {
 
 LocalMap buildScanMap(const LabeledCloud& cloud, double voxel_size);
 
+/// The voxels of buildScanMap, in the order of their first points in cloud.
+std::vector<MapVoxel> scanVoxels(const LabeledCloud& cloud, double voxel_size);
+
 }  // namespace socc::odom

@@ -1,0 +1,83 @@
+#pragma once
+// The registration target of each frame and the frames' way into the map (odom_client/README.md
+// "Pipeline").
+//
+// Serial, each frame waits for the server: Integrate of frame k-1, then the chunk around frame
+// k (query, encode, send, decode, search tree). Pipelined, frame k registers against the chunk
+// fetched after frame k-2 was integrated plus frame k-1's own voxels that chunk lacks (with the
+// first points the server keeps for them), while a worker thread sends frame k-1's Integrate,
+// then fetches the chunk after it and builds its tree. The server and the client work at the
+// same time; the target differs from the serial one only in the features of the voxels frame
+// k-1 hit again. Soft state: dropping it loses nothing, the next frame then fetches its chunk
+// itself (the first frame, after a frame that was not integrated, after a jump).
+#include <Eigen/Core>
+#include <cstdint>
+#include <future>
+#include <optional>
+#include <vector>
+
+#include "socc/odom/frame_log.hpp"
+#include "socc/odom/local_map.hpp"
+#include "socc/odom/odom_config.hpp"
+#include "socc/odom/odometry.hpp"
+#include "socc/rpc/map_client.hpp"
+
+namespace socc::odom {
+
+class MapPipeline {
+ public:
+  /// Rows of integrated frames go to log once the server has answered their Integrate.
+  MapPipeline(rpc::MapClient& client, const OdomConfig& config, FrameLog& log);
+  ~MapPipeline();
+  MapPipeline(const MapPipeline&) = delete;
+  MapPipeline& operator=(const MapPipeline&) = delete;
+
+  /// The registration target of a frame at center. Throws std::runtime_error when the service
+  /// fails (after MapClient's retries), std::invalid_argument on a malformed chunk.
+  LocalMap target(const Eigen::Vector3d& center, FrameStats& stats);
+
+  /// Sends a healthy frame's Integrate (in the worker); ahead is where the frame that will use
+  /// the chunk fetched after it is expected (two frames on).
+  void integrate(FrameEstimate estimate, const FrameStats& stats, const Eigen::Vector3d& ahead);
+
+  /// Waits for the Integrate in flight and logs its frame; returns the map version it produced
+  /// (-1 when none was in flight). Throws std::runtime_error when it failed.
+  std::int64_t finish();
+
+  /// Chunks fetched twice because the first one predated the previous frame's Integrate.
+  std::int64_t refetchedChunks() const { return refetched_chunks_; }
+
+ private:
+  struct Exchange {  // what the worker brings back
+    rpc::Result<integrate_reply_t> integrate;
+    double integrate_ms = 0.0;
+    std::optional<LocalMap> chunk;  // none: not asked for, or the service failed (soft state)
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();
+    std::int64_t chunk_bytes = 0;
+    double chunk_ms = 0.0;
+  };
+  struct InFlight {
+    std::future<Exchange> reply;
+    FrameStats stats;
+  };
+  struct Fetched {  // a chunk the worker fetched, with the voxels of the frame after it
+    LocalMap map;
+    Eigen::Vector3d center;
+    std::int64_t bytes = 0;
+    double chunk_ms = 0.0;
+    std::future<std::vector<MapVoxel>> overlay;  // not valid: none
+  };
+
+  LocalMap fetchNow(const Eigen::Vector3d& center, FrameStats& stats);
+  rpc::Result<chunk_reply_t> fetchChunk(const Eigen::Vector3d& center);
+  bool covers(const Fetched& fetched, const Eigen::Vector3d& center) const;
+
+  rpc::MapClient& client_;
+  const OdomConfig& config_;
+  FrameLog& log_;
+  std::optional<InFlight> in_flight_;
+  std::optional<Fetched> fetched_;
+  std::int64_t refetched_chunks_ = 0;
+};
+
+}  // namespace socc::odom

@@ -1,0 +1,158 @@
+#include "socc/odom/map_pipeline.hpp"
+
+#include <chrono>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "socc/odom/scan_map.hpp"
+#include "socc/odom/service_map_access.hpp"
+
+namespace socc::odom {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+// A pipelined chunk centred this far (share of its radius) from the frame is fetched again: the
+// frame jumped (relocalization, a lost stretch) or moved much faster than predicted.
+constexpr double kMaxCentreShift = 0.2;
+
+chunk_request_t chunkRequest(const Eigen::Vector3d& center, const OdomConfig& config) {
+  chunk_request_t request = rpc::sphereChunkRequest(center, config.chunk_radius);
+  request.occupancy_threshold = static_cast<float>(config.occupancy_threshold);
+  return request;
+}
+
+LabeledCloud inMapFrame(LabeledCloud cloud, const Eigen::Isometry3d& pose) {
+  for (auto& p : cloud.points) p = (pose * p.cast<double>()).cast<float>();
+  return cloud;
+}
+
+}  // namespace
+
+MapPipeline::MapPipeline(rpc::MapClient& client, const OdomConfig& config, FrameLog& log)
+    : client_(client), config_(config), log_(log) {}
+
+MapPipeline::~MapPipeline() {
+  fetched_.reset();  // waits for the overlay task, which reads fetched_->map
+  if (in_flight_ && in_flight_->reply.valid()) in_flight_->reply.wait();
+}
+
+LocalMap MapPipeline::target(const Eigen::Vector3d& center, FrameStats& stats) {
+  const Clock::time_point start = Clock::now();
+  if (!fetched_ || !covers(*fetched_, center)) {
+    // Fetched now, after the Integrate in flight; the chunk that came with that Integrate is
+    // kept for the next frame, which registers against it plus this frame's voxels.
+    fetched_.reset();
+    return fetchNow(center, stats);
+  }
+  std::vector<MapVoxel> overlay;
+  if (fetched_->overlay.valid()) overlay = fetched_->overlay.get();
+  const Clock::time_point build = Clock::now();
+  LocalMap map = std::move(fetched_->map).withOverlay(std::move(overlay));
+  stats.map_build_ms = msSince(build);
+  stats.bytes_received = fetched_->bytes;
+  stats.chunk_ms = fetched_->chunk_ms;
+  fetched_.reset();
+  stats.fetch_ms = msSince(start);
+  stats.chunk_voxels = static_cast<std::int64_t>(map.size());
+  return map;
+}
+
+bool MapPipeline::covers(const Fetched& fetched, const Eigen::Vector3d& center) const {
+  return (fetched.center - center).norm() <= kMaxCentreShift * config_.chunk_radius;
+}
+
+LocalMap MapPipeline::fetchNow(const Eigen::Vector3d& center, FrameStats& stats) {
+  // GET_CHUNK goes out while the previous Integrate may still be unanswered: the server is
+  // single-threaded and handles requests in arrival order, so the chunk already holds the
+  // previous scan. If the Integrate reached the server after the GET_CHUNK (a retry after a
+  // lost datagram, or a worker thread slower to publish than preprocessing), the chunk's map
+  // version is older than the Integrate's and it is fetched again.
+  const Clock::time_point start = Clock::now();
+  rpc::Result<chunk_reply_t> chunk = fetchChunk(center);
+  if (chunk.reply->map_version < finish()) {
+    chunk = fetchChunk(center);
+    ++refetched_chunks_;
+  }
+  const Clock::time_point build = Clock::now();
+  LocalMap map = LocalMap::fromChunk(*chunk.reply, config_.occupancy_threshold);
+  stats.map_build_ms = msSince(build);
+  stats.fetch_ms = msSince(start);
+  stats.chunk_ms = stats.fetch_ms;
+  stats.chunk_voxels = static_cast<std::int64_t>(map.size());
+  stats.bytes_received = chunk.bytes_received;
+  return map;
+}
+
+rpc::Result<chunk_reply_t> MapPipeline::fetchChunk(const Eigen::Vector3d& center) {
+  rpc::Result<chunk_reply_t> chunk = client_.getChunk(chunkRequest(center, config_));
+  if (!chunk.ok()) throw std::runtime_error(callError("GET_CHUNK", chunk.error, chunk.attempts));
+  return chunk;
+}
+
+void MapPipeline::integrate(FrameEstimate estimate, const FrameStats& stats,
+                            const Eigen::Vector3d& ahead) {
+  const Clock::time_point wait = Clock::now();
+  finish();  // fetched_ is now the chunk after the previous frame, if one came with it
+  FrameStats row = stats;
+  row.wait_ms = msSince(wait);
+  row.total_ms += row.wait_ms;
+  if (fetched_ && !fetched_->overlay.valid()) {
+    // What this frame adds to that chunk, worked out while its Integrate travels.
+    fetched_->overlay =
+        std::async(std::launch::async,
+                   [&base = fetched_->map, cloud = estimate.cloud, pose = estimate.pose]() {
+                     std::vector<MapVoxel> voxels =
+                         scanVoxels(base.pointsOutside(inMapFrame(cloud, pose)), base.voxelSize());
+                     for (MapVoxel& v : voxels) v.occupancy = base.hitOccupancy();
+                     return voxels;
+                   });
+  } else {
+    fetched_.reset();  // it lacks this frame, and no overlay stands in for it
+  }
+  integrate_request_t request =
+      rpc::makeIntegrateRequest(estimate.seq, estimate.utime, estimate.pose, estimate.cloud);
+  const bool with_chunk = config_.pipelined_map;
+  in_flight_.emplace();
+  row.bytes_sent = static_cast<std::int64_t>(request.getEncodedSize());
+  in_flight_->stats = row;
+  in_flight_->reply =
+      std::async(std::launch::async, [this, with_chunk, ahead, r = std::move(request)]() mutable {
+        Exchange x;
+        const Clock::time_point start = Clock::now();
+        x.integrate = client_.integrate(std::move(r));
+        x.integrate_ms = msSince(start);
+        if (!with_chunk || !x.integrate.ok()) return x;
+        const Clock::time_point fetch = Clock::now();
+        const rpc::Result<chunk_reply_t> chunk = client_.getChunk(chunkRequest(ahead, config_));
+        if (!chunk.ok()) return x;  // the next frames fetch theirs (and report the failure)
+        x.chunk = LocalMap::fromChunk(*chunk.reply, config_.occupancy_threshold);
+        x.center = ahead;
+        x.chunk_bytes = chunk.bytes_received;
+        x.chunk_ms = msSince(fetch);
+        return x;
+      });
+}
+
+std::int64_t MapPipeline::finish() {
+  if (!in_flight_) return -1;
+  Exchange x = in_flight_->reply.get();
+  FrameStats stats = in_flight_->stats;
+  in_flight_.reset();
+  if (!x.integrate.ok())
+    throw std::runtime_error(callError("INTEGRATE", x.integrate.error, x.integrate.attempts));
+  stats.integrate_ms = x.integrate_ms;
+  log_.add(stats);
+  if (x.chunk) {
+    fetched_.reset();  // an older chunk (and its overlay) is superseded
+    fetched_.emplace(Fetched{std::move(*x.chunk), x.center, x.chunk_bytes, x.chunk_ms, {}});
+  }
+  return x.integrate.reply->map_version;
+}
+
+}  // namespace socc::odom
