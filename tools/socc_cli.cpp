@@ -43,6 +43,7 @@ bool report(const socc::rpc::Result<Reply>& result, const std::string& what) {
 std::string contentDigest(socc::chunk_reply_t reply) {
   reply.header = socc::reply_header_t{};
   reply.map_version = 0;
+  reply.map_epoch = 0;  // random per map instance
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(reply.getEncodedSize()));
   reply.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
   std::array<unsigned char, EVP_MAX_MD_SIZE> md{};

@@ -97,6 +97,34 @@ class QueryRegion {
   double r2_;
 };
 
+// The blocks a delta may leave out: unchanged since the held answer and with every voxel centre
+// inside the held sphere (so the asker holds all of their voxels).
+class HeldBlocks {
+ public:
+  HeldBlocks(const ChunkQuery& q, std::int64_t epoch, const Grid& grid) : grid_(grid) {
+    active_ = q.held && q.held->epoch == epoch && q.shape == ChunkQuery::Shape::kSphere &&
+              !(q.fields & ChunkQuery::kFree);
+    if (active_) held_ = *q.held;
+  }
+  bool active() const { return active_; }
+  std::int64_t version() const { return held_.version; }
+  bool changed(const Block& block) const { return block.version > held_.version; }
+  bool held(const BlockKey& key, const Block& block) const {
+    if (!active_ || changed(block)) return false;
+    // The farthest voxel centre of the block from the held sphere's centre.
+    const Eigen::Vector3d lo = grid_.centre(voxelOf(key, 0));
+    const Eigen::Vector3d hi = grid_.centre(voxelOf(key, kBlockVoxels - 1));
+    const Eigen::Vector3d far =
+        (held_.center - lo).cwiseAbs().cwiseMax((held_.center - hi).cwiseAbs());
+    return far.squaredNorm() <= held_.radius * held_.radius;
+  }
+
+ private:
+  const Grid& grid_;
+  bool active_ = false;
+  ChunkQuery::Held held_;
+};
+
 }  // namespace
 
 ChunkVoxels SemanticOccupancyMap::queryChunk(const ChunkQuery& query) const {
@@ -111,9 +139,13 @@ ChunkVoxels SemanticOccupancyMap::queryChunk(const ChunkQuery& query) const {
   out.fields = fields;
   if (fields & ChunkQuery::kStats) out.class_prob.resize(kNumClasses);
 
+  const HeldBlocks held(query, m.epoch, m.grid);
+  if (held.active()) out.delta_of_version = held.version();
   std::size_t occupied = 0;
   for (const BlockKey& key : m.grid.blocksIn(region.box.blockLo(), region.box.blockHi())) {
     const Block& block = *m.grid.find(key);
+    if (held.held(key, block)) continue;
+    const std::size_t block_start = occupied;
     for (int local = 0; local < kBlockVoxels; ++local) {
       if (!block.observed[local]) continue;
       const VoxelIndex v = voxelOf(key, local);
@@ -135,6 +167,11 @@ ChunkVoxels SemanticOccupancyMap::queryChunk(const ChunkQuery& query) const {
         }
         push3(out.free_index, v.x(), v.y(), v.z());
       }
+    }
+    const auto in_block = static_cast<std::int32_t>(occupied - block_start);
+    if (in_block > 0 || (held.active() && held.changed(block))) {
+      push3(out.block_key, key.x(), key.y(), key.z());
+      out.block_voxels.push_back(in_block);
     }
   }
   out.num_occupied = static_cast<std::int32_t>(occupied);

@@ -50,6 +50,9 @@ struct ScanScratch {
   std::vector<Block*> miss_blocks;  // grid block of each block of footprints[0]
 };
 
+/// A random non-zero map epoch (SemanticOccupancyMap::epoch).
+std::int64_t newEpoch();
+
 struct SemanticOccupancyMap::Impl {
   explicit Impl(const MapConfig& c) : config(c), behaviour(c), grid(c.voxel_size) {}
 
@@ -57,6 +60,7 @@ struct SemanticOccupancyMap::Impl {
   SemanticVoxelBehaviour behaviour;
   Grid grid;
   std::int64_t version = 0;
+  std::int64_t epoch = newEpoch();
   std::int64_t num_observed = 0;  // kept up to date by integrate() so stats() is O(1)
   std::int64_t num_occupied = 0;
 

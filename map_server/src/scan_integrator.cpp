@@ -225,13 +225,17 @@ Tally integrateMisses(const SemanticVoxelBehaviour& behaviour, Grid::Accessor& a
       [](Tally x, const Tally& y) { return x += y; });
 }
 
-/// Clears the per-scan hit marks of the blocks the hits touched.
-void clearScanMarks(ScanScratch& s) {
+/// Clears the per-scan hit marks of the blocks the hits touched and stamps them, and the blocks
+/// the rays crossed, with the map version the scan makes (delta chunks).
+void finishBlocks(ScanScratch& s, bool raycast, std::int64_t version) {
   for (HitPartition& part : s.partitions)
     for (Block* block : part.touched) {
       block->scan_mark.reset();
       block->in_scan = false;
+      block->version = version;
     }
+  if (raycast)
+    for (Block* block : s.miss_blocks) block->version = version;
 }
 
 }  // namespace
@@ -255,7 +259,7 @@ IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& senso
     if (m.config.raycast)
       tally += integrateMisses(m.behaviour, access, m.grid, sensor_pose.translation(), s);
   });
-  clearScanMarks(s);
+  finishBlocks(s, m.config.raycast, m.version + 1);
 
   m.num_observed += tally.newly_observed;
   m.num_occupied += tally.occupied_delta;

@@ -1,6 +1,7 @@
 #include "socc/map/semantic_occupancy_map.hpp"
 
 #include <cmath>
+#include <random>
 #include <stdexcept>
 
 #include "map_impl.hpp"
@@ -89,6 +90,18 @@ void SemanticOccupancyMap::clear() {
   impl_->num_observed = 0;
   impl_->num_occupied = 0;
   ++impl_->version;
+  impl_->epoch = newEpoch();  // blocks vanished: no delta can say so
+}
+
+std::int64_t SemanticOccupancyMap::epoch() const {
+  return impl_->epoch;
+}
+
+std::int64_t newEpoch() {
+  std::random_device rd;
+  std::int64_t e = 0;
+  while (e == 0) e = (static_cast<std::int64_t>(rd()) << 31) ^ static_cast<std::int64_t>(rd());
+  return e;
 }
 
 }  // namespace socc::map

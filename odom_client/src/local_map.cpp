@@ -2,6 +2,7 @@
 
 #include <tsl/robin_set.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <nanoflann.hpp>
@@ -151,7 +152,7 @@ LocalMap LocalMap::withOverlay(std::vector<MapVoxel> overlay) && {
   return out;
 }
 
-LocalMap LocalMap::fromChunk(const chunk_reply_t& chunk, double occupancy_threshold) {
+std::vector<MapVoxel> decodeChunkVoxels(const chunk_reply_t& chunk) {
   const int n = chunk.num_voxels;
   if (n < 0) malformed("negative num_voxels");
   if (!(std::isfinite(chunk.voxel_size) && chunk.voxel_size > 0.0))
@@ -169,12 +170,10 @@ LocalMap LocalMap::fromChunk(const chunk_reply_t& chunk, double occupancy_thresh
   const std::int16_t* nx = chunk.normal[0].data();
   const std::int16_t* ny = chunk.normal[1].data();
   const std::int16_t* nz = chunk.normal[2].data();
-  std::vector<MapVoxel> voxels;
-  voxels.reserve(static_cast<std::size_t>(n));
-  for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
-    MapVoxel v;
+  std::vector<MapVoxel> voxels(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < voxels.size(); ++i) {
+    MapVoxel& v = voxels[i];
     v.occupancy = chunk.occupancy[i] / 255.f;
-    if (v.occupancy + 1e-6f < occupancy_threshold) continue;
     v.point = Eigen::Vector3d(px[i], py[i], pz[i]);
     if (!v.point.allFinite()) malformed("non-finite first point at voxel " + std::to_string(i));
     v.normal = Eigen::Vector3d(nx[i], ny[i], nz[i]) / 32767.0;
@@ -185,14 +184,32 @@ LocalMap LocalMap::fromChunk(const chunk_reply_t& chunk, double occupancy_thresh
     if (!isValidClass(v.label))
       malformed("label " + std::to_string(v.label) + " at voxel " + std::to_string(i));
     v.label_prob = chunk.label_prob[i] / 255.f;
-    voxels.push_back(v);
   }
+  return voxels;
+}
+
+bool occupiedAt(const MapVoxel& v, double occupancy_threshold) {
+  return v.occupancy + 1e-6f >= occupancy_threshold;  // bytes of p_occ: no false rounding misses
+}
+
+LocalMap LocalMap::fromChunk(const chunk_reply_t& chunk, double occupancy_threshold) {
+  std::vector<MapVoxel> voxels = decodeChunkVoxels(chunk);
+  voxels.erase(
+      std::remove_if(voxels.begin(), voxels.end(),
+                     [&](const MapVoxel& v) { return !occupiedAt(v, occupancy_threshold); }),
+      voxels.end());
+  return fromVoxels(std::move(voxels), chunk.voxel_size, chunk.p_hit);
+}
+
+LocalMap LocalMap::fromVoxels(std::vector<MapVoxel> voxels, double voxel_size,
+                              double hit_occupancy) {
   LocalMap map(std::move(voxels));
-  map.impl_->voxel_size = chunk.voxel_size;
-  map.impl_->hit_occupancy = chunk.p_hit;
-  const double inv_size = 1.0 / chunk.voxel_size;
-  map.impl_->keys.reserve(map.size());
-  for (const MapVoxel& v : map.impl_->voxels) map.impl_->keys.insert(voxelIndex(v.point, inv_size));
+  Impl& m = *map.impl_;
+  m.voxel_size = voxel_size;
+  m.hit_occupancy = hit_occupancy;
+  const double inv_size = 1.0 / voxel_size;
+  m.keys.reserve(map.size());
+  for (const MapVoxel& v : m.voxels) m.keys.insert(voxelIndex(v.point, inv_size));
   return map;
 }
 

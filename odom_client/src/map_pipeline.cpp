@@ -21,12 +21,6 @@ double msSince(Clock::time_point t) {
 // frame jumped (relocalization, a lost stretch) or moved much faster than predicted.
 constexpr double kMaxCentreShift = 0.2;
 
-chunk_request_t chunkRequest(const Eigen::Vector3d& center, const OdomConfig& config) {
-  chunk_request_t request = rpc::sphereChunkRequest(center, config.chunk_radius);
-  request.occupancy_threshold = static_cast<float>(config.occupancy_threshold);
-  return request;
-}
-
 LabeledCloud inMapFrame(LabeledCloud cloud, const Eigen::Isometry3d& pose) {
   for (auto& p : cloud.points) p = (pose * p.cast<double>()).cast<float>();
   return cloud;
@@ -35,7 +29,7 @@ LabeledCloud inMapFrame(LabeledCloud cloud, const Eigen::Isometry3d& pose) {
 }  // namespace
 
 MapPipeline::MapPipeline(rpc::MapClient& client, const OdomConfig& config, FrameLog& log)
-    : client_(client), config_(config), log_(log) {}
+    : client_(client), config_(config), log_(log), cache_(config.occupancy_threshold) {}
 
 MapPipeline::~MapPipeline() {
   fetched_.reset();  // waits for the overlay task, which reads fetched_->map
@@ -90,7 +84,8 @@ LocalMap MapPipeline::fetchNow(const Eigen::Vector3d& center, FrameStats& stats)
 }
 
 rpc::Result<chunk_reply_t> MapPipeline::fetchChunk(const Eigen::Vector3d& center) {
-  rpc::Result<chunk_reply_t> chunk = client_.getChunk(chunkRequest(center, config_));
+  rpc::Result<chunk_reply_t> chunk = client_.getChunk(
+      featureChunkRequest(center, config_.chunk_radius, config_.occupancy_threshold));
   if (!chunk.ok()) throw std::runtime_error(callError("GET_CHUNK", chunk.error, chunk.attempts));
   return chunk;
 }
@@ -129,9 +124,14 @@ void MapPipeline::integrate(FrameEstimate estimate, const FrameStats& stats,
         x.integrate_ms = msSince(start);
         if (!with_chunk || !x.integrate.ok()) return x;
         const Clock::time_point fetch = Clock::now();
-        const rpc::Result<chunk_reply_t> chunk = client_.getChunk(chunkRequest(ahead, config_));
-        if (!chunk.ok()) return x;  // the next frames fetch theirs (and report the failure)
-        x.chunk = LocalMap::fromChunk(*chunk.reply, config_.occupancy_threshold);
+        if (!config_.delta_chunks) cache_.reset();
+        const rpc::Result<chunk_reply_t> chunk =
+            client_.getChunk(cache_.request(ahead, config_.chunk_radius));
+        if (!chunk.ok()) {  // the next frames fetch theirs (and report the failure)
+          cache_.reset();
+          return x;
+        }
+        x.chunk = cache_.apply(*chunk.reply, ahead, config_.chunk_radius);
         x.center = ahead;
         x.chunk_bytes = chunk.bytes_received;
         x.chunk_ms = msSince(fetch);

@@ -47,6 +47,7 @@ YamlFields fields(OdomConfig& c) {
       {"occupancy_threshold", &c.occupancy_threshold},
       {"min_map_points", &c.min_map_points},
       {"pipelined_map", &c.pipelined_map},
+      {"delta_chunks", &c.delta_chunks},
       {"planarity_threshold", &c.planarity_threshold},
       {"point_to_plane", &c.point_to_plane},
       {"sparse_voxel_pairs", &c.sparse_voxel_pairs},

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "socc/chunk_request_t.hpp"
+#include "socc/map/voxel_grid.hpp"
 
 namespace socc::service {
 namespace {
@@ -25,6 +26,11 @@ void toChunkReply(map::ChunkVoxels&& voxels, chunk_reply_t& out) {
   out.fields = voxels.fields;
   out.truncated = voxels.truncated;
   out.num_voxels = voxels.num_occupied;
+  out.delta_of_version = voxels.delta_of_version;
+  out.block_dim = map::kBlockDim;
+  out.block = rowsOf(std::move(voxels.block_key));
+  out.block_voxels = std::move(voxels.block_voxels);
+  out.n_blocks = static_cast<std::int32_t>(out.block_voxels.size());
   out.index = rowsOf(std::move(voxels.index));
   out.first_point = rowsOf(std::move(voxels.first_point));
   out.normal = rowsOf(std::move(voxels.normal));
@@ -48,6 +54,7 @@ void toChunkReply(map::ChunkVoxels&& voxels, chunk_reply_t& out) {
 void setMapInfo(const map::SemanticOccupancyMap& map, chunk_reply_t& out) {
   out.voxel_size = map.config().voxel_size;
   out.map_version = map.version();
+  out.map_epoch = map.epoch();
   out.p_hit = static_cast<float>(map.config().p_hit);
 }
 

@@ -24,6 +24,12 @@ chunk_reply_t MapService::getChunk(const chunk_request_t& request) const {
     query.shape = map::ChunkQuery::Shape::kSphere;
     query.center = Eigen::Vector3d(request.center[0], request.center[1], request.center[2]);
     query.radius = request.radius;
+    if (request.since_epoch != 0)
+      query.held =
+          map::ChunkQuery::Held{request.since_epoch, request.since_version,
+                                Eigen::Vector3d(request.since_center[0], request.since_center[1],
+                                                request.since_center[2]),
+                                request.since_radius};
   }
   query.occupancy_threshold = request.occupancy_threshold;
   query.fields = request.fields;

@@ -71,6 +71,11 @@ Status checkChunkRequest(const chunk_request_t& request, const ServiceLimits& li
   if (2.0 * request.radius > limits.max_region_extent)
     return Status::exhausted("sphere diameter exceeds the server limit of " +
                              std::to_string(limits.max_region_extent) + " m");
+  if (request.since_epoch != 0 &&
+      (!finite3(request.since_center) || !std::isfinite(request.since_radius) ||
+       request.since_radius < 0.0 || request.since_version < 0))
+    return Status::invalid(
+        "delta: since_center must be finite, since_radius and since_version >= 0");
   return {};
 }
 

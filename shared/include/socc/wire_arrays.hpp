@@ -112,6 +112,8 @@ inline std::string checkArrays(const scan_t& m) {
 }
 
 inline std::string checkArrays(const chunk_reply_t& m) {
+  if (!hasRows(m.block, 3, m.n_blocks) || !hasCount(m.block_voxels, m.n_blocks))
+    return "n_blocks does not match block or block_voxels";
   if (!hasRows(m.index, 3, m.n_index)) return "n_index does not match index";
   const std::int32_t f = m.n_features;
   if (!hasRows(m.first_point, 3, f) || !hasRows(m.normal, 3, f) || !hasCount(m.planarity, f) ||

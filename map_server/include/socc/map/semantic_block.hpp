@@ -22,6 +22,7 @@ struct SemanticBlock {
   std::bitset<kBlockVoxels> observed;   // unknown voxels are not observed
   std::bitset<kBlockVoxels> scan_mark;  // scratch: voxel already updated by the current scan
   bool in_scan = false;                 // scratch: block is in the scan's touched list
+  std::int64_t version = 0;             // map version of the last change (delta chunks)
   std::vector<VoxelStats> stats;
   std::vector<std::uint16_t> free_slots;
 

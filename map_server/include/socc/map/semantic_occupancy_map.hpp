@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,17 @@ struct ChunkQuery {
   static constexpr std::int32_t kIndex = 8;     // voxel index of each occupied voxel
   std::int32_t fields = kFeatures;
   std::int32_t limit = 0;  // 0 = unlimited
+
+  // Delta: the asker holds the complete answer to the sphere (center, radius) at map version
+  // `version` of map epoch `epoch`. Blocks unchanged since then and wholly inside that sphere
+  // are left out. Applies to spheres without kFree of the same map epoch; else ignored.
+  struct Held {
+    std::int64_t epoch = 0;
+    std::int64_t version = 0;
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();
+    double radius = 0.0;
+  };
+  std::optional<Held> held;
 };
 
 /// The answer to a ChunkQuery, column-wise as chunk_reply_t holds it (docs/lcm.md): row k of
@@ -47,6 +59,11 @@ struct ChunkVoxels {
   std::int32_t fields = 0;  // the ChunkQuery::k* bits answered
   bool truncated = false;   // the limit was reached: more voxels matched than returned
   std::int32_t num_occupied = 0;
+  std::int64_t delta_of_version = -1;  // the query's held version when the answer is a delta
+  // The occupied voxels come block by block: block b (key block_key[.][b]) holds the next
+  // block_voxels[b]. Blocks with voxels are listed; a delta also lists changed blocks without.
+  std::array<std::vector<std::int32_t>, 3> block_key;
+  std::vector<std::int32_t> block_voxels;
   std::array<std::vector<std::int32_t>, 3> index;  // kIndex
   // kFeatures
   std::array<std::vector<float>, 3> first_point;    // map frame [m]
@@ -102,6 +119,9 @@ class SemanticOccupancyMap {
 
   MapStats stats() const;
   std::int64_t version() const;  // increases with every change
+  /// Random and non-zero, new with every map instance and clear(): a delta chunk is only valid
+  /// against an answer of the same epoch.
+  std::int64_t epoch() const;
   void clear();
 
   /// Snapshot: versioned, checksummed, written atomically (temp file + rename).

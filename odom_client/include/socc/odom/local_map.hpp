@@ -42,6 +42,9 @@ class LocalMap {
   /// Decodes a chunk with FIELD_FEATURES, keeping voxels with p_occ >= occupancy_threshold.
   /// Throws std::invalid_argument on a malformed reply (sizes, non-finite values, labels).
   static LocalMap fromChunk(const chunk_reply_t& chunk, double occupancy_threshold);
+  /// The map of a chunk's decoded voxels (decodeChunkVoxels), with the chunk's voxel size and
+  /// p_hit (voxel_size > 0).
+  static LocalMap fromVoxels(std::vector<MapVoxel> voxels, double voxel_size, double hit_occupancy);
 
   std::size_t size() const;
   bool empty() const { return size() == 0; }
@@ -65,6 +68,13 @@ class LocalMap {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// Every voxel of a chunk with FIELD_FEATURES, in the reply's order. Throws
+/// std::invalid_argument on a malformed reply (sizes, non-finite values, labels, voxel size).
+std::vector<MapVoxel> decodeChunkVoxels(const chunk_reply_t& chunk);
+
+/// p_occ of v at or above occupancy_threshold (as decoded from the reply's byte).
+bool occupiedAt(const MapVoxel& v, double occupancy_threshold);
 
 /// Share of cloud's points (sensor frame) within max_distance of map at pose: how much of a scan
 /// a pose explains. 0 for an empty cloud.

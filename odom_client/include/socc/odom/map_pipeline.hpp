@@ -16,6 +16,7 @@
 #include <optional>
 #include <vector>
 
+#include "socc/odom/chunk_cache.hpp"
 #include "socc/odom/frame_log.hpp"
 #include "socc/odom/local_map.hpp"
 #include "socc/odom/odom_config.hpp"
@@ -77,6 +78,7 @@ class MapPipeline {
   FrameLog& log_;
   std::optional<InFlight> in_flight_;
   std::optional<Fetched> fetched_;
+  ChunkCache cache_;  // the worker's (delta_chunks)
   std::int64_t refetched_chunks_ = 0;
 };
 

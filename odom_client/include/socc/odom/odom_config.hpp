@@ -69,6 +69,8 @@ struct OdomConfig {
   // frame's own voxels, while the server integrates (map_pipeline.hpp); false: wait for the
   // server to integrate the last frame and fetch the chunk after it.
   bool pipelined_map = true;
+  // ... and fetch those chunks as deltas on the last one (chunk_cache.hpp).
+  bool delta_chunks = true;
 
   // Registration.
   double planarity_threshold = 0.1;  // tau < this (and n >= 5) => point-to-plane
