@@ -1,0 +1,125 @@
+// Delta chunks (docs/lcm.md "Delta chunks"): the map a ChunkCache builds from deltas equals the
+// map of a complete chunk of the same sphere, voxel for voxel, while the robot drives and the
+// map changes; a new map epoch or a malformed reply starts over with a complete chunk.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "service/chunk_reply.hpp"
+#include "socc/labels.hpp"
+#include "socc/map/semantic_occupancy_map.hpp"
+#include "socc/odom/chunk_cache.hpp"
+
+using namespace socc::odom;
+
+namespace {
+
+// A street seen from a sensor at (x, 0, 0) out to 15 m: ground, two facades and poles (sensor
+// frame). The chunks reach 40 m: behind the robot, blocks stop changing.
+socc::LabeledCloud streetScan(double x, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-15.0, 15.0), h(-1.7, 6.0);
+  socc::LabeledCloud cloud;
+  const auto add = [&](const Eigen::Vector3d& world, std::uint8_t label) {
+    cloud.points.push_back((world - Eigen::Vector3d(x, 0, 0)).cast<float>());
+    cloud.labels.push_back(label);
+  };
+  for (int i = 0; i < 3000; ++i) {
+    add({x + u(rng), 0.2 * u(rng), -1.7}, socc::kRoad);
+    add({x + u(rng), 8.0, h(rng)}, socc::kBuilding);
+    add({x + u(rng), -8.0, h(rng)}, socc::kBuilding);
+  }
+  for (int pole = -3; pole <= 3; ++pole)
+    for (int k = 0; k < 40; ++k) add({x + 5.0 * pole, 6.0, h(rng)}, socc::kPole);
+  return cloud;
+}
+
+// GET_CHUNK as map_service answers it (map_service_queries.cpp), in process.
+socc::chunk_reply_t answer(const socc::map::SemanticOccupancyMap& map,
+                           const socc::chunk_request_t& r) {
+  socc::map::ChunkQuery q;
+  q.center = Eigen::Vector3d(r.center[0], r.center[1], r.center[2]);
+  q.radius = r.radius;
+  q.occupancy_threshold = r.occupancy_threshold;
+  q.fields = r.fields;
+  if (r.since_epoch != 0)
+    q.held = socc::map::ChunkQuery::Held{
+        r.since_epoch, r.since_version,
+        Eigen::Vector3d(r.since_center[0], r.since_center[1], r.since_center[2]), r.since_radius};
+  return socc::service::queryChunkReply(map, q);
+}
+
+void expectSameMap(const LocalMap& a, const LocalMap& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a.voxel(i).point, b.voxel(i).point) << "voxel " << i;
+    EXPECT_EQ(a.voxel(i).normal, b.voxel(i).normal) << "voxel " << i;
+    EXPECT_EQ(a.voxel(i).planarity, b.voxel(i).planarity) << "voxel " << i;
+    EXPECT_EQ(a.voxel(i).occupancy, b.voxel(i).occupancy) << "voxel " << i;
+    EXPECT_EQ(a.voxel(i).label, b.voxel(i).label) << "voxel " << i;
+  }
+}
+
+constexpr double kRadius = 40.0;
+constexpr double kThreshold = 0.5;
+
+}  // namespace
+
+TEST(ChunkCache, DeltasBuildTheMapOfACompleteChunk) {
+  socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
+  ChunkCache cache(kThreshold);
+  std::mt19937 rng(3);
+  std::size_t delta_voxels = 0, full_voxels = 0;
+  for (int frame = 0; frame < 12; ++frame) {
+    const double x = 1.5 * frame;
+    map.integrate(Eigen::Isometry3d(Eigen::Translation3d(x, 0, 0)), streetScan(x, rng));
+    const Eigen::Vector3d center(x + 1.5, 0.0, 0.0);  // where the next frame is expected
+    const socc::chunk_reply_t delta = answer(map, cache.request(center, kRadius));
+    EXPECT_EQ(delta.delta_of_version >= 0, frame > 0) << "frame " << frame;
+    const LocalMap cached = cache.apply(delta, center, kRadius);
+    const socc::chunk_reply_t full = answer(map, featureChunkRequest(center, kRadius, kThreshold));
+    ASSERT_GT(full.num_voxels, 0);
+    expectSameMap(cached, LocalMap::fromChunk(full, kThreshold));
+    if (frame > 0) {
+      delta_voxels += static_cast<std::size_t>(delta.num_voxels);
+      full_voxels += static_cast<std::size_t>(full.num_voxels);
+    }
+  }
+  EXPECT_LT(delta_voxels, full_voxels);  // unchanged blocks stay out of the deltas
+}
+
+TEST(ChunkCache, ANewMapEpochGetsACompleteChunk) {
+  socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
+  ChunkCache cache(kThreshold);
+  std::mt19937 rng(5);
+  map.integrate(Eigen::Isometry3d::Identity(), streetScan(0.0, rng));
+  const Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  cache.apply(answer(map, cache.request(center, kRadius)), center, kRadius);
+  map.clear();  // a new epoch: blocks vanished
+  map.integrate(Eigen::Isometry3d(Eigen::Translation3d(3, 0, 0)), streetScan(3.0, rng));
+  const socc::chunk_reply_t reply = answer(map, cache.request(center, kRadius));
+  EXPECT_EQ(reply.delta_of_version, -1);
+  expectSameMap(cache.apply(reply, center, kRadius),
+                LocalMap::fromChunk(answer(map, featureChunkRequest(center, kRadius, kThreshold)),
+                                    kThreshold));
+}
+
+TEST(ChunkCache, AMalformedReplyResetsTheCache) {
+  socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
+  ChunkCache cache(kThreshold);
+  std::mt19937 rng(7);
+  map.integrate(Eigen::Isometry3d::Identity(), streetScan(0.0, rng));
+  const Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  cache.apply(answer(map, cache.request(center, kRadius)), center, kRadius);
+  EXPECT_NE(cache.request(center, kRadius).since_epoch, 0);
+
+  socc::chunk_reply_t bad = answer(map, cache.request(center, kRadius));
+  bad.delta_of_version += 7;  // a delta on an answer this client never held
+  EXPECT_THROW(cache.apply(bad, center, kRadius), std::invalid_argument);
+  EXPECT_EQ(cache.request(center, kRadius).since_epoch, 0);  // the next one is complete
+
+  bad = answer(map, cache.request(center, kRadius));
+  ASSERT_GT(bad.n_blocks, 0);
+  bad.block_voxels[0] += 1;  // counts that do not add up to num_voxels
+  EXPECT_THROW(cache.apply(bad, center, kRadius), std::invalid_argument);
+  EXPECT_EQ(cache.request(center, kRadius).since_epoch, 0);
+}
