@@ -131,7 +131,7 @@ std::vector<Row> pathRows(const socc::LabeledCloud& cloud, const Repeats& r) {
     const auto m = socc::rpc::safeDecode<socc::integrate_request_t>(bytes.data(),
                                                                     static_cast<int>(bytes.size()));
     socc::LabeledCloud back;
-    back.points = socc::wire::pointsFromRows(m->xyz);
+    back.points = socc::wire::pointsFromQuantized(m->xyz, m->xyz_resolution);
     back.labels = m->label;
     g_sink = g_sink + back.size();
   });

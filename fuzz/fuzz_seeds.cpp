@@ -20,6 +20,7 @@
 #include "socc/robot_status_request_t.hpp"
 #include "socc/scan_t.hpp"
 #include "socc/stats_request_t.hpp"
+#include "socc/wire_arrays.hpp"
 
 namespace {
 namespace fs = std::filesystem;
@@ -70,14 +71,13 @@ socc::integrate_request_t integrateSeeds(SeedWriter& w) {
   in.seq = 1;
   in.scan_utime = in.header.utime;
   in.sensor_pose.quaternion[0] = 1.0;
-  in.xyz.resize(3);  // by axis: xyz[0] = x of every point
+  socc::Points points;
   for (int i = 0; i < 12; ++i) {
-    in.xyz[0].push_back(static_cast<float>(i) - 6.f);
-    in.xyz[1].push_back(3.f);
-    in.xyz[2].push_back(0.5f);
+    points.emplace_back(static_cast<float>(i) - 6.f, 3.f, 0.5f);
     in.label.push_back(static_cast<std::uint8_t>(i % 20));
     in.time.push_back(0.008f * static_cast<float>(i));
   }
+  in.xyz_resolution = socc::wire::quantizePoints(points, in.xyz);
   in.num_points = in.num_labels = in.num_times = 12;
   w.message("fuzz_integrate_request", "plain", in);
   socc::auth::sign(in, key, 42);
@@ -133,7 +133,7 @@ void localizeSeeds(SeedWriter& w, const socc::integrate_request_t& in) {
   socc::localize_request_t r{};
   r.header = header("LOCALIZE");
   r.num_points = in.num_points;
-  r.xyz = in.xyz;
+  socc::wire::pointsToRows(socc::wire::pointsFromQuantized(in.xyz, in.xyz_resolution), r.xyz);
   r.hint_yaw_tolerance = 3.2;
   r.max_candidates = 3;
   w.message("fuzz_localize_request", "search", r);
@@ -181,7 +181,7 @@ void scanSeed(SeedWriter& w, const socc::integrate_request_t& in) {
   socc::scan_t scan{};
   scan.utime = in.scan_utime;
   scan.robot_id = "robot1";
-  scan.xyz = in.xyz;
+  socc::wire::pointsToRows(socc::wire::pointsFromQuantized(in.xyz, in.xyz_resolution), scan.xyz);
   scan.label = in.label;
   scan.time = in.time;
   scan.intensity.assign(12, 0.5f);

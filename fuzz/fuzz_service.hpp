@@ -11,6 +11,7 @@
 #include "service/wire_guard.hpp"
 #include "socc/integrate_request_t.hpp"
 #include "socc/rpc/safe_decode.hpp"
+#include "socc/wire_arrays.hpp"
 
 namespace socc::fuzz {
 
@@ -51,14 +52,13 @@ inline integrate_request_t seedScan(std::int64_t seq) {
   r.seq = seq;
   r.scan_utime = seq * 100'000;
   r.sensor_pose.quaternion[0] = 1.0;
-  r.xyz.resize(3);  // by axis: xyz[0] = x of every point
+  Points points;
   for (int i = 0; i < 64; ++i) {
     const float a = static_cast<float>(i) * 0.098f;
-    r.xyz[0].push_back(8.f * std::cos(a));
-    r.xyz[1].push_back(8.f * std::sin(a));
-    r.xyz[2].push_back(static_cast<float>(i % 3) - 1.f);
+    points.emplace_back(8.f * std::cos(a), 8.f * std::sin(a), static_cast<float>(i % 3) - 1.f);
     r.label.push_back(static_cast<std::uint8_t>(i % 20));
   }
+  r.xyz_resolution = wire::quantizePoints(points, r.xyz);
   r.num_points = static_cast<std::int32_t>(r.label.size());
   r.num_labels = r.num_points;
   return r;

@@ -23,7 +23,8 @@ integrate_request_t makeRequest() {
   r.seq = 3;
   r.sensor_pose.quaternion[0] = 1.0;
   r.num_points = 2;
-  r.xyz = {{1.f, 4.f}, {2.f, 5.f}, {3.f, 6.f}};  // points (1, 2, 3) and (4, 5, 6) by axis
+  r.xyz_resolution = 0.01f;
+  r.xyz = {{100, 400}, {200, 500}, {300, 600}};  // points (1, 2, 3) and (4, 5, 6) m by axis
   r.num_labels = 2;
   r.label = {9, 13};
   return r;
@@ -94,7 +95,7 @@ TEST(MessageAuth, ForgedMacRejected) {
 TEST(MessageAuth, TamperedPayloadRejected) {
   integrate_request_t r = makeRequest();
   sign(r, keyOf(1), 1);
-  r.xyz[2][1] = 60.f;  // z of point 1
+  r.xyz[2][1] = 6000;  // z of point 1
   EXPECT_EQ(Verifier(keyOf(1)).verify(r).failure, AuthFailure::kBadMac);
 
   integrate_request_t other_client = makeRequest();

@@ -69,6 +69,7 @@ inline chunk_request_t everything() {
 inline std::vector<std::uint8_t> content(chunk_reply_t reply) {
   reply.header = reply_header_t{};
   reply.map_version = 0;
+  reply.map_epoch = 0;  // random per map instance
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(reply.getEncodedSize()));
   reply.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
   return bytes;

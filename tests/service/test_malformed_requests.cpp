@@ -143,14 +143,17 @@ std::vector<Case> cases() {
          return test::encode(r);
        },
        +R::INVALID_ARGUMENT},
-      {"NaN point", kInt,
-       [nan] { return test::encode(modified([&](auto& r) { r.xyz[1][3] = nan; })); },
+      {"NaN point resolution", kInt,
+       [nan] { return test::encode(modified([&](auto& r) { r.xyz_resolution = nan; })); },
        +R::INVALID_ARGUMENT},
-      {"inf point", kInt,
-       [inf] { return test::encode(modified([&](auto& r) { r.xyz[2][0] = -inf; })); },
+      {"inf point resolution", kInt,
+       [inf] { return test::encode(modified([&](auto& r) { r.xyz_resolution = inf; })); },
+       +R::INVALID_ARGUMENT},
+      {"zero point resolution", kInt,
+       [] { return test::encode(modified([](auto& r) { r.xyz_resolution = 0.f; })); },
        +R::INVALID_ARGUMENT},
       {"absurd point", kInt,
-       [] { return test::encode(modified([](auto& r) { r.xyz[0][5] = 3e9f; })); },
+       [] { return test::encode(modified([](auto& r) { r.xyz_resolution = 1e6f; })); },
        +R::INVALID_ARGUMENT},
       {"NaN pose", kInt,
        [] {
@@ -187,7 +190,8 @@ std::vector<Case> cases() {
       {"too many points", kInt,
        [] {
          return test::encode(modified([](auto& r) {
-           for (int axis = 0; axis < 3; ++axis) r.xyz[axis].resize(6000, 1.0f + axis);
+           for (int axis = 0; axis < 3; ++axis)
+             r.xyz[axis].resize(6000, static_cast<std::int16_t>(100 * (axis + 1)));
            r.label.resize(6000, 0);
            r.num_points = r.num_labels = 6000;
          }));

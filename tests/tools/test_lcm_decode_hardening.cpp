@@ -153,3 +153,18 @@ TEST(WireLayout, CheckArraysCatchesRowsThatEncodeWouldOverrun) {
 }
 
 }  // namespace
+
+TEST(PointQuantization, RoundTripWithinHalfTheResolution) {
+  const socc::Points points = {{99.9f, -0.0004f, 3.3f}, {-100.f, 12.345f, -1.7f}, {0.f, 0.f, 0.f}};
+  socc::wire::Rows<std::int16_t> rows;
+  const float resolution = socc::wire::quantizePoints(points, rows);
+  EXPECT_NEAR(resolution, 100.f / 32766.f, 1e-9f);  // ~3 mm for a scan reaching 100 m
+  const socc::Points back = socc::wire::pointsFromQuantized(rows, resolution);
+  ASSERT_EQ(back.size(), points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    EXPECT_LE((back[i] - points[i]).cwiseAbs().maxCoeff(), 0.5f * resolution * 1.001f) << i;
+  EXPECT_THROW(socc::wire::quantizePoints({{std::nanf(""), 0.f, 0.f}}, rows),
+               std::invalid_argument);
+  EXPECT_THROW(socc::wire::pointsFromQuantized(rows, 0.f), std::invalid_argument);
+  EXPECT_THROW(socc::wire::pointsFromQuantized(rows, std::nanf("")), std::invalid_argument);
+}

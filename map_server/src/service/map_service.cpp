@@ -17,7 +17,7 @@ constexpr auto kRateWindow = std::chrono::seconds(5);
 
 LabeledCloud toCloud(const integrate_request_t& request) {
   LabeledCloud cloud;
-  cloud.points = wire::pointsFromRows(request.xyz);
+  cloud.points = wire::pointsFromQuantized(request.xyz, request.xyz_resolution);
   cloud.labels = request.label;
   cloud.times = request.time;
   return cloud;

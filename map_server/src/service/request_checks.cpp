@@ -49,6 +49,9 @@ Status checkIntegrateRequest(const integrate_request_t& request, const map::MapC
     return Status::invalid("num_labels must be 0 or num_points");
   if (request.num_times != 0 && request.num_times != request.num_points)
     return Status::invalid("num_times must be 0 or num_points");
+  if (request.num_points > 0 &&
+      !(std::isfinite(request.xyz_resolution) && request.xyz_resolution > 0.f))
+    return Status::invalid("xyz_resolution must be finite and > 0");
   if (const std::string why = checkPose(request.sensor_pose, config.max_abs_coordinate);
       !why.empty())
     return Status::invalid("sensor_pose: " + why);

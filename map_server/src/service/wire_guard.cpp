@@ -63,8 +63,11 @@ std::string checkIntegrateWire(const void* data, int size) {
   if (std::string why = walkHeader(cursor); !why.empty()) return why;
   constexpr std::int64_t kPoseBytes = 7 * 8;  // pose3d_t: 3 + 4 doubles
   if (!cursor.skip(8 + 8 + kPoseBytes)) return "truncated integrate request";
-  // xyz[3][num_points]: 3 rows of num_points floats.
-  if (!cursor.skipArray(3 * 4)) return "num_points does not match the message size";
+  // num_points, xyz_resolution (float), xyz[3][num_points]: 3 rows of num_points int16.
+  std::int32_t points = 0;
+  if (!cursor.readInt32(points) || points < 0 || !cursor.skip(4) ||
+      !cursor.skip(std::int64_t{points} * 3 * 2))
+    return "num_points does not match the message size";
   if (!cursor.skipArray(1)) return "num_labels does not match the message size";
   if (!cursor.skipArray(4)) return "num_times does not match the message size";
   return {};

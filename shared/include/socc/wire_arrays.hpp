@@ -4,6 +4,8 @@
 // decodes each row in one bulk call. decode() always yields R rows (empty when n == 0), but
 // encode() trusts the counts and reads R rows of n values from the vectors: a hand-built
 // message must pass checkArrays() before it is encoded.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -35,6 +37,47 @@ bool hasRows(const Rows<T>& a, std::int64_t rows, std::int64_t count) {
 template <typename T>
 bool hasCount(const std::vector<T>& a, std::int64_t count) {
   return count >= 0 && a.size() == static_cast<std::size_t>(count);
+}
+
+/// Quantizes points for integrate_request_t (docs/lcm.md "Point quantization"): returns the
+/// resolution [m per unit], the finest that holds the largest |coordinate| in an int16.
+/// Throws std::invalid_argument for a non-finite point.
+inline float quantizePoints(const Points& points, Rows<std::int16_t>& xyz) {
+  float largest = 0.f;
+  for (const Eigen::Vector3f& p : points) {
+    if (!p.allFinite()) throw std::invalid_argument("non-finite point: cannot be sent");
+    largest = std::max(largest, p.cwiseAbs().maxCoeff());
+  }
+  // 32766, not 32767: float rounding must not carry the largest coordinate past the int16 range.
+  const float resolution = std::max(largest / 32766.f, 1e-6f);
+  const float inv = 1.f / resolution;
+  const std::size_t n = points.size();
+  xyz.resize(3);
+  for (auto& row : xyz) row.resize(n);
+  for (int a = 0; a < 3; ++a) {
+    std::int16_t* row = xyz[a].data();
+    for (std::size_t i = 0; i < n; ++i)
+      row[i] = static_cast<std::int16_t>(std::lround(points[i][a] * inv));
+  }
+  return resolution;
+}
+
+/// The points of quantized rows (3 rows of equal length); throws std::invalid_argument when
+/// the rows are not that or the resolution is not finite and > 0.
+inline Points pointsFromQuantized(const Rows<std::int16_t>& xyz, float resolution) {
+  Points points;
+  if (xyz.empty()) return points;
+  const std::size_t n = xyz.size() == 3 ? xyz[0].size() : 0;
+  if (xyz.size() != 3 || xyz[1].size() != n || xyz[2].size() != n)
+    throw std::invalid_argument("xyz must be 3 rows of equal length");
+  if (!(std::isfinite(resolution) && resolution > 0.f))
+    throw std::invalid_argument("xyz_resolution must be finite and > 0");
+  points.resize(n);
+  const std::int16_t* x = xyz[0].data();
+  const std::int16_t* y = xyz[1].data();
+  const std::int16_t* z = xyz[2].data();
+  for (std::size_t i = 0; i < n; ++i) points[i] = Eigen::Vector3f(x[i], y[i], z[i]) * resolution;
+  return points;
 }
 
 /// Value i of every row (e.g. the 3 coordinates of point i). Allocates: for tests and

@@ -324,7 +324,7 @@ integrate_request_t makeIntegrateRequest(std::int64_t seq, std::int64_t scan_uti
   request.scan_utime = scan_utime;
   request.sensor_pose = toLcm(sensor_pose);
   request.num_points = static_cast<std::int32_t>(cloud.size());
-  wire::pointsToRows(cloud.points, request.xyz);
+  request.xyz_resolution = wire::quantizePoints(cloud.points, request.xyz);
   request.num_labels = static_cast<std::int32_t>(cloud.labels.size());
   request.label.assign(cloud.labels.begin(), cloud.labels.end());
   request.num_times = static_cast<std::int32_t>(cloud.times.size());

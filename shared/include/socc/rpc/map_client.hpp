@@ -97,6 +97,8 @@ chunk_request_t sphereChunkRequest(const Eigen::Vector3d& center, double radius,
 /// A LOCALIZE request for points (sensor frame) without a hint.
 localize_request_t makeLocalizeRequest(const std::vector<Eigen::Vector3f>& points,
                                        std::int32_t max_candidates);
+/// An INTEGRATE request of cloud (sensor frame, quantized: wire::quantizePoints). Throws
+/// std::invalid_argument for a non-finite point.
 integrate_request_t makeIntegrateRequest(std::int64_t seq, std::int64_t scan_utime,
                                          const Eigen::Isometry3d& sensor_pose,
                                          const LabeledCloud& cloud);
