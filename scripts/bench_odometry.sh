@@ -3,19 +3,27 @@
 # evaluates against DIR/poses.txt (LiDAR frame; or --gt/--calib for KITTI camera-frame GT),
 # prints ONE markdown table (accuracy, per-stage timing, Hz, bytes/frame, server memory), and
 # writes trajectory/error plots (PNG) and top-down map images (by class, by occupancy) with
-# a legend, a scale bar and both trajectories.
+# a legend, a scale bar and both trajectories. --baseline CMD runs another odometry on the same
+# data in the same run (`CMD DIR`, must print fps=F; e.g. a KISS-ICP runner built outside the
+# repository), side by side, with its poses scored when --baseline-poses names the KITTI pose
+# file CMD writes (LiDAR frame). Exit 1 when a target of odom_client/README.md "Performance" is
+# missed: end to end >= 1.2x the baseline's fps (35 Hz without one), frame time p99 <= 3x the
+# median, chunk traffic <= 300 KiB/frame, Integrate upload <= 1 MB/frame (--no-targets: report
+# them, exit 0; for callers that judge accuracy, e.g. demo.sh).
 #
 # Usage: scripts/bench_odometry.sh DIR [--build BUILD] [--out OUT] [--gt POSES] [--calib CALIB]
 #                                  [--lengths 100,200,...] [--no-semantics] [--frames N]
-#                                  [--config ODOM_YAML]
+#                                  [--config ODOM_YAML] [--baseline CMD [--baseline-poses FILE]]
+#                                  [--no-targets]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 [ $# -ge 1 ] || usage 2
 case "$1" in -h|--help) usage 0 ;; esac
 dir="$(cd "$1" && pwd)"; shift
 build="$root/build"; out=""; gt=""; calib=""; lengths=""; client_args=()
+baseline=""; baseline_poses=""; judge=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
@@ -26,6 +34,9 @@ while [ $# -gt 0 ]; do
     --no-semantics) client_args+=(--no-semantics); shift ;;
     --config) client_args+=(--config "$2"); shift 2 ;;
     --frames) client_args+=(--last-frame "$(($2 - 1))"); shift 2 ;;
+    --baseline) baseline="$2"; shift 2 ;;
+    --baseline-poses) baseline_poses="$2"; shift 2 ;;
+    --no-targets) judge=0; shift ;;
     -h|--help) usage 0 ;;
     *) echo "bench_odometry: unknown argument $1" >&2; usage 2 ;;
   esac
@@ -61,6 +72,20 @@ eval_args=(--gt "$gt" --est "$out/poses_kitti.txt" --truncate --json "$out/eval.
 [ -n "$lengths" ] && eval_args+=(--lengths "$lengths")
 "$build/eval/socc-eval" "${eval_args[@]}" >"$out/eval.txt"
 
+# The baseline on the same scans, after socc's run (not beside it: two cores).
+: >"$out/baseline.txt"
+if [ -n "$baseline" ]; then
+  echo "bench_odometry: baseline $baseline on $dir" >&2
+  bash -c "$baseline \"\$1\"" baseline "$dir" >"$out/baseline.txt" 2>&1 ||
+    { cat "$out/baseline.txt" >&2; echo "bench_odometry: the baseline failed" >&2; exit 1; }
+  if [ -n "$baseline_poses" ]; then
+    base_args=(--gt "$gt" --est "$baseline_poses" --truncate --json "$out/baseline_eval.json")
+    [ -n "$calib" ] && base_args+=(--calib "$calib")
+    [ -n "$lengths" ] && base_args+=(--lengths "$lengths")
+    "$build/eval/socc-eval" "${base_args[@]}" >"$out/baseline_eval.txt"
+  fi
+fi
+
 stats="$("${cli[@]}" stats)"
 echo "$stats" >"$out/server_stats.txt"
 # Top-down map images of the whole run (bounding box of the trajectory + sensor range). The
@@ -80,38 +105,67 @@ tracks=(--trajectory "$out/poses_kitti.txt" --gt "$gt")
 "${cli[@]}" render --box ${occ_box//,/ } --mode 1 "${tracks[@]}" \
   --title "$(basename "$dir"): occupancy at robot height" --out "$out/map_occupancy.png" >/dev/null
 
-python3 - "$out" "$stats" <<'PY'
-import csv, json, re, sys
-out, stats = sys.argv[1], sys.argv[2]
+python3 - "$out" "$stats" "$baseline" "$judge" <<'PY'
+import csv, json, os, re, sys
+out, stats, baseline, judge = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4] == "1"
 ev = json.load(open(f"{out}/eval.json"))
 rows = list(csv.DictReader(open(f"{out}/frames.csv")))
 mean = lambda k: sum(float(r[k]) for r in rows) / max(len(rows), 1)
+def pct(k, q):
+    v = sorted(float(r[k]) for r in rows)
+    return v[int(q * (len(v) - 1))] if v else 0.0
 summary = open(f"{out}/client_summary.txt").read()
-hz = re.search(r"rate: ([0-9.]+) Hz", summary)
+hz_match = re.search(r"rate: ([0-9.]+) Hz", summary)
+hz = float(hz_match.group(1)) if hz_match else 0.0
 mem = re.search(r"memory_bytes=(\d+)", stats)
 vox = re.search(r"voxels=(\d+)", stats)
-k = ev["kitti"]
+base_fps = re.search(r"fps=([0-9.]+)", open(f"{out}/baseline.txt").read())
+base_fps = float(base_fps.group(1)) if base_fps else None
+base_ev = json.load(open(f"{out}/baseline_eval.json")) if os.path.exists(f"{out}/baseline_eval.json") else None
 def fmt(v, unit=""):
     return "n/a" if v is None else f"{v:.3f}{unit}"
+def acc(e):
+    if e is None:
+        return ["", "", ""]
+    k = e["kitti"]
+    return [fmt(k.get("t_err_percent"), " %"), fmt(k.get("r_err_deg_per_100m"), " deg/100m"),
+            f"{e['ate_m']['rmse']:.3f} / {e['ate_m']['max']:.3f} m"]
+sa, ba = acc(ev), acc(base_ev)
 table = [
-    ("frames", str(ev["frames"])),
-    ("path length (GT)", f"{ev['gt_length_m']:.1f} m"),
-    ("KITTI t_err", fmt(k.get("t_err_percent"), " %")),
-    ("KITTI r_err", fmt(k.get("r_err_deg_per_100m"), " deg/100m")),
-    ("ATE RMSE / max", f"{ev['ate_m']['rmse']:.3f} / {ev['ate_m']['max']:.3f} m"),
-    ("RPE trans RMSE", f"{ev['rpe_trans_m']['rmse']:.3f} m"),
-    ("RPE rot RMSE", f"{ev['rpe_rot_deg']['rmse']:.3f} deg"),
-    ("preprocess", f"{mean('preprocess_ms'):.1f} ms/frame"),
-    ("fetch chunk", f"{mean('fetch_ms'):.1f} ms/frame (map build {mean('map_build_ms'):.1f})"),
-    ("register", f"{mean('register_ms'):.1f} ms/frame"),
-    ("integrate (wait)", f"{mean('integrate_ms'):.1f} ms/frame"),
-    ("total", f"{mean('total_ms'):.1f} ms/frame"),
-    ("end-to-end rate", f"{hz.group(1)} Hz" if hz else "n/a"),
-    ("chunk traffic", f"{mean('bytes_received') / 1024:.0f} KiB/frame ({mean('chunk_voxels'):.0f} voxels)"),
-    ("server map", f"{int(vox.group(1)) if vox else 0} voxels, {int(mem.group(1)) / 2**20 if mem else 0:.1f} MiB"),
+    ("frames", str(ev["frames"]), ""),
+    ("path length (GT)", f"{ev['gt_length_m']:.1f} m", ""),
+    ("KITTI t_err", sa[0], ba[0]),
+    ("KITTI r_err", sa[1], ba[1]),
+    ("ATE RMSE / max", sa[2], ba[2]),
+    ("RPE trans / rot RMSE", f"{ev['rpe_trans_m']['rmse']:.3f} m / {ev['rpe_rot_deg']['rmse']:.3f} deg", ""),
+    ("rate", f"{hz:.1f} Hz end to end (client + server, files read)",
+     f"{base_fps:.1f} fps as it reports" if base_fps else ""),
+    ("frame time mean / median / p99", f"{mean('total_ms'):.1f} / {pct('total_ms', 0.5):.1f} / {pct('total_ms', 0.99):.1f} ms", ""),
+    ("preprocess", f"{mean('preprocess_ms'):.1f} ms/frame", ""),
+    ("registration target (wait + overlay)", f"{mean('fetch_ms'):.1f} ms/frame (map build {mean('map_build_ms'):.1f})", ""),
+    ("register", f"{mean('register_ms'):.1f} ms/frame", ""),
+    ("wait for the previous frame", f"{mean('wait_ms'):.1f} ms/frame", ""),
+    ("GET_CHUNK / INTEGRATE round trip (worker)", f"{mean('chunk_ms'):.1f} / {mean('integrate_ms'):.1f} ms", ""),
+    ("chunk traffic", f"{mean('bytes_received') / 1024:.0f} KiB/frame ({mean('chunk_voxels'):.0f} voxels)", ""),
+    ("Integrate upload", f"{mean('bytes_sent') / 1024:.0f} KiB/frame", ""),
+    ("server map", f"{int(vox.group(1)) if vox else 0} voxels, {int(mem.group(1)) / 2**20 if mem else 0:.1f} MiB"
+     + (f", {int(mem.group(1)) / max(int(vox.group(1)), 1):.1f} B/voxel" if mem and vox else ""), ""),
 ]
-print("| metric | value |\n|---|---|")
-for name, value in table:
-    print(f"| {name} | {value} |")
+print(f"| metric | socc | {'baseline' if baseline else ''} |\n|---|---|---|")
+for name, value, base in table:
+    print(f"| {name} | {value} | {base} |")
+checks = []
+if base_fps:
+    checks.append((f"end to end >= 1.2x the baseline ({base_fps:.1f} fps): {hz:.1f} Hz = {hz / base_fps:.2f}x", hz >= 1.2 * base_fps))
+else:
+    checks.append((f"end to end >= 35 Hz (no baseline): {hz:.1f} Hz", hz >= 35.0))
+med, p99 = pct("total_ms", 0.5), pct("total_ms", 0.99)
+checks.append((f"frame time p99 <= 3x median: {p99:.1f} / {med:.1f} ms", p99 <= 3.0 * med))
+checks.append((f"chunk traffic <= 300 KiB/frame: {mean('bytes_received') / 1024:.0f}", mean("bytes_received") <= 300 * 1024))
+checks.append((f"Integrate upload <= 1 MB/frame: {mean('bytes_sent') / 1e6:.2f} MB", mean("bytes_sent") <= 1e6))
+print()
+for what, ok in checks:
+    print(f"- target {what} -> {'PASS' if ok else 'FAIL'}")
 print(f"\nPlots: {out}/plots/*.png; map images: {out}/map_class.png, {out}/map_occupancy.png")
+sys.exit(0 if not judge or all(ok for _, ok in checks) else 1)
 PY

@@ -88,7 +88,7 @@ for c in "${cases[@]}"; do
   for variant in distorted clean; do
     simulate "$out/$name/$variant/seq" "$([ $variant = distorted ] && echo 1 || echo 0)" "${args[@]}"
     "$root/scripts/bench_odometry.sh" "$out/$name/$variant/seq" --build "$build" \
-      --out "$out/$name/$variant" "${odom_args[@]}" >"$out/$name/$variant.txt" 2>"$out/$name/$variant.log" || true
+      --out "$out/$name/$variant" --no-targets "${odom_args[@]}" >"$out/$name/$variant.txt" 2>"$out/$name/$variant.log" || true
     ((keep)) || rm -rf "$out/$name/$variant/seq"
   done
   row="$(python3 - "$out/$name" "$name" "$target" <<'PY'
