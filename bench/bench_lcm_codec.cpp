@@ -81,9 +81,9 @@ socc::chunk_reply_t syntheticChunk(int n, bool stats, std::mt19937& rng) {
   c.voxel_size = 0.5;
   c.num_voxels = c.n_features = n;
   c.fields = socc::chunk_request_t::FIELD_FEATURES;
-  fillRows(c.first_point, 3, n, value);
-  fillRows(c.normal, 3, n, [&] { return 32767.0f * u(rng); });
-  c.planarity.assign(static_cast<std::size_t>(n), 0.1f);
+  fillRows(c.first_point, 3, n, [&] { return 65535.0f * u(rng) - 32768.0f; });
+  fillRows(c.normal, 2, n, [&] { return 32767.0f * u(rng); });
+  c.planarity.assign(static_cast<std::size_t>(n), 76);  // tau 0.1
   c.occupancy.assign(static_cast<std::size_t>(n), 200);
   c.label.assign(static_cast<std::size_t>(n), socc::kRoad);
   c.label_prob.assign(static_cast<std::size_t>(n), 230);

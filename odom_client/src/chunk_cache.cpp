@@ -14,19 +14,6 @@ namespace {
   throw std::invalid_argument("malformed chunk reply: " + why);
 }
 
-// The block lists of a reply: sizes consistent with the voxels.
-void checkBlocks(const chunk_reply_t& reply) {
-  if (reply.block_dim <= 0) malformed("block_dim " + std::to_string(reply.block_dim));
-  std::int64_t sum = 0;
-  for (const std::int32_t n : reply.block_voxels) {
-    if (n < 0) malformed("negative block_voxels");
-    sum += n;
-  }
-  if (sum != reply.num_voxels)
-    malformed("block_voxels add up to " + std::to_string(sum) + ", not num_voxels " +
-              std::to_string(reply.num_voxels));
-}
-
 }  // namespace
 
 chunk_request_t featureChunkRequest(const Eigen::Vector3d& center, double radius,
@@ -56,8 +43,7 @@ LocalMap ChunkCache::apply(const chunk_reply_t& reply, const Eigen::Vector3d& ce
                            double radius) {
   std::vector<MapVoxel> voxels;
   try {
-    voxels = decodeChunkVoxels(reply);
-    checkBlocks(reply);
+    voxels = decodeChunkVoxels(reply);  // checks the block lists too
     if (reply.delta_of_version >= 0 &&
         (!held_ || reply.map_epoch != held_->epoch || reply.delta_of_version != held_->version))
       malformed("a delta on version " + std::to_string(reply.delta_of_version) +

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "socc/chunk_features.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/labels.hpp"
 #include "socc/voxel.hpp"
@@ -163,23 +164,18 @@ std::vector<MapVoxel> decodeChunkVoxels(const chunk_reply_t& chunk) {
               ") != num_voxels (" + std::to_string(n) + ")");
   if (const std::string why = wire::checkArrays(chunk); !why.empty()) malformed(why);
 
-  // Rows of the structure-of-arrays fields ([axis][voxel]), read in one pass.
-  const float* px = chunk.first_point[0].data();
-  const float* py = chunk.first_point[1].data();
-  const float* pz = chunk.first_point[2].data();
-  const std::int16_t* nx = chunk.normal[0].data();
-  const std::int16_t* ny = chunk.normal[1].data();
-  const std::int16_t* nz = chunk.normal[2].data();
+  if (const std::string why = chunk::checkBlocks(chunk); !why.empty()) malformed(why);
+
+  // First points from their blocks' corners; the other rows ([component][voxel]) in one pass.
+  const std::vector<Eigen::Vector3d> points = chunk::firstPoints(chunk);
   std::vector<MapVoxel> voxels(static_cast<std::size_t>(n));
   for (std::size_t i = 0; i < voxels.size(); ++i) {
     MapVoxel& v = voxels[i];
     v.occupancy = chunk.occupancy[i] / 255.f;
-    v.point = Eigen::Vector3d(px[i], py[i], pz[i]);
-    if (!v.point.allFinite()) malformed("non-finite first point at voxel " + std::to_string(i));
-    v.normal = Eigen::Vector3d(nx[i], ny[i], nz[i]) / 32767.0;
-    const double norm = v.normal.norm();
-    v.normal = norm > 0.5 ? Eigen::Vector3d(v.normal / norm) : Eigen::Vector3d::Zero();
-    v.planarity = std::isfinite(chunk.planarity[i]) ? chunk.planarity[i] : -1.f;
+    v.point = points[i];
+    v.planarity = static_cast<float>(chunk::decodePlanarity(chunk.planarity[i]));
+    v.normal = v.planarity >= 0.f ? chunk::decodeNormal(chunk.normal[0][i], chunk.normal[1][i])
+                                  : Eigen::Vector3d::Zero();
     v.label = chunk.label[i];
     if (!isValidClass(v.label))
       malformed("label " + std::to_string(v.label) + " at voxel " + std::to_string(i));

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "service/chunk_reply.hpp"
+#include "socc/chunk_features.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/kitti_io.hpp"
 #include "socc/labels.hpp"
@@ -41,10 +42,11 @@ TEST(KittiMap, RoadVoxelsArePlanarWithVerticalNormals) {
   for (int i = 0; i < r.num_voxels; ++i) {
     if (r.label[i] != kRoad) continue;
     ++road;
-    if (r.planarity[i] < 0.0f) continue;
+    const double tau = chunk::decodePlanarity(r.planarity[i]);
+    if (tau < 0.0) continue;
     ++with_features;
-    planar += r.planarity[i] < 0.1f;
-    vertical += std::abs(r.normal[2][i]) > 0.9 * 32767;
+    planar += tau < 0.1;
+    vertical += std::abs(chunk::decodeNormal(r.normal[0][i], r.normal[1][i]).z()) > 0.9;
   }
   EXPECT_GT(road, 200);
   ASSERT_GT(with_features, 100);

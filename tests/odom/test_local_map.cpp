@@ -2,6 +2,7 @@
 
 #include <random>
 
+#include "socc/chunk_features.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/labels.hpp"
 #include "socc/odom/local_map.hpp"
@@ -14,20 +15,30 @@ socc::chunk_reply_t makeChunk(const std::vector<Eigen::Vector3f>& points, std::u
   c.fields = socc::chunk_request_t::FIELD_FEATURES;
   c.voxel_size = 0.5;
   c.p_hit = 0.55f;
+  c.block_dim = 8;
   c.num_voxels = static_cast<int>(points.size());
+  c.n_blocks = c.num_voxels;  // one block entry per voxel
   c.n_index = 0;
   c.n_features = c.num_voxels;
   c.n_stats = 0;
   c.num_classes = 0;
   c.n_free = 0;
-  c.first_point.resize(3);  // by axis: first_point[0] = x of every voxel
-  c.normal.resize(3);
+  c.block.resize(3);
+  c.first_point.resize(3);  // by axis: first_point[0] = x offset of every voxel
+  c.normal.resize(2);
+  const double block_size = c.block_dim * c.voxel_size;
+  const auto up = socc::chunk::encodeNormal(Eigen::Vector3d::UnitZ());
   for (const auto& p : points) {
+    const Eigen::Vector3i key = (p.cast<double>() / block_size).array().floor().cast<int>();
+    const Eigen::Vector3d corner = socc::chunk::blockCorner(key, c.block_dim, c.voxel_size);
     for (int a = 0; a < 3; ++a) {
-      c.first_point[a].push_back(p[a]);
-      c.normal[a].push_back(a == 2 ? 32767 : 0);
+      c.block[a].push_back(key[a]);
+      c.first_point[a].push_back(socc::chunk::encodeOffset(p[a] - corner[a], block_size));
     }
-    c.planarity.push_back(0.01f);
+    c.block_voxels.push_back(1);
+    c.normal[0].push_back(up[0]);
+    c.normal[1].push_back(up[1]);
+    c.planarity.push_back(socc::chunk::encodePlanarity(0.01));
     c.occupancy.push_back(occupancy);
     c.label.push_back(socc::kRoad);
     c.label_prob.push_back(255);
@@ -41,7 +52,7 @@ TEST(LocalMap, DecodesFeaturesOfAChunk) {
   const LocalMap map = LocalMap::fromChunk(chunk, 0.5);
   ASSERT_EQ(map.size(), 2u);
   const MapVoxel& v = map.voxel(1);
-  EXPECT_TRUE(v.point.isApprox(Eigen::Vector3d(4, 5, 6)));
+  EXPECT_LT((v.point - Eigen::Vector3d(4, 5, 6)).norm(), 1e-4);  // the wire's 0.06 mm steps
   EXPECT_TRUE(v.normal.isApprox(Eigen::Vector3d::UnitZ()));
   EXPECT_NEAR(v.occupancy, 200.f / 255.f, 1e-6);
   EXPECT_EQ(v.label, socc::kRoad);
@@ -62,10 +73,10 @@ TEST(LocalMap, RejectsMalformedChunks) {
   bad.planarity.pop_back();
   EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
   bad = chunk;
-  bad.first_point[1][0] = std::numeric_limits<float>::quiet_NaN();  // y of voxel 0
+  bad.block_voxels[0] = 2;  // the blocks' counts do not add up to num_voxels
   EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
   bad = chunk;
-  bad.normal[2].pop_back();  // a row shorter than n_features
+  bad.normal[1].pop_back();  // a row shorter than n_features
   EXPECT_THROW(LocalMap::fromChunk(bad, 0.5), std::invalid_argument);
   bad = chunk;
   bad.first_point.pop_back();  // a missing row

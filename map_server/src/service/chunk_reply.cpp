@@ -3,6 +3,7 @@
 #include <iterator>
 #include <utility>
 
+#include "socc/chunk_features.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/map/voxel_grid.hpp"
 
@@ -20,21 +21,45 @@ std::vector<std::vector<T>> rowsOf(std::array<std::vector<T>, N>&& rows) {
   return {std::make_move_iterator(rows.begin()), std::make_move_iterator(rows.end())};
 }
 
+// FIELD_FEATURES in the compact encoding (socc/chunk_features.hpp): first points as offsets from
+// their block's corner, octahedral normals, planarity in a byte.
+void encodeFeatures(const map::ChunkVoxels& v, double voxel_size, chunk_reply_t& out) {
+  const std::size_t n = v.planarity.size();
+  out.first_point.assign(3, std::vector<std::int16_t>(n));
+  out.normal.assign(2, std::vector<std::int16_t>(n));
+  out.planarity.resize(n);
+  if (n == 0) return;  // FIELD_FEATURES not asked for
+  const double block_size = map::kBlockDim * voxel_size;
+  std::size_t i = 0;
+  for (std::size_t b = 0; b < v.block_voxels.size(); ++b) {
+    const Eigen::Vector3d corner = chunk::blockCorner(
+        {v.block_key[0][b], v.block_key[1][b], v.block_key[2][b]}, map::kBlockDim, voxel_size);
+    for (std::int32_t k = 0; k < v.block_voxels[b]; ++k, ++i) {
+      for (int a = 0; a < 3; ++a)
+        out.first_point[a][i] = chunk::encodeOffset(v.first_point[a][i] - corner[a], block_size);
+      const double tau = v.planarity[i];
+      out.planarity[i] = chunk::encodePlanarity(tau);
+      const Eigen::Vector3d normal(v.normal[0][i], v.normal[1][i], v.normal[2][i]);
+      const auto octahedral = chunk::encodeNormal(tau >= 0.0 ? normal : Eigen::Vector3d::Zero());
+      out.normal[0][i] = octahedral[0];
+      out.normal[1][i] = octahedral[1];
+    }
+  }
+}
+
 }  // namespace
 
-void toChunkReply(map::ChunkVoxels&& voxels, chunk_reply_t& out) {
+void toChunkReply(map::ChunkVoxels&& voxels, double voxel_size, chunk_reply_t& out) {
   out.fields = voxels.fields;
   out.truncated = voxels.truncated;
   out.num_voxels = voxels.num_occupied;
   out.delta_of_version = voxels.delta_of_version;
+  encodeFeatures(voxels, voxel_size, out);  // before the block lists move out
   out.block_dim = map::kBlockDim;
   out.block = rowsOf(std::move(voxels.block_key));
   out.block_voxels = std::move(voxels.block_voxels);
   out.n_blocks = static_cast<std::int32_t>(out.block_voxels.size());
   out.index = rowsOf(std::move(voxels.index));
-  out.first_point = rowsOf(std::move(voxels.first_point));
-  out.normal = rowsOf(std::move(voxels.normal));
-  out.planarity = std::move(voxels.planarity);
   out.occupancy = std::move(voxels.occupancy);
   out.label = std::move(voxels.label);
   out.label_prob = std::move(voxels.label_prob);
@@ -60,7 +85,7 @@ void setMapInfo(const map::SemanticOccupancyMap& map, chunk_reply_t& out) {
 
 chunk_reply_t queryChunkReply(const map::SemanticOccupancyMap& map, const map::ChunkQuery& query) {
   chunk_reply_t reply{};
-  toChunkReply(map.queryChunk(query), reply);
+  toChunkReply(map.queryChunk(query), map.config().voxel_size, reply);
   setMapInfo(map, reply);
   return reply;
 }

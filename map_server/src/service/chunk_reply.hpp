@@ -6,9 +6,10 @@
 
 namespace socc::service {
 
-/// Moves the voxel columns into out and sets its counts; the map's fields (setMapInfo) and the
-/// header are left to the caller.
-void toChunkReply(map::ChunkVoxels&& voxels, chunk_reply_t& out);
+/// Moves the voxel columns into out (features encoded: socc/chunk_features.hpp, with the map's
+/// voxel_size) and sets its counts; the map's fields (setMapInfo) and the header are left to the
+/// caller.
+void toChunkReply(map::ChunkVoxels&& voxels, double voxel_size, chunk_reply_t& out);
 
 /// Sets what every chunk reply says of the map: voxel_size, map_version, p_hit.
 void setMapInfo(const map::SemanticOccupancyMap& map, chunk_reply_t& out);

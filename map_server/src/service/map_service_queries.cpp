@@ -38,7 +38,7 @@ chunk_reply_t MapService::getChunk(const chunk_request_t& request) const {
   query.limit = static_cast<std::int32_t>(
       request.limit == 0 ? server_max : std::min<std::int64_t>(request.limit, server_max));
 
-  toChunkReply(map_.queryChunk(query), reply);
+  toChunkReply(map_.queryChunk(query), map_.config().voxel_size, reply);
   if (reply.getEncodedSize() > config_.limits.max_reply_bytes) {
     const std::int64_t bytes = reply.getEncodedSize();
     reply = chunk_reply_t{};

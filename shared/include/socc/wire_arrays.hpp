@@ -159,7 +159,7 @@ inline std::string checkArrays(const chunk_reply_t& m) {
     return "n_blocks does not match block or block_voxels";
   if (!hasRows(m.index, 3, m.n_index)) return "n_index does not match index";
   const std::int32_t f = m.n_features;
-  if (!hasRows(m.first_point, 3, f) || !hasRows(m.normal, 3, f) || !hasCount(m.planarity, f) ||
+  if (!hasRows(m.first_point, 3, f) || !hasRows(m.normal, 2, f) || !hasCount(m.planarity, f) ||
       !hasCount(m.occupancy, f) || !hasCount(m.label, f) || !hasCount(m.label_prob, f))
     return "n_features does not match the feature arrays";
   const std::int32_t s = m.n_stats;
