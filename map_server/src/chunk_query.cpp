@@ -2,6 +2,7 @@
 // ChunkVoxels. Blocks are visited in lexicographic key order and voxels in local order, so
 // answers are deterministic (identical after a snapshot round trip).
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "map_impl.hpp"
@@ -71,6 +72,12 @@ void appendOccupied(ChunkVoxels& out, const VoxelIndex& v, const Eigen::Vector3d
   }
 }
 
+// Squared distance from p to the farthest corner of the box [lo, hi].
+double farthestCorner(const Eigen::Vector3d& p, const Eigen::Vector3d& lo,
+                      const Eigen::Vector3d& hi) {
+  return (p - lo).cwiseAbs().cwiseMax((p - hi).cwiseAbs()).squaredNorm();
+}
+
 // The query's box or sphere: the voxel-index bounds to visit and the test of a voxel centre.
 class QueryRegion {
  public:
@@ -88,6 +95,13 @@ class QueryRegion {
     if (sphere_) return (c - q_.center).squaredNorm() <= r2_;
     return (c.array() >= q_.box_min.array()).all() && (c.array() <= q_.box_max.array()).all();
   }
+  /// Every voxel centre of block key is inside: no test per voxel.
+  bool containsBlock(const BlockKey& key, const Grid& grid) const {
+    const Eigen::Vector3d lo = grid.centre(voxelOf(key, 0));
+    const Eigen::Vector3d hi = grid.centre(voxelOf(key, kBlockVoxels - 1));
+    if (!sphere_) return contains(lo) && contains(hi);
+    return farthestCorner(q_.center, lo, hi) <= r2_;
+  }
 
   IndexBox box;
 
@@ -95,6 +109,28 @@ class QueryRegion {
   const ChunkQuery& q_;
   bool sphere_;
   double r2_;
+};
+
+// p_occ >= threshold without an exp per voxel: the log-odds against logit(threshold); a voxel
+// within rounding of that boundary is decided by its probability, as the threshold is defined.
+class OccupiedTest {
+ public:
+  explicit OccupiedTest(double threshold) : threshold_(threshold) {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    logit_ = threshold <= 0.0   ? -kInf
+             : threshold >= 1.0 ? kInf
+                                : std::log(threshold / (1.0 - threshold));
+  }
+  bool operator()(float log_odds) const {
+    if (log_odds > logit_ + kMargin) return true;
+    if (log_odds < logit_ - kMargin) return false;
+    return probability(log_odds) >= threshold_;
+  }
+
+ private:
+  static constexpr double kMargin = 1e-6;
+  double threshold_;
+  double logit_;
 };
 
 // The blocks a delta may leave out: unchanged since the held answer and with every voxel centre
@@ -141,19 +177,21 @@ ChunkVoxels SemanticOccupancyMap::queryChunk(const ChunkQuery& query) const {
 
   const HeldBlocks held(query, m.epoch, m.grid);
   if (held.active()) out.delta_of_version = held.version();
+  const OccupiedTest occupied_at(query.occupancy_threshold);
   std::size_t occupied = 0;
   for (const BlockKey& key : m.grid.blocksIn(region.box.blockLo(), region.box.blockHi())) {
     const Block& block = *m.grid.find(key);
     if (held.held(key, block)) continue;
+    const bool inside = region.containsBlock(key, m.grid);
     const std::size_t block_start = occupied;
     for (int local = 0; local < kBlockVoxels; ++local) {
       if (!block.observed[local]) continue;
       const VoxelIndex v = voxelOf(key, local);
-      if (!region.covers(v)) continue;
+      if (!inside && !region.covers(v)) continue;
       const Eigen::Vector3d c = m.grid.centre(v);
-      if (!region.contains(c)) continue;
+      if (!inside && !region.contains(c)) continue;
       const float l = block.log_odds[local];
-      if (probability(l) >= query.occupancy_threshold) {
+      if (occupied_at(l)) {
         if (occupied == limit) {
           out.truncated = true;
           continue;
