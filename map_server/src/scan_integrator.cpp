@@ -3,15 +3,18 @@
 // voxels, so a voxel hit by the scan is never missed by it, and every voxel crossed by any
 // number of rays is missed exactly once.
 //
-// Every parallel step works on fixed partitions (by point index, by block hash or by ray
-// chunk), never on "whatever each thread got", and grid blocks are created serially in a
-// fixed order: the map after a scan is the same bit for bit however many threads ran.
+// Every parallel step works on fixed partitions (by point range, by block hash or by ray
+// chunk), never on "whatever each thread got" (the ray footprint is a set: which thread marks
+// a voxel does not matter), and grid blocks are created serially in a fixed order: the map
+// after a scan is the same bit for bit however many threads ran.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 
 #include "map_impl.hpp"
 #include "socc/map/ray_traversal.hpp"
@@ -19,74 +22,135 @@
 namespace socc::map {
 namespace {
 
-using PointKind = ScanScratch::PointKind;
-
+std::size_t partitionOfBlock(const BlockKey& b) {
+  return VoxelIndexHash{}(b) % ScanScratch::kHitPartitions;
+}
 std::size_t partitionOf(const VoxelIndex& v) {
-  return VoxelIndexHash{}(blockOf(v)) % ScanScratch::kHitPartitions;
+  return partitionOfBlock(blockOf(v));
 }
 
-/// Per point (parallel, each point independent): range gate, map-frame position, voxel.
+/// Per point (parallel over fixed ranges of points): range gate, map-frame position, voxel;
+/// each range lists its hit points per partition and its clipped points, in point order.
 void classifyPoints(const Eigen::Isometry3d& pose, const LabeledCloud& cloud,
                     const MapConfig& config, const Grid& grid, ScanScratch& s) {
   const std::size_t n = cloud.size();
-  s.kind.resize(n);
-  s.position.resize(n);
-  s.voxel.resize(n);
+  const std::size_t ranges = (n + ScanScratch::kPointRange - 1) / ScanScratch::kPointRange;
+  for (HitPartition& part : s.partitions) part.points.resize(ranges);
+  s.clipped.resize(ranges);
   const Eigen::Matrix3d r = pose.linear();
   const Eigen::Vector3d t = pose.translation();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      const VoxelGeometry geometry = grid.geometry();
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        const Eigen::Vector3d ps = cloud.points[i].cast<double>();
-                        const double d = ps.norm();
-                        PointKind kind = PointKind::kHit;
-                        Eigen::Vector3d pm = Eigen::Vector3d::Zero();
-                        if (d < config.min_range || (d > config.max_range && !config.raycast)) {
-                          kind = PointKind::kSkipped;
-                        } else if (d > config.max_range) {
-                          kind = PointKind::kClipped;  // clears free space up to max range only
-                          pm = r * (ps * (config.max_range / d)) + t;
-                        } else {
-                          pm = r * ps + t;
-                        }
-                        s.kind[i] = kind;
-                        s.position[i] = pm;
-                        s.voxel[i] = geometry.indexOf(pm);
-                      }
-                    });
+  // |p| within [min_range, max_range] for sure, without the square root (the decisions are
+  // those of the norm: the margins are far above the rounding of the squares).
+  const double sure_min2 = config.min_range * config.min_range * (1.0 + 1e-9);
+  const double sure_max2 = config.max_range * config.max_range * (1.0 - 1e-9);
+  tbb::parallel_for(std::size_t{0}, ranges, [&](std::size_t range) {
+    const VoxelGeometry geometry = grid.geometry();
+    std::array<std::vector<HitPoint>*, ScanScratch::kHitPartitions> out;
+    for (std::size_t p = 0; p < out.size(); ++p) {
+      out[p] = &s.partitions[p].points[range];
+      out[p]->clear();
+      // Room for a fair share and a half without reallocating (copies fault in new pages).
+      out[p]->reserve(ScanScratch::kPointRange * 3 / (2 * ScanScratch::kHitPartitions));
+    }
+    std::vector<ScanScratch::ClippedPoint>& clipped = s.clipped[range];
+    clipped.clear();
+    const std::size_t end = std::min(n, (range + 1) * ScanScratch::kPointRange);
+    BlockKey last_block(0, 0, 0);
+    std::vector<HitPoint>* last_out = out[partitionOf(VoxelIndex(0, 0, 0))];
+    for (std::size_t i = range * ScanScratch::kPointRange; i != end; ++i) {
+      const Eigen::Vector3d ps = cloud.points[i].cast<double>();
+      const double d2 = ps.squaredNorm();
+      if (!(d2 > sure_min2 && d2 < sure_max2)) {  // near or beyond a range limit
+        const double d = std::sqrt(d2);           // = ps.norm()
+        if (d < config.min_range || (d > config.max_range && !config.raycast)) continue;
+        if (d > config.max_range) {  // clears free space up to max range only
+          const Eigen::Vector3d pm = r * (ps * (config.max_range / d)) + t;
+          clipped.push_back({pm, geometry.indexOf(pm)});
+          continue;
+        }
+      }
+      const Eigen::Vector3d pm = r * ps + t;
+      const VoxelIndex v = geometry.indexOf(pm);
+      const BlockKey block = blockOf(v);
+      if (block != last_block) {  // consecutive points mostly share a block: skip the hash
+        last_block = block;
+        last_out = out[partitionOfBlock(block)];
+      }
+      HitPoint& hit = last_out->emplace_back();  // in place: no temporary to copy
+      hit.position = pm;
+      hit.voxel = v;
+      hit.point = static_cast<std::uint32_t>(i);
+    }
+  });
 }
 
-/// Aggregates, in point order, the hit points whose voxel falls in partition p: the same
-/// per-voxel sums as one sequential pass, since a voxel lives in exactly one partition.
+/// Aggregates partition p's hit points (in point order): the same per-voxel sums as one
+/// sequential pass, since a voxel lives in exactly one partition. A run of consecutive points
+/// in one voxel is summed in scalars, with PointMoments::add's operations in its order (and
+/// sum_sq's symmetric entries once: d(r) d(c) == d(c) d(r)), so the sums are bit for bit
+/// those of FrameAggregate::add.
 void aggregatePartition(std::size_t p, const LabeledCloud& cloud, ScanScratch& s) {
   HitPartition& part = s.partitions[p];
   part.slot_of.clear();
   part.voxels.clear();
-  part.frames.clear();
   const bool labeled = cloud.hasLabels();
-  VoxelIndex last(0, 0, 0);
-  std::uint32_t last_slot = 0;
-  bool have_last = false;  // consecutive points often share a voxel: skip the hash then
-  for (std::size_t i = 0; i < s.kind.size(); ++i) {
-    if (s.kind[i] != PointKind::kHit) continue;
-    const VoxelIndex& v = s.voxel[i];
-    if (!have_last || v != last) {
-      if (partitionOf(v) != p) continue;
-      const auto [it, inserted] =
-          part.slot_of.try_emplace(v, static_cast<std::uint32_t>(part.voxels.size()));
+  for (const std::vector<HitPoint>& points : part.points) {
+    const HitPoint* hit = points.data();
+    const HitPoint* const end = hit + points.size();
+    while (hit != end) {
+      const VoxelIndex voxel = hit->voxel;
+      bool inserted = false;
+      const std::uint32_t slot = part.slot_of.find(voxel, inserted);
       if (inserted) {
-        part.voxels.push_back(v);
-        part.frames.emplace_back();
+        part.voxels.push_back(voxel);
+        if (part.frames.size() < part.voxels.size())
+          part.frames.resize(std::max<std::size_t>(256, 2 * part.frames.size()));
       }
-      last = v;
-      last_slot = it->second;
-      have_last = true;
+      FrameAggregate& frame = part.frames[slot];
+      if (inserted) {  // a spare entry: the fields the run does not write
+        frame.label_counts.fill(0);
+        frame.count = 0;
+        frame.labeled = 0;
+      }
+      std::uint32_t count = frame.count, with_label = frame.labeled;
+      double f0 = 0, f1 = 0, f2 = 0, s0 = 0, s1 = 0, s2 = 0;
+      double q00 = 0, q01 = 0, q02 = 0, q11 = 0, q12 = 0, q22 = 0;
+      if (count != 0) {  // the voxel's earlier run(s)
+        f0 = frame.first.x(), f1 = frame.first.y(), f2 = frame.first.z();
+        s0 = frame.sum.x(), s1 = frame.sum.y(), s2 = frame.sum.z();
+        q00 = frame.sum_sq(0, 0), q01 = frame.sum_sq(0, 1), q02 = frame.sum_sq(0, 2);
+        q11 = frame.sum_sq(1, 1), q12 = frame.sum_sq(1, 2), q22 = frame.sum_sq(2, 2);
+      }
+      do {  // PointMoments::add
+        const Eigen::Vector3d& pt = hit->position;
+        if (count == 0) {
+          f0 = pt.x();
+          f1 = pt.y();
+          f2 = pt.z();
+        }
+        ++count;
+        const double d0 = pt.x() - f0, d1 = pt.y() - f1, d2 = pt.z() - f2;
+        s0 += d0;
+        s1 += d1;
+        s2 += d2;
+        q00 += d0 * d0;
+        q01 += d0 * d1;
+        q02 += d0 * d2;
+        q11 += d1 * d1;
+        q12 += d1 * d2;
+        q22 += d2 * d2;
+        if (labeled) {
+          ++frame.label_counts[cloud.labels[hit->point]];
+          ++with_label;
+        }
+        ++hit;
+      } while (hit != end && hit->voxel == voxel);
+      frame.count = count;
+      frame.labeled = with_label;
+      frame.first = Eigen::Vector3d(f0, f1, f2);
+      frame.sum = Eigen::Vector3d(s0, s1, s2);
+      frame.sum_sq << q00, q01, q02, q01, q11, q12, q02, q12, q22;
     }
-    if (labeled)
-      part.frames[last_slot].add(s.position[i], cloud.labels[i]);
-    else
-      part.frames[last_slot].add(s.position[i]);
   }
 }
 
@@ -106,17 +170,20 @@ struct Tally {
 Tally applyHits(const SemanticVoxelBehaviour& behaviour, HitPartition& part) {
   Tally tally;
   part.touched.clear();
-  for (std::size_t i = 0; i < part.voxels.size(); ++i) {
+  const std::size_t n = part.voxels.size();
+  for (std::size_t i = 0; i < n; ++i) {
     Block& block = *part.blocks[i];
     const int local = localOf(part.voxels[i]);
-    block.scan_mark[local] = true;
+    block.scan_mark[static_cast<std::size_t>(local >> 6)] |= std::uint64_t{1} << (local & 63);
     if (!block.in_scan) {
       block.in_scan = true;
       part.touched.push_back(&block);
     }
     const bool was_observed = block.observed[local];
     const bool was_occupied = was_observed && behaviour.isOccupied(block.log_odds[local]);
-    behaviour.onHits(block.log_odds[local], block.acquireStats(local), part.frames[i]);
+    VoxelStats& stats = block.acquireStats(local);
+    behaviour.onHits(block.log_odds[local], stats, part.frames[i]);
+    block.setMissClass(local, behaviour.missClass(stats));
     block.observed[local] = true;
     tally.newly_observed += was_observed ? 0 : 1;
     tally.occupied_delta +=
@@ -126,23 +193,38 @@ Tally applyHits(const SemanticVoxelBehaviour& behaviour, HitPartition& part) {
   return tally;
 }
 
-/// Applies one miss to every voxel of mask in block that the scan did not hit.
+/// Applies one miss to every voxel of mask in block that the scan did not hit: onMiss, with
+/// the miss class the block keeps for voxels with statistics (computed from them once when
+/// not known, e.g. after loading a snapshot).
 void applyMisses(const SemanticVoxelBehaviour& behaviour, Block& block, const VoxelMask& mask,
                  Tally& tally) {
+  const float plain_miss = behaviour.missLogOdds(nullptr);
   for (std::size_t w = 0; w < mask.size(); ++w) {
-    for (std::uint64_t bits = mask[w]; bits != 0; bits &= bits - 1) {
+    // Voxels hit by this scan are never also missed.
+    for (std::uint64_t bits = mask[w] & ~block.scan_mark[w]; bits != 0; bits &= bits - 1) {
       const int local = static_cast<int>(w * 64) + __builtin_ctzll(bits);
-      if (block.scan_mark[local]) continue;  // hit by this scan: never also missed
+      float& log_odds = block.log_odds[static_cast<std::size_t>(local)];
       const bool was_observed = block.observed[local];
-      const bool was_occupied = was_observed && behaviour.isOccupied(block.log_odds[local]);
-      if (behaviour.onMiss(block.log_odds[local], block.statsOf(local))) {
+      const bool was_occupied = was_observed && behaviour.isOccupied(log_odds);
+      const bool has_stats = block.slot[static_cast<std::size_t>(local)] != kNoStats;
+      float miss = plain_miss;
+      if (has_stats) {
+        int miss_class = block.missClass(local);
+        if (miss_class == 0) {
+          miss_class = behaviour.missClass(*block.statsOf(local));
+          block.setMissClass(local, miss_class);
+        }
+        miss = behaviour.classMissLogOdds(miss_class);
+      }
+      log_odds = std::clamp(log_odds + miss, behaviour.clampMin(), behaviour.clampMax());
+      const bool occupied = behaviour.isOccupied(log_odds);
+      if (has_stats && !occupied) {
         block.releaseStats(local);  // turned free: no ghost of what was here
         ++tally.freed;
       }
       block.observed[local] = true;
       tally.newly_observed += was_observed ? 0 : 1;
-      tally.occupied_delta -=
-          (was_occupied && !behaviour.isOccupied(block.log_odds[local])) ? 1 : 0;
+      tally.occupied_delta -= (was_occupied && !occupied) ? 1 : 0;
       ++tally.touched;
     }
   }
@@ -155,33 +237,43 @@ void collectRayEnds(const Grid& grid, ScanScratch& s) {
   for (const HitPartition& part : s.partitions)
     for (const VoxelIndex& v : part.voxels) s.ray_ends.push_back(geometry.centre(v));
   s.clipped_of.clear();
-  for (std::size_t i = 0; i < s.kind.size(); ++i)
-    if (s.kind[i] == PointKind::kClipped && s.clipped_of.try_emplace(s.voxel[i], 0).second)
-      s.ray_ends.push_back(s.position[i]);
+  for (const std::vector<ScanScratch::ClippedPoint>& range : s.clipped)
+    for (const ScanScratch::ClippedPoint& c : range)
+      if (s.clipped_of.try_emplace(c.voxel, 0).second) s.ray_ends.push_back(c.position);
 }
 
-/// Traverses every ray (fixed chunks in parallel) and merges the footprints in chunk order.
+/// Traverses every ray (fixed chunks in parallel, each thread into its own footprint) and
+/// merges the footprints into footprints[0], which lists its blocks in key order.
 const RayFootprint& traverseRays(const Eigen::Vector3d& origin, const Grid& grid, ScanScratch& s) {
   constexpr std::size_t kChunks = ScanScratch::kRayChunks;
   const std::size_t n = s.ray_ends.size();
+  const VoxelGeometry geometry = grid.geometry();
+  std::array<VoxelIndex, kChunks> lo, hi;
   tbb::parallel_for(std::size_t{0}, kChunks, [&](std::size_t c) {
     const std::size_t begin = n * c / kChunks, end = n * (c + 1) / kChunks;
-    const VoxelGeometry geometry = grid.geometry();
-    VoxelIndex lo = geometry.indexOf(origin), hi = lo;
+    lo[c] = hi[c] = geometry.indexOf(origin);
     for (std::size_t i = begin; i < end; ++i) {
       const VoxelIndex v = geometry.indexOf(s.ray_ends[i]);
-      lo = lo.cwiseMin(v);
-      hi = hi.cwiseMax(v);
+      lo[c] = lo[c].cwiseMin(v);
+      hi[c] = hi[c].cwiseMax(v);
     }
-    RayFootprint& footprint = s.footprints[c];
-    footprint.reset(lo, hi);
-    RayFootprint::Marker mark(footprint);
-    for (std::size_t i = begin; i < end; ++i)
-      forEachVoxelOnRay(origin, s.ray_ends[i], geometry.size, mark);
-    footprint.finish();
+  });
+  for (std::size_t c = 1; c < kChunks; ++c) {
+    lo[0] = lo[0].cwiseMin(lo[c]);
+    hi[0] = hi[0].cwiseMax(hi[c]);
+  }
+  for (RayFootprint& footprint : s.footprints) footprint.reset(lo[0], hi[0]);
+  std::vector<char> used(s.footprints.size(), 0);  // by arena slot; each set by its thread
+  tbb::parallel_for(std::size_t{0}, kChunks, [&](std::size_t c) {
+    const std::size_t begin = n * c / kChunks, end = n * (c + 1) / kChunks;
+    const auto slot = static_cast<std::size_t>(tbb::this_task_arena::current_thread_index());
+    s.footprints[slot].markRays(origin, s.ray_ends.data() + begin, end - begin, geometry.size);
+    used[slot] = 1;
   });
   RayFootprint& all = s.footprints[0];
-  for (std::size_t c = 1; c < kChunks; ++c) all.merge(s.footprints[c]);
+  for (std::size_t slot = 1; slot < s.footprints.size(); ++slot)
+    if (used[slot]) all.absorb(s.footprints[slot]);
+  all.finish();
   return all;
 }
 
@@ -230,7 +322,7 @@ Tally integrateMisses(const SemanticVoxelBehaviour& behaviour, Grid::Accessor& a
 void finishBlocks(ScanScratch& s, bool raycast, std::int64_t version) {
   for (HitPartition& part : s.partitions)
     for (Block* block : part.touched) {
-      block->scan_mark.reset();
+      block->scan_mark.fill(0);
       block->in_scan = false;
       block->version = version;
     }
@@ -250,6 +342,8 @@ IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& senso
   Grid::Accessor access(m.grid);
   IntegrationResult result;
   Tally tally;
+  const auto threads = static_cast<std::size_t>(m.arena.max_concurrency());
+  if (s.footprints.size() < threads) s.footprints.resize(threads);
   m.arena.execute([&] {
     classifyPoints(sensor_pose, cloud, m.config, m.grid, s);
     tbb::parallel_for(std::size_t{0}, ScanScratch::kHitPartitions,
@@ -265,8 +359,10 @@ IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& senso
   m.num_occupied += tally.occupied_delta;
   result.voxels_touched = static_cast<std::int32_t>(tally.touched);
   result.voxels_freed = static_cast<std::int32_t>(tally.freed);
-  result.points_used =
-      static_cast<std::int32_t>(std::count(s.kind.begin(), s.kind.end(), PointKind::kHit));
+  std::size_t hits = 0;
+  for (const HitPartition& part : s.partitions)
+    for (const std::vector<HitPoint>& points : part.points) hits += points.size();
+  result.points_used = static_cast<std::int32_t>(hits);
   ++m.version;
   return result;
 }

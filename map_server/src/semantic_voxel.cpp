@@ -50,6 +50,7 @@ SemanticVoxelBehaviour::SemanticVoxelBehaviour(const MapConfig& c)
       min_(static_cast<float>(logit(c.clamp_min))),
       max_(static_cast<float>(logit(c.clamp_max))),
       occupied_(static_cast<float>(logit(c.occupancy_threshold))),
+      class_miss_{miss_, miss_, miss_static_, miss_moving_},
       alpha_(c.ema_alpha),
       semantics_(c.semantics) {}
 
@@ -65,6 +66,10 @@ void SemanticVoxelBehaviour::onHits(float& log_odds, VoxelStats& stats,
   const double inv_n = 1.0 / static_cast<double>(frame.labeled);
   int best = 0;
   for (int k = 0; k < kNumClasses; ++k) {
+    // A class with no probability that the frame did not see stays at exactly 0 (0 * keep +
+    // 0 * (1 - keep) rounds to 0) and cannot become the argmax (> is strict): skipped, which
+    // leaves the arithmetic of the others unchanged (most voxels see one or two classes).
+    if (frame.label_counts[k] == 0 && stats.class_prob[k] == 0) continue;
     const double p_hat = frame.label_counts[k] * inv_n;
     const double p = keep * stats.prob(k) + (1.0 - keep) * p_hat;
     // + 0.5 and truncation: lround() for non-negative values, without a libm call (20 classes

@@ -126,5 +126,104 @@ TEST(RayFootprint, DenseAndHashedAgreeWithTraversal) {
   EXPECT_EQ(first_half.numBlocks(), dense.numBlocks());  // merge does not duplicate blocks
 }
 
+std::set<Key> voxelsOfFootprint(const RayFootprint& f) {
+  std::set<Key> out;
+  for (std::size_t b = 0; b < f.numBlocks(); ++b)
+    for (int local = 0; local < kBlockVoxels; ++local)
+      if ((f.mask(b)[static_cast<std::size_t>(local / 64)] >> (local % 64)) & 1u)
+        out.insert(key(voxelOf(f.key(b), local)));
+  return out;
+}
+
+// markRays (rays walked several at a time in SIMD lanes, then scalar to their ends) marks the
+// voxels of forEachVoxelOnRay, for ends at voxel centres (hit voxels), anywhere (max-range
+// ends), on voxel faces, edges and corners (ties), along axes, in the origin's voxel, at
+// negative coordinates; in any split into groups merged with absorb(), and in hash mode. The
+// blocks come in key order.
+TEST(RayFootprint, MarkRaysMatchesTheWalksOfEachRay) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-40.0, 40.0);
+  std::uniform_int_distribution<int> cell(-80, 80);
+  const double vs = 0.5;
+  for (const Eigen::Vector3d& origin :
+       {Eigen::Vector3d(0.3, -0.2, 1.7), Eigen::Vector3d(0.0, 0.0, 0.0),
+        Eigen::Vector3d(-12.25, 7.5, -3.0)}) {
+    std::vector<Eigen::Vector3d> ends;
+    for (int i = 0; i < 3000; ++i) {
+      const Eigen::Vector3d c(cell(rng) + 0.5, cell(rng) + 0.5, 0.2 * cell(rng) + 0.5);
+      switch (i % 6) {
+        case 0:  // voxel centre
+        case 1:
+          ends.push_back(c * vs);
+          break;
+        case 2:  // anywhere
+          ends.emplace_back(u(rng), u(rng), 0.3 * u(rng));
+          break;
+        case 3:  // on faces, edges and corners of the grid
+          ends.push_back(Eigen::Vector3d(std::round(c.x()), std::round(c.y()), c.z()) * vs);
+          break;
+        case 4:  // along an axis or a diagonal from the origin
+          ends.push_back(origin + Eigen::Vector3d(c.x() * vs, i % 12 == 4 ? 0.0 : c.x() * vs,
+                                                  i % 24 == 4 ? c.x() * vs : 0.0));
+          break;
+        default:  // within a voxel or two of the origin
+          ends.push_back(origin + Eigen::Vector3d(u(rng), u(rng), u(rng)) * 0.02);
+      }
+    }
+    std::set<Key> expected;
+    VoxelIndex lo = voxelIndex(origin, 1.0 / vs), hi = lo;
+    for (const auto& e : ends) {
+      forEachVoxelOnRay(origin, e, vs, [&](const VoxelIndex& v) { expected.insert(key(v)); });
+      lo = lo.cwiseMin(voxelIndex(e, 1.0 / vs));
+      hi = hi.cwiseMax(voxelIndex(e, 1.0 / vs));
+    }
+    const VoxelIndex huge(1 << 20, 1 << 20, 1 << 20);
+    for (const int parts : {1, 3}) {
+      for (const bool dense : {true, false}) {
+        std::vector<RayFootprint> footprints(static_cast<std::size_t>(parts));
+        for (std::size_t p = 0; p < footprints.size(); ++p) {
+          footprints[p].reset(dense ? lo : VoxelIndex(-huge), dense ? hi : huge);
+          ASSERT_EQ(footprints[p].dense(), dense);
+          const std::size_t begin = ends.size() * p / footprints.size();
+          const std::size_t end = ends.size() * (p + 1) / footprints.size();
+          footprints[p].markRays(origin, ends.data() + begin, end - begin, vs);
+        }
+        for (std::size_t p = 1; p < footprints.size(); ++p) footprints[0].absorb(footprints[p]);
+        footprints[0].finish();
+        EXPECT_EQ(voxelsOfFootprint(footprints[0]), expected) << parts << " " << dense;
+        for (std::size_t b = 1; b < footprints[0].numBlocks(); ++b)
+          EXPECT_TRUE(indexLess(footprints[0].key(b - 1), footprints[0].key(b)));
+      }
+    }
+  }
+}
+
+// A footprint reused for scan after scan (different boxes) starts empty each time.
+TEST(RayFootprint, ReuseStartsEmpty) {
+  const double vs = 0.5;
+  RayFootprint f;
+  std::set<Key> last;
+  for (int scan = 0; scan < 4; ++scan) {
+    const Eigen::Vector3d origin(3.0 * scan, -2.0 * scan, 0.25);
+    std::vector<Eigen::Vector3d> ends;
+    for (int i = 0; i < 200; ++i)
+      ends.push_back(origin + Eigen::Vector3d(std::cos(i * 0.1), std::sin(i * 0.1), 0.01 * i) *
+                                  (5.0 + scan * 7.0));
+    std::set<Key> expected;
+    VoxelIndex lo = voxelIndex(origin, 1.0 / vs), hi = lo;
+    for (const auto& e : ends) {
+      forEachVoxelOnRay(origin, e, vs, [&](const VoxelIndex& v) { expected.insert(key(v)); });
+      lo = lo.cwiseMin(voxelIndex(e, 1.0 / vs));
+      hi = hi.cwiseMax(voxelIndex(e, 1.0 / vs));
+    }
+    f.reset(lo, hi);
+    f.markRays(origin, ends.data(), ends.size(), vs);
+    f.finish();
+    EXPECT_EQ(voxelsOfFootprint(f), expected) << scan;
+    EXPECT_NE(voxelsOfFootprint(f), last);
+    last = expected;
+  }
+}
+
 }  // namespace
 }  // namespace socc::map

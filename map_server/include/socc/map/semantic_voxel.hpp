@@ -63,6 +63,10 @@ class SemanticVoxelBehaviour {
 
   /// Log-odds added by a miss for a voxel with these statistics (nullptr: none).
   float missLogOdds(const VoxelStats* stats) const;
+  /// missLogOdds(&stats) as a small number a block can keep beside the voxel (1 default,
+  /// 2 static, 3 moving; never 0), and the log-odds of a miss of that class.
+  int missClass(const VoxelStats& stats) const;
+  float classMissLogOdds(int miss_class) const { return class_miss_[miss_class]; }
   float hitLogOdds() const { return hit_; }
   bool isOccupied(float log_odds) const { return log_odds >= occupied_; }
   float clampMin() const { return min_; }
@@ -70,6 +74,7 @@ class SemanticVoxelBehaviour {
 
  private:
   float hit_, miss_, miss_static_, miss_moving_, min_, max_, occupied_;
+  std::array<float, 4> class_miss_;  // by missClass (0 unused)
   double alpha_;
   bool semantics_;
 };
@@ -79,6 +84,11 @@ inline float SemanticVoxelBehaviour::missLogOdds(const VoxelStats* stats) const 
   if (!semantics_ || stats == nullptr || !stats->has_semantics || stats->label == kUnlabeled)
     return miss_;
   return isPotentiallyMoving(stats->label) ? miss_moving_ : miss_static_;
+}
+
+inline int SemanticVoxelBehaviour::missClass(const VoxelStats& stats) const {
+  if (!semantics_ || !stats.has_semantics || stats.label == kUnlabeled) return 1;
+  return isPotentiallyMoving(stats.label) ? 3 : 2;
 }
 
 inline bool SemanticVoxelBehaviour::onMiss(float& log_odds, const VoxelStats* stats) const {

@@ -7,6 +7,10 @@
 // behaviour.
 #include <tsl/robin_map.h>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
@@ -44,11 +48,32 @@ inline VoxelIndex voxelOf(const BlockKey& block, int local) {
           block.z() * kBlockDim + (local & m)};
 }
 
+/// floor(v) as an int, for v within the int range: std::floor(v) cast to int without the
+/// floor (baseline x86-64 has no rounding instruction: a truncation and a compare instead).
+inline int floorToInt(double v) {
+  const int i = static_cast<int>(v);  // towards zero
+  return i - (v < static_cast<double>(i) ? 1 : 0);
+}
+
 /// A grid's voxel geometry: size, the voxel holding a point (socc/voxel.hpp's rule), a voxel's
 /// centre. A small value: hot loops copy it into a local, which stays in registers.
 struct VoxelGeometry {
   explicit VoxelGeometry(double voxel_size) : size(voxel_size), inv_size(1.0 / voxel_size) {}
-  VoxelIndex indexOf(const Eigen::Vector3d& p) const { return voxelIndex(p, inv_size); }
+  /// voxelIndex(p, inv_size): floorToInt of p * inv_size (x and y together in SSE2 lanes).
+  VoxelIndex indexOf(const Eigen::Vector3d& p) const {
+#ifdef __SSE2__
+    const __m128d xy = _mm_mul_pd(_mm_loadu_pd(p.data()), _mm_set1_pd(inv_size));
+    const __m128i truncated = _mm_cvttpd_epi32(xy);
+    const __m128d below = _mm_cmplt_pd(xy, _mm_cvtepi32_pd(truncated));  // all ones: -1
+    const __m128i floored = _mm_add_epi32(
+        truncated, _mm_shuffle_epi32(_mm_castpd_si128(below), _MM_SHUFFLE(3, 3, 2, 0)));
+    return {_mm_cvtsi128_si32(floored), _mm_cvtsi128_si32(_mm_shuffle_epi32(floored, 1)),
+            floorToInt(p.z() * inv_size)};
+#else
+    const Eigen::Vector3d q = p * inv_size;
+    return {floorToInt(q.x()), floorToInt(q.y()), floorToInt(q.z())};
+#endif
+  }
   Eigen::Vector3d centre(const VoxelIndex& v) const {
     return (v.cast<double>().array() + 0.5).matrix() * size;
   }
