@@ -1,10 +1,10 @@
 // Integration speed and memory of the semantic occupancy grid vs OctoMap on real KITTI scans.
-// Targets (README "Status"): <= 30 ms/scan and >= 5x faster than OctoMap's insertPointCloud
-// (same resolution and max range, discretize = true), in the same run, judged with the grid on
-// all cores as the server runs it, on SemanticKITTI-labelled scans (the semantic path: per-voxel
-// class distribution) and on the KITTI 00 sequence (labels on frame 0 only). OctoMap's insert is
-// single-threaded, so the ratio with the grid on one core (tbb::global_control) is printed too,
-// not judged.
+// Targets (issue #13): <= 30 ms/scan and >= 10x faster than OctoMap's insertPointCloud (same
+// resolution and max range, discretize = true), in the same run, on SemanticKITTI-labelled
+// scans (the semantic path: every point labelled, per-voxel class distribution; checked to reach
+// the map) and on the KITTI 00 sequence (labels on frame 0 only). The 10x is judged twice: with
+// the grid on all cores as the server runs it, and on one core (tbb::global_control), since
+// OctoMap's insert is single-threaded.
 // Exit status: 0 all targets met, 1 a target missed (named on stdout), 77 data absent.
 // --smoke: one short run, nothing judged (CI checks that the benchmark runs, not the times).
 #include <octomap/OcTree.h>
@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -34,7 +35,7 @@ constexpr int kSkipExit = 77;  // ctest SKIP_RETURN_CODE (bench/CMakeLists.txt)
 
 struct Options {
   std::string sequence, shared_data;
-  int frames = 16, repeat = 5;
+  int frames = 16, repeat = 10;
   double voxel_size = 0.5, max_range = 100.0;
   bool smoke = false;
 };
@@ -56,7 +57,11 @@ struct Row {
   int threads = 1;
   Timing t;
   std::size_t voxels = 0, bytes = 0;
+  std::size_t classified = 0;  // grid: occupied voxels that hold a class (labels reached it)
 };
+
+constexpr double kTargetRatio = 10.0;  // x OctoMap, all cores and one core
+constexpr double kTargetMs = 30.0;     // ms/scan, all cores
 
 Timing summarise(std::vector<double> ms) {
   Timing t;
@@ -117,6 +122,20 @@ ScanSet loadLabelledPair(const fs::path& shared, int frames) {
   return set;
 }
 
+// Occupied voxels whose class is not unlabeled (outside the timing): the labels of the timed
+// scans reached the map's semantic statistics.
+std::size_t classifiedVoxels(const socc::map::SemanticOccupancyMap& map) {
+  socc::map::ChunkQuery q;
+  q.shape = socc::map::ChunkQuery::Shape::kBox;
+  q.box_min = Eigen::Vector3d::Constant(-1e5);
+  q.box_max = Eigen::Vector3d::Constant(1e5);
+  q.fields = socc::map::ChunkQuery::kFeatures;
+  const socc::map::ChunkVoxels voxels = map.queryChunk(q);
+  return static_cast<std::size_t>(
+      std::count_if(voxels.label.begin(), voxels.label.end(),
+                    [](std::uint8_t l) { return l != socc::kUnlabeled; }));
+}
+
 // Best time per scan over `repeat` runs (fresh map each): filters out preemption on a shared
 // machine. threads = 0: TBB's default (all cores).
 Row timeGrid(const ScanSet& set, const Options& o, int threads) {
@@ -144,6 +163,7 @@ Row timeGrid(const ScanSet& set, const Options& o, int threads) {
     const socc::map::MapStats stats = map.stats();
     row.voxels = static_cast<std::size_t>(stats.num_voxels);
     row.bytes = static_cast<std::size_t>(stats.memory_bytes);
+    row.classified = classifiedVoxels(map);
   }
   row.t = summarise(best);
   return row;
@@ -186,11 +206,14 @@ std::vector<std::string> report(const ScanSet& set, const std::vector<Row>& rows
               static_cast<double>(set.points) / static_cast<double>(set.clouds.size()),
               100.0 * static_cast<double>(set.labelled) / static_cast<double>(set.points));
   std::printf(
-      "| mapper | threads | ms/scan mean | median | max | voxels / nodes | memory [MB] |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
+      "| mapper | threads | ms/scan mean | median | max | voxels / nodes | memory [MB] | "
+      "B/voxel |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const Row& r : rows)
-    std::printf("| %s | %d | %.1f | %.1f | %.1f | %zu | %.1f |\n", r.mapper.c_str(), r.threads,
-                r.t.mean, r.t.median, r.t.max, r.voxels, static_cast<double>(r.bytes) / 1e6);
+    std::printf(
+        "| %s | %d | %.1f | %.1f | %.1f | %zu | %.1f | %.1f |\n", r.mapper.c_str(), r.threads,
+        r.t.mean, r.t.median, r.t.max, r.voxels, static_cast<double>(r.bytes) / 1e6,
+        static_cast<double>(r.bytes) / static_cast<double>(std::max<std::size_t>(r.voxels, 1)));
   const Row &all = rows[0], &one = rows[1], &octo = rows[2];
   std::vector<std::string> missed;
   const auto target = [&](const std::string& what, double value, bool met, const char* unit) {
@@ -202,10 +225,21 @@ std::vector<std::string> report(const ScanSet& set, const std::vector<Row>& rows
   const std::string threads = std::to_string(all.threads) + " thread(s)";
   const double ratio_all = octo.t.mean / all.t.mean, ratio_one = octo.t.mean / one.t.mean;
   std::printf("\n");
-  target("<= 30 ms/scan (mean, " + threads + ")", all.t.mean, all.t.mean <= 30.0, " ms");
-  target(">= 5x faster than OctoMap (grid on " + threads + ", OctoMap on 1)", ratio_all,
-         ratio_all >= 5.0, "x");
-  std::printf("- ratio with the grid on 1 thread too (not judged): %.1fx\n", ratio_one);
+  if (set.labelled > 0)
+    std::printf("- labels in the timed scans reached the map: %zu occupied voxels hold a class\n",
+                all.classified);
+  if (set.labelled == set.points && all.classified == 0) {  // the semantic path did not run
+    std::printf("- FAIL: labelled scans but no voxel holds a class\n");
+    missed.push_back("semantic statistics from labelled scans, " + set.name);
+  }
+  char ratio_target[64];
+  std::snprintf(ratio_target, sizeof ratio_target, ">= %.0fx faster than OctoMap", kTargetRatio);
+  target("<= " + std::to_string(static_cast<int>(kTargetMs)) + " ms/scan (mean, " + threads + ")",
+         all.t.mean, all.t.mean <= kTargetMs, " ms");
+  target(std::string(ratio_target) + " (grid on " + threads + ", OctoMap on 1)", ratio_all,
+         ratio_all >= kTargetRatio, "x");
+  target(std::string(ratio_target) + " (grid on 1 thread, OctoMap on 1)", ratio_one,
+         ratio_one >= kTargetRatio, "x");
   return missed;
 }
 
@@ -216,7 +250,8 @@ int main(int argc, char** argv) {
       "Benchmark: integrate real KITTI scans (GT poses, LiDAR frame) into the semantic occupancy "
       "grid (all cores and 1 core) and into OctoMap's OcTree::insertPointCloud in the same run, "
       "on SemanticKITTI-labelled scans and on the KITTI 00 sequence; prints ms/scan, memory, "
-      "the speed ratios and PASS/FAIL against the targets (<= 30 ms/scan, >= 5x OctoMap).\n"
+      "the speed ratios and PASS/FAIL against the targets (<= 30 ms/scan, >= 10x OctoMap on all "
+      "cores and on one core).\n"
       "Exit: 0 all met, 1 a target missed, 77 data absent."};
   Options o;
   o.shared_data = (fs::path(SOCC_SOURCE_DIR) / "../shared/data").lexically_normal().string();
