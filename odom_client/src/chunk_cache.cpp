@@ -8,14 +8,6 @@
 #include "socc/rpc/map_client.hpp"
 
 namespace socc::odom {
-namespace {
-
-[[noreturn]] void malformed(const std::string& why) {
-  throw std::invalid_argument("malformed chunk reply: " + why);
-}
-
-}  // namespace
-
 chunk_request_t featureChunkRequest(const Eigen::Vector3d& center, double radius,
                                     double occupancy_threshold) {
   chunk_request_t r = rpc::sphereChunkRequest(center, radius);
@@ -46,8 +38,9 @@ LocalMap ChunkCache::apply(const chunk_reply_t& reply, const Eigen::Vector3d& ce
     voxels = decodeChunkVoxels(reply);  // checks the block lists too
     if (reply.delta_of_version >= 0 &&
         (!held_ || reply.map_epoch != held_->epoch || reply.delta_of_version != held_->version))
-      malformed("a delta on version " + std::to_string(reply.delta_of_version) +
-                ", which this client does not hold");
+      throw std::invalid_argument("malformed chunk reply: a delta on version " +
+                                  std::to_string(reply.delta_of_version) +
+                                  ", which this client does not hold");
   } catch (const std::invalid_argument&) {
     reset();
     throw;

@@ -13,18 +13,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
 // A pipelined chunk centred this far (share of its radius) from the frame is fetched again: the
 // frame jumped (relocalization, a lost stretch) or moved much faster than predicted.
 constexpr double kMaxCentreShift = 0.2;
-
-LabeledCloud inMapFrame(LabeledCloud cloud, const Eigen::Isometry3d& pose) {
-  for (auto& p : cloud.points) p = (pose * p.cast<double>()).cast<float>();
-  return cloud;
-}
 
 }  // namespace
 
@@ -103,7 +94,7 @@ void MapPipeline::integrate(FrameEstimate estimate, const FrameStats& stats,
         std::async(std::launch::async,
                    [&base = fetched_->map, cloud = estimate.cloud, pose = estimate.pose]() {
                      std::vector<MapVoxel> voxels =
-                         scanVoxels(base.pointsOutside(inMapFrame(cloud, pose)), base.voxelSize());
+                         scanVoxels(base.pointsOutside(transformed(cloud, pose)), base.voxelSize());
                      for (MapVoxel& v : voxels) v.occupancy = base.hitOccupancy();
                      return voxels;
                    });

@@ -15,10 +15,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
 std::string statusOf(const FrameEstimate& e, TrackingState state) {
   if (state == TrackingState::kLost) return "lost";
   if (!e.health.healthy()) return "unhealthy";

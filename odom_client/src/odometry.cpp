@@ -38,11 +38,6 @@ LocalMap withCloud(const LocalMap& map, const LabeledCloud& cloud) {
 // A point this close to the map is explained by it: the map's resolution.
 constexpr double kNearMap = 0.5;  // [m]
 
-LabeledCloud transformed(LabeledCloud cloud, const Eigen::Isometry3d& pose) {
-  for (auto& p : cloud.points) p = (pose * p.cast<double>()).cast<float>();
-  return cloud;
-}
-
 }  // namespace
 
 struct Odometry::Sweep {

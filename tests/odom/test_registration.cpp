@@ -27,12 +27,6 @@ double rotationErrorDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) 
   return Eigen::AngleAxisd((a.inverse() * b).linear()).angle() * 180.0 / M_PI;
 }
 
-socc::LabeledCloud transformed(const socc::LabeledCloud& c, const Eigen::Isometry3d& t) {
-  socc::LabeledCloud out = c;
-  for (auto& p : out.points) p = (t * p.cast<double>()).cast<float>();
-  return out;
-}
-
 // The source scan as the odometry registers it: range-filtered, downsampled to ~2500 points.
 socc::LabeledCloud registrationCloud(const socc::LabeledCloud& scan, double min_range) {
   const OdomConfig cfg;

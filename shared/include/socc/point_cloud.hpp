@@ -1,6 +1,7 @@
 #pragma once
 // A (semantic) LiDAR scan in one frame: points, optional labels and per-point times.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <vector>
 
@@ -22,5 +23,11 @@ struct LabeledCloud {
            (times.empty() || times.size() == points.size());
   }
 };
+
+/// cloud moved into the frame pose maps it to (labels and times kept).
+inline LabeledCloud transformed(LabeledCloud cloud, const Eigen::Isometry3d& pose) {
+  for (auto& p : cloud.points) p = (pose * p.cast<double>()).cast<float>();
+  return cloud;
+}
 
 }  // namespace socc

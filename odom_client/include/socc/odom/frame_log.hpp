@@ -1,5 +1,6 @@
 #pragma once
 // Per-frame statistics: one CSV row per frame and the end-of-run summary.
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -7,6 +8,11 @@
 #include <vector>
 
 namespace socc::odom {
+
+/// Milliseconds since t: the unit of FrameStats' timings.
+inline double msSince(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
 
 struct FrameStats {
   std::int64_t frame = 0;      // sequence number
