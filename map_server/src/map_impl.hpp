@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "socc/map/ray_footprint.hpp"
@@ -104,7 +105,12 @@ struct HitPoint {
 };
 
 struct HitPartition {
-  std::vector<std::vector<HitPoint>> points;  // per point range: its hit points, in order
+  // The hit points of point range r, in order: hits[r * kPointRange, + hit_count[r]). One
+  // buffer, allocated (not initialised) for every point: a range's share never outgrows its
+  // region, and only the pages written are ever touched.
+  std::unique_ptr<HitPoint[]> hits;
+  std::size_t hit_capacity = 0;  // in points
+  std::vector<std::uint32_t> hit_count;
   VoxelSlots slot_of;
   std::vector<VoxelIndex> voxels;
   // Parallel to voxels (entry i is voxel i's; entries past voxels.size() are spare: kept

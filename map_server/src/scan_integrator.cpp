@@ -35,7 +35,13 @@ void classifyPoints(const Eigen::Isometry3d& pose, const LabeledCloud& cloud,
                     const MapConfig& config, const Grid& grid, ScanScratch& s) {
   const std::size_t n = cloud.size();
   const std::size_t ranges = (n + ScanScratch::kPointRange - 1) / ScanScratch::kPointRange;
-  for (HitPartition& part : s.partitions) part.points.resize(ranges);
+  for (HitPartition& part : s.partitions) {
+    if (part.hit_capacity < ranges * ScanScratch::kPointRange) {
+      part.hit_capacity = ranges * ScanScratch::kPointRange;
+      part.hits.reset(new HitPoint[part.hit_capacity]);  // default-initialised: untouched
+    }
+    part.hit_count.assign(ranges, 0);
+  }
   s.clipped.resize(ranges);
   const Eigen::Matrix3d r = pose.linear();
   const Eigen::Vector3d t = pose.translation();
@@ -45,18 +51,14 @@ void classifyPoints(const Eigen::Isometry3d& pose, const LabeledCloud& cloud,
   const double sure_max2 = config.max_range * config.max_range * (1.0 - 1e-9);
   tbb::parallel_for(std::size_t{0}, ranges, [&](std::size_t range) {
     const VoxelGeometry geometry = grid.geometry();
-    std::array<std::vector<HitPoint>*, ScanScratch::kHitPartitions> out;
-    for (std::size_t p = 0; p < out.size(); ++p) {
-      out[p] = &s.partitions[p].points[range];
-      out[p]->clear();
-      // Room for a fair share and a half without reallocating (copies fault in new pages).
-      out[p]->reserve(ScanScratch::kPointRange * 3 / (2 * ScanScratch::kHitPartitions));
-    }
+    std::array<HitPoint*, ScanScratch::kHitPartitions> out;  // next record per partition
+    for (std::size_t p = 0; p < out.size(); ++p)
+      out[p] = s.partitions[p].hits.get() + range * ScanScratch::kPointRange;
     std::vector<ScanScratch::ClippedPoint>& clipped = s.clipped[range];
     clipped.clear();
     const std::size_t end = std::min(n, (range + 1) * ScanScratch::kPointRange);
     BlockKey last_block(0, 0, 0);
-    std::vector<HitPoint>* last_out = out[partitionOf(VoxelIndex(0, 0, 0))];
+    std::size_t last_partition = partitionOf(VoxelIndex(0, 0, 0));
     for (std::size_t i = range * ScanScratch::kPointRange; i != end; ++i) {
       const Eigen::Vector3d ps = cloud.points[i].cast<double>();
       const double d2 = ps.squaredNorm();
@@ -74,13 +76,16 @@ void classifyPoints(const Eigen::Isometry3d& pose, const LabeledCloud& cloud,
       const BlockKey block = blockOf(v);
       if (block != last_block) {  // consecutive points mostly share a block: skip the hash
         last_block = block;
-        last_out = out[partitionOfBlock(block)];
+        last_partition = partitionOfBlock(block);
       }
-      HitPoint& hit = last_out->emplace_back();  // in place: no temporary to copy
+      HitPoint& hit = *out[last_partition]++;
       hit.position = pm;
       hit.voxel = v;
       hit.point = static_cast<std::uint32_t>(i);
     }
+    for (std::size_t p = 0; p < out.size(); ++p)
+      s.partitions[p].hit_count[range] = static_cast<std::uint32_t>(
+          out[p] - (s.partitions[p].hits.get() + range * ScanScratch::kPointRange));
   });
 }
 
@@ -94,9 +99,9 @@ void aggregatePartition(std::size_t p, const LabeledCloud& cloud, ScanScratch& s
   part.slot_of.clear();
   part.voxels.clear();
   const bool labeled = cloud.hasLabels();
-  for (const std::vector<HitPoint>& points : part.points) {
-    const HitPoint* hit = points.data();
-    const HitPoint* const end = hit + points.size();
+  for (std::size_t range = 0; range < part.hit_count.size(); ++range) {
+    const HitPoint* hit = part.hits.get() + range * ScanScratch::kPointRange;
+    const HitPoint* const end = hit + part.hit_count[range];
     while (hit != end) {
       const VoxelIndex voxel = hit->voxel;
       bool inserted = false;
@@ -361,7 +366,7 @@ IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& senso
   result.voxels_freed = static_cast<std::int32_t>(tally.freed);
   std::size_t hits = 0;
   for (const HitPartition& part : s.partitions)
-    for (const std::vector<HitPoint>& points : part.points) hits += points.size();
+    for (const std::uint32_t count : part.hit_count) hits += count;
   result.points_used = static_cast<std::int32_t>(hits);
   ++m.version;
   return result;
