@@ -1,13 +1,13 @@
 #include "socc/odom/chunk_cache.hpp"
 
 #include <algorithm>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 
 #include "socc/rpc/map_client.hpp"
 
 namespace socc::odom {
+
 chunk_request_t featureChunkRequest(const Eigen::Vector3d& center, double radius,
                                     double occupancy_threshold) {
   chunk_request_t r = rpc::sphereChunkRequest(center, radius);

@@ -88,46 +88,51 @@ void MapPipeline::integrate(FrameEstimate estimate, const FrameStats& stats,
   FrameStats row = stats;
   row.wait_ms = msSince(wait);
   row.total_ms += row.wait_ms;
-  if (fetched_ && !fetched_->overlay.valid()) {
-    // What this frame adds to that chunk, worked out while its Integrate travels.
-    fetched_->overlay =
-        std::async(std::launch::async,
-                   [&base = fetched_->map, cloud = estimate.cloud, pose = estimate.pose]() {
-                     std::vector<MapVoxel> voxels =
-                         scanVoxels(base.pointsOutside(transformed(cloud, pose)), base.voxelSize());
-                     for (MapVoxel& v : voxels) v.occupancy = base.hitOccupancy();
-                     return voxels;
-                   });
-  } else {
+  if (fetched_ && !fetched_->overlay.valid())
+    startOverlay(estimate);
+  else
     fetched_.reset();  // it lacks this frame, and no overlay stands in for it
-  }
   integrate_request_t request =
       rpc::makeIntegrateRequest(estimate.seq, estimate.utime, estimate.pose, estimate.cloud);
-  const bool with_chunk = config_.pipelined_map;
-  in_flight_.emplace();
   row.bytes_sent = static_cast<std::int64_t>(request.getEncodedSize());
+  in_flight_.emplace();
   in_flight_->stats = row;
-  in_flight_->reply =
-      std::async(std::launch::async, [this, with_chunk, ahead, r = std::move(request)]() mutable {
-        Exchange x;
-        const Clock::time_point start = Clock::now();
-        x.integrate = client_.integrate(std::move(r));
-        x.integrate_ms = msSince(start);
-        if (!with_chunk || !x.integrate.ok()) return x;
-        const Clock::time_point fetch = Clock::now();
-        if (!config_.delta_chunks) cache_.reset();
-        const rpc::Result<chunk_reply_t> chunk =
-            client_.getChunk(cache_.request(ahead, config_.chunk_radius));
-        if (!chunk.ok()) {  // the next frames fetch theirs (and report the failure)
-          cache_.reset();
-          return x;
-        }
-        x.chunk = cache_.apply(*chunk.reply, ahead, config_.chunk_radius);
-        x.center = ahead;
-        x.chunk_bytes = chunk.bytes_received;
-        x.chunk_ms = msSince(fetch);
-        return x;
+  in_flight_->reply = std::async(
+      std::launch::async,
+      [this, ahead, r = std::move(request)]() mutable { return exchange(std::move(r), ahead); });
+}
+
+void MapPipeline::startOverlay(const FrameEstimate& frame) {
+  // What the frame adds to fetched_'s chunk, worked out while its Integrate travels.
+  fetched_->overlay = std::async(
+      std::launch::async, [&base = fetched_->map, cloud = frame.cloud, pose = frame.pose]() {
+        std::vector<MapVoxel> voxels =
+            scanVoxels(base.pointsOutside(transformed(cloud, pose)), base.voxelSize());
+        for (MapVoxel& v : voxels) v.occupancy = base.hitOccupancy();
+        return voxels;
       });
+}
+
+MapPipeline::Exchange MapPipeline::exchange(integrate_request_t request,
+                                            const Eigen::Vector3d& ahead) {
+  Exchange x;
+  const Clock::time_point start = Clock::now();
+  x.integrate = client_.integrate(std::move(request));
+  x.integrate_ms = msSince(start);
+  if (!config_.pipelined_map || !x.integrate.ok()) return x;
+  const Clock::time_point fetch = Clock::now();
+  if (!config_.delta_chunks) cache_.reset();
+  const rpc::Result<chunk_reply_t> chunk =
+      client_.getChunk(cache_.request(ahead, config_.chunk_radius));
+  if (!chunk.ok()) {  // the next frames fetch theirs (and report the failure)
+    cache_.reset();
+    return x;
+  }
+  x.chunk = cache_.apply(*chunk.reply, ahead, config_.chunk_radius);
+  x.center = ahead;
+  x.chunk_bytes = chunk.bytes_received;
+  x.chunk_ms = msSince(fetch);
+  return x;
 }
 
 std::int64_t MapPipeline::finish() {

@@ -65,8 +65,7 @@ Eigen::Vector3d blockCorner(const Eigen::Vector3i& key, int block_dim, double vo
 }
 
 std::string checkBlocks(const chunk_reply_t& reply) {
-  if (reply.n_blocks > 0 && reply.block_dim <= 0)
-    return "block_dim " + std::to_string(reply.block_dim);
+  if (reply.block_dim <= 0) return "block_dim " + std::to_string(reply.block_dim);
   std::int64_t sum = 0;
   for (const std::int32_t n : reply.block_voxels) {
     if (n < 0) return "negative block_voxels";

@@ -55,7 +55,6 @@ void toChunkReply(map::ChunkVoxels&& voxels, double voxel_size, chunk_reply_t& o
   out.num_voxels = voxels.num_occupied;
   out.delta_of_version = voxels.delta_of_version;
   encodeFeatures(voxels, voxel_size, out);  // before the block lists move out
-  out.block_dim = map::kBlockDim;
   out.block = rowsOf(std::move(voxels.block_key));
   out.block_voxels = std::move(voxels.block_voxels);
   out.n_blocks = static_cast<std::int32_t>(out.block_voxels.size());
@@ -80,6 +79,7 @@ void setMapInfo(const map::SemanticOccupancyMap& map, chunk_reply_t& out) {
   out.voxel_size = map.config().voxel_size;
   out.map_version = map.version();
   out.map_epoch = map.epoch();
+  out.block_dim = map::kBlockDim;
   out.p_hit = static_cast<float>(map.config().p_hit);
 }
 

@@ -11,7 +11,8 @@ namespace socc::service {
 /// caller.
 void toChunkReply(map::ChunkVoxels&& voxels, double voxel_size, chunk_reply_t& out);
 
-/// Sets what every chunk reply says of the map: voxel_size, map_version, p_hit.
+/// Sets what every chunk reply says of the map: voxel_size, map_version, map_epoch, block_dim,
+/// p_hit.
 void setMapInfo(const map::SemanticOccupancyMap& map, chunk_reply_t& out);
 
 /// The whole reply of a successful query (columns and setMapInfo).

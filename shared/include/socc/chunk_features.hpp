@@ -38,8 +38,8 @@ Eigen::Vector3d blockCorner(const Eigen::Vector3i& key, int block_dim, double vo
 /// not add up to the voxels (check with checkBlocks first).
 std::vector<Eigen::Vector3d> firstPoints(const chunk_reply_t& reply);
 
-/// Empty when the block lists are consistent: block_dim > 0, counts >= 0 that add up to
-/// num_voxels; otherwise the problem.
+/// Empty when the block lists are consistent (block_dim > 0, counts >= 0 that add up to
+/// num_voxels); otherwise the problem.
 std::string checkBlocks(const chunk_reply_t& reply);
 
 }  // namespace socc::chunk

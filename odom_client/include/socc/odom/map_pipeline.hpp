@@ -70,6 +70,9 @@ class MapPipeline {
   };
 
   LocalMap fetchNow(const Eigen::Vector3d& center, FrameStats& stats);
+  void startOverlay(const FrameEstimate& frame);  // fetched_->overlay from frame's cloud
+  /// In the worker: the Integrate, then (pipelined) the chunk around ahead.
+  Exchange exchange(integrate_request_t request, const Eigen::Vector3d& ahead);
   rpc::Result<chunk_reply_t> fetchChunk(const Eigen::Vector3d& center);
   bool covers(const Fetched& fetched, const Eigen::Vector3d& center) const;
 
