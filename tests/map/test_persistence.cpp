@@ -56,7 +56,9 @@ chunk_reply_t everything(const SemanticOccupancyMap& map) {
   q.radius = 1000.0;
   q.fields = chunk_request_t::FIELD_FEATURES | chunk_request_t::FIELD_STATS |
              chunk_request_t::FIELD_INDEX | chunk_request_t::FIELD_FREE;
-  return query(map, q);
+  chunk_reply_t reply = query(map, q);
+  reply.map_epoch = 0;  // random per map instance, by design
+  return reply;
 }
 
 std::vector<std::uint8_t> encode(const chunk_reply_t& r) {
