@@ -9,11 +9,11 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <random>
-#include <regex>
 #include <string>
 
 #include "odom_child_process.hpp"
@@ -175,12 +175,14 @@ std::optional<double> baselineFps(const std::string& command, const std::string&
   std::array<char, 4096> buf{};
   while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe.get()) != nullptr)
     output += buf.data();
-  std::smatch m;
-  if (!std::regex_search(output, m, std::regex(R"(fps=([0-9.]+))"))) {
+  const std::size_t at = output.find("fps=");
+  char* end = nullptr;
+  const double fps = at == std::string::npos ? 0.0 : std::strtod(output.c_str() + at + 4, &end);
+  if (at == std::string::npos || end == output.c_str() + at + 4 || !(fps > 0.0)) {
     std::fprintf(stderr, "bench_odometry: the baseline printed no fps=F:\n%s\n", output.c_str());
     return std::nullopt;
   }
-  return std::stod(m[1].str());
+  return fps;
 }
 
 double frameTimePercentile(const std::vector<FrameStats>& rows, double q) {
