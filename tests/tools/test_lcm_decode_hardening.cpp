@@ -167,4 +167,6 @@ TEST(PointQuantization, RoundTripWithinHalfTheResolution) {
                std::invalid_argument);
   EXPECT_THROW(socc::wire::pointsFromQuantized(rows, 0.f), std::invalid_argument);
   EXPECT_THROW(socc::wire::pointsFromQuantized(rows, std::nanf("")), std::invalid_argument);
+  // No point (3 empty rows): nothing to scale, whatever the resolution (the fuzzer's case).
+  EXPECT_TRUE(socc::wire::pointsFromQuantized({{}, {}, {}}, 0.f).empty());
 }

@@ -63,13 +63,14 @@ inline float quantizePoints(const Points& points, Rows<std::int16_t>& xyz) {
 }
 
 /// The points of quantized rows (3 rows of equal length); throws std::invalid_argument when
-/// the rows are not that or the resolution is not finite and > 0.
+/// the rows are not that, or when there are points and the resolution is not finite and > 0.
 inline Points pointsFromQuantized(const Rows<std::int16_t>& xyz, float resolution) {
   Points points;
   if (xyz.empty()) return points;
   const std::size_t n = xyz.size() == 3 ? xyz[0].size() : 0;
   if (xyz.size() != 3 || xyz[1].size() != n || xyz[2].size() != n)
     throw std::invalid_argument("xyz must be 3 rows of equal length");
+  if (n == 0) return points;  // no point: the resolution says nothing
   if (!(std::isfinite(resolution) && resolution > 0.f))
     throw std::invalid_argument("xyz_resolution must be finite and > 0");
   points.resize(n);
