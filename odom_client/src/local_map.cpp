@@ -42,6 +42,37 @@ class NearestWithin {
   std::uint32_t index_ = kNone;
 };
 
+// Result set keeping the two nearest points closer than a bound: the second's distance bounds
+// how far the query may move with the same nearest point (registration's correspondence reuse).
+class TwoNearestWithin {
+ public:
+  explicit TwoNearestWithin(double bound2) : first_(bound2), second_(bound2) {}
+  bool full() const { return true; }
+  bool addPoint(double dist2, std::uint32_t index) {
+    if (dist2 < first_) {
+      second_ = first_;
+      first_ = dist2;
+      index_ = index;
+    } else if (dist2 < second_) {
+      second_ = dist2;
+    }
+    return true;
+  }
+  double worstDist() const { return second_; }
+  NearestTwo result(std::size_t offset) const {
+    NearestTwo out;
+    if (index_ != kNone) out.nearest = Neighbor{index_ + offset, first_};
+    out.second_squared_distance = second_;
+    return out;
+  }
+
+ private:
+  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  double first_;
+  double second_;
+  std::uint32_t index_ = kNone;
+};
+
 [[noreturn]] void malformed(const std::string& why) {
   throw std::invalid_argument("malformed chunk reply: " + why);
 }
@@ -80,6 +111,12 @@ struct LocalMap::Impl {
       std::optional<Neighbor> n = result.result();
       if (n) n->index += adaptor.offset;
       return n;
+    }
+    NearestTwo nearestTwo(const Eigen::Vector3d& query, double bound2) const {
+      if (adaptor.count == 0) return NearestTwo{std::nullopt, bound2};
+      TwoNearestWithin result(bound2);
+      tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
+      return result.result(adaptor.offset);
     }
     PointsAdaptor adaptor;
     KdTree tree;
@@ -126,6 +163,21 @@ std::optional<Neighbor> LocalMap::nearest(const Eigen::Vector3d& query, double m
     if (o) best = o;
   }
   return best;
+}
+
+NearestTwo LocalMap::nearestTwo(const Eigen::Vector3d& query, double max_distance) const {
+  const double bound2 = max_distance * max_distance;
+  if (impl_->voxels.empty() || !query.allFinite()) return NearestTwo{std::nullopt, bound2};
+  NearestTwo best = impl_->base->nearestTwo(query, bound2);
+  if (!impl_->overlay) return best;
+  const NearestTwo o = impl_->overlay->nearestTwo(query, best.second_squared_distance);
+  // The two smallest of the four distances (o's are below best's second, or o found none).
+  if (!o.nearest) return best;
+  if (!best.nearest || o.nearest->squared_distance < best.nearest->squared_distance) {
+    const double second = best.nearest ? best.nearest->squared_distance : bound2;
+    return NearestTwo{o.nearest, std::min(second, o.second_squared_distance)};
+  }
+  return NearestTwo{best.nearest, o.nearest->squared_distance};
 }
 
 LabeledCloud LocalMap::pointsOutside(const LabeledCloud& cloud) const {

@@ -110,6 +110,46 @@ Vector6d mapFrameTwist(const Eigen::Isometry3d& pose, const Vector6d& c) {
   return out;
 }
 
+// The nearest map voxel of each scan point within the bound, kept across iterations. A point
+// that moved by less than half the gap between its nearest and second-nearest voxel since it was
+// searched still has the same nearest voxel (triangle inequality), so late iterations, whose
+// steps are millimetres, search almost nothing. The answers are those of a fresh search.
+class NearestCache {
+ public:
+  NearestCache(const LocalMap& map, std::size_t points, double max_distance)
+      : map_(map), max_distance_(max_distance), entries_(points) {}
+  // Called for each i by one thread at a time.
+  std::optional<std::size_t> nearest(std::size_t i, const Eigen::Vector3d& p) {
+    Entry& e = entries_[i];
+    if (e.searched && (p - e.at).squaredNorm() < e.slack * e.slack) {
+      if (!e.nearest) return std::nullopt;
+      const bool within = (p - map_.voxel(*e.nearest).point).norm() < max_distance_;
+      return within ? e.nearest : std::nullopt;
+    }
+    const NearestTwo n = map_.nearestTwo(p, max_distance_);
+    e.searched = true;
+    e.at = p;
+    e.nearest.reset();
+    e.slack = 0.0;  // none within the bound: searched again next time
+    if (n.nearest) {
+      e.nearest = n.nearest->index;
+      e.slack = (std::sqrt(n.second_squared_distance) - std::sqrt(n.nearest->squared_distance)) / 2;
+    }
+    return e.nearest;
+  }
+
+ private:
+  struct Entry {
+    Eigen::Vector3d at;  // where it was searched
+    std::optional<std::size_t> nearest;
+    double slack = 0.0;  // the distance from `at` within which `nearest` stays the answer
+    bool searched = false;
+  };
+  const LocalMap& map_;
+  double max_distance_;
+  std::vector<Entry> entries_;
+};
+
 // One Gauss-Newton step of pose and (with a prior) the twist correction c.
 struct Step {
   Vector6d pose = Vector6d::Zero();
@@ -194,6 +234,7 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
   // above the tolerance: returning to a pose of the last kCycle iterations also ends it.
   constexpr std::size_t kCycle = 6;
   std::deque<Eigen::Isometry3d> recent;
+  NearestCache nearest(map, scan.size(), max_distance);
 
   for (int it = 0; it < params.max_iterations; ++it) {
     const Eigen::Isometry3d pose = result.pose;
@@ -205,9 +246,9 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
             Eigen::Vector3d p = pose * scan.points[i].cast<double>();
             const double s = twist_prior ? double{scan.times[i]} : 0.0;
             if (twist_prior) p += s * (motion.head<3>() + motion.tail<3>().cross(p));
-            const auto nn = map.nearest(p, max_distance);
+            const std::optional<std::size_t> nn = nearest.nearest(i, p);
             if (!nn) continue;
-            const MapVoxel& v = map.voxel(nn->index);
+            const MapVoxel& v = map.voxel(*nn);
             const std::uint8_t label = scan.hasLabels() ? scan.labels[i] : 0;
             const Eigen::Vector3d normal =
                 with_normals ? Eigen::Vector3d(pose.linear() * scan_normals[i].cast<double>())

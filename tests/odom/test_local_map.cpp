@@ -123,7 +123,8 @@ TEST(LocalMap, PointsOutsideAreThoseInVoxelsTheChunkLacks) {
 }
 
 namespace {
-// Every query's nearest voxel of map within 2 m is the brute-force nearest of voxels.
+// Every query's nearest voxel of map within 2 m is the brute-force nearest of voxels, and
+// nearestTwo also gives the brute-force second-nearest distance.
 void expectExactNearest(const LocalMap& map, const std::vector<MapVoxel>& voxels,
                         std::mt19937& rng) {
   std::uniform_real_distribution<float> u(-20.f, 20.f);
@@ -131,21 +132,29 @@ void expectExactNearest(const LocalMap& map, const std::vector<MapVoxel>& voxels
     const Eigen::Vector3d query(u(rng), u(rng), u(rng));
     const double bound = 2.0;
     std::size_t best = voxels.size();
-    double best2 = bound * bound;
+    double best2 = bound * bound, second2 = bound * bound;
     for (std::size_t i = 0; i < voxels.size(); ++i) {
       const double d2 = (voxels[i].point - query).squaredNorm();
       if (d2 < best2) {
+        second2 = best2;
         best2 = d2;
         best = i;
+      } else if (d2 < second2) {
+        second2 = d2;
       }
     }
     const auto nn = map.nearest(query, bound);
+    const NearestTwo two = map.nearestTwo(query, bound);
+    EXPECT_NEAR(two.second_squared_distance, second2, 1e-9);
     if (best == voxels.size()) {
       EXPECT_FALSE(nn.has_value());
+      EXPECT_FALSE(two.nearest.has_value());
     } else {
       ASSERT_TRUE(nn.has_value());
       EXPECT_EQ(nn->index, best);
       EXPECT_NEAR(nn->squared_distance, best2, 1e-9);
+      ASSERT_TRUE(two.nearest.has_value());
+      EXPECT_EQ(two.nearest->index, best);
     }
   }
 }

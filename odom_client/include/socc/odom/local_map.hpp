@@ -31,6 +31,11 @@ struct Neighbor {
   double squared_distance;
 };
 
+struct NearestTwo {
+  std::optional<Neighbor> nearest;
+  double second_squared_distance;  // of the second nearest; the bound's square when none
+};
+
 class LocalMap {
  public:
   LocalMap();  // empty
@@ -63,6 +68,8 @@ class LocalMap {
 
   /// The nearest first-inserted point within max_distance of query, if any (exact).
   std::optional<Neighbor> nearest(const Eigen::Vector3d& query, double max_distance) const;
+  /// The same, and the distance of the second nearest point within max_distance.
+  NearestTwo nearestTwo(const Eigen::Vector3d& query, double max_distance) const;
 
  private:
   struct Impl;
