@@ -137,14 +137,19 @@ class OccupiedTest {
 // inside the held sphere (so the asker holds all of their voxels).
 class HeldBlocks {
  public:
-  HeldBlocks(const ChunkQuery& q, std::int64_t epoch, const Grid& grid) : grid_(grid) {
+  HeldBlocks(const ChunkQuery& q, std::int64_t epoch, const Grid& grid,
+             double map_occupancy_threshold)
+      : grid_(grid), occupied_only_(q.occupancy_threshold >= map_occupancy_threshold) {
     active_ = q.held && q.held->epoch == epoch && q.shape == ChunkQuery::Shape::kSphere &&
               !(q.fields & ChunkQuery::kFree);
     if (active_) held_ = *q.held;
   }
   bool active() const { return active_; }
   std::int64_t version() const { return held_.version; }
-  bool changed(const Block& block) const { return block.version > held_.version; }
+  // At the map's threshold or above, a change only to voxels below it is invisible.
+  bool changed(const Block& block) const {
+    return (occupied_only_ ? block.occupied_version : block.version) > held_.version;
+  }
   bool held(const BlockKey& key, const Block& block) const {
     if (!active_ || changed(block)) return false;
     // The farthest voxel centre of the block from the held sphere's centre.
@@ -157,6 +162,7 @@ class HeldBlocks {
 
  private:
   const Grid& grid_;
+  bool occupied_only_;
   bool active_ = false;
   ChunkQuery::Held held_;
 };
@@ -175,7 +181,7 @@ ChunkVoxels SemanticOccupancyMap::queryChunk(const ChunkQuery& query) const {
   out.fields = fields;
   if (fields & ChunkQuery::kStats) out.class_prob.resize(kNumClasses);
 
-  const HeldBlocks held(query, m.epoch, m.grid);
+  const HeldBlocks held(query, m.epoch, m.grid, m.config.occupancy_threshold);
   if (held.active()) out.delta_of_version = held.version();
   const OccupiedTest occupied_at(query.occupancy_threshold);
   std::size_t occupied = 0;

@@ -200,10 +200,12 @@ Tally applyHits(const SemanticVoxelBehaviour& behaviour, HitPartition& part) {
 
 /// Applies one miss to every voxel of mask in block that the scan did not hit: onMiss, with
 /// the miss class the block keeps for voxels with statistics (computed from them once when
-/// not known, e.g. after loading a snapshot).
+/// not known, e.g. after loading a snapshot). A miss on a voxel that may be occupied stamps
+/// the block's occupied_version.
 void applyMisses(const SemanticVoxelBehaviour& behaviour, Block& block, const VoxelMask& mask,
-                 Tally& tally) {
+                 std::int64_t version, Tally& tally) {
   const float plain_miss = behaviour.missLogOdds(nullptr);
+  bool seen_change = false;
   for (std::size_t w = 0; w < mask.size(); ++w) {
     // Voxels hit by this scan are never also missed.
     for (std::uint64_t bits = mask[w] & ~block.scan_mark[w]; bits != 0; bits &= bits - 1) {
@@ -211,6 +213,7 @@ void applyMisses(const SemanticVoxelBehaviour& behaviour, Block& block, const Vo
       float& log_odds = block.log_odds[static_cast<std::size_t>(local)];
       const bool was_observed = block.observed[local];
       const bool was_occupied = was_observed && behaviour.isOccupied(log_odds);
+      seen_change = seen_change || behaviour.nearOccupied(log_odds);
       const bool has_stats = block.slot[static_cast<std::size_t>(local)] != kNoStats;
       float miss = plain_miss;
       if (has_stats) {
@@ -233,6 +236,7 @@ void applyMisses(const SemanticVoxelBehaviour& behaviour, Block& block, const Vo
       ++tally.touched;
     }
   }
+  if (seen_change) block.occupied_version = version;
 }
 
 /// Ray ends: each hit voxel's centre (partition order), then each distinct max-range end.
@@ -306,7 +310,8 @@ Tally integrateHits(const SemanticVoxelBehaviour& behaviour, Grid::Accessor& acc
 /// hit. Blocks are created serially, misses applied in parallel by block: a voxel lives in one
 /// block and a miss's effect does not depend on the order of other voxels' misses.
 Tally integrateMisses(const SemanticVoxelBehaviour& behaviour, Grid::Accessor& access,
-                      const Grid& grid, const Eigen::Vector3d& origin, ScanScratch& s) {
+                      const Grid& grid, const Eigen::Vector3d& origin, std::int64_t version,
+                      ScanScratch& s) {
   collectRayEnds(grid, s);
   const RayFootprint& footprint = traverseRays(origin, grid, s);
   s.miss_blocks.resize(footprint.numBlocks());
@@ -316,7 +321,7 @@ Tally integrateMisses(const SemanticVoxelBehaviour& behaviour, Grid::Accessor& a
       tbb::blocked_range<std::size_t>(0, footprint.numBlocks(), 32), Tally{},
       [&](const tbb::blocked_range<std::size_t>& r, Tally t) {
         for (std::size_t i = r.begin(); i != r.end(); ++i)
-          applyMisses(behaviour, *s.miss_blocks[i], footprint.mask(i), t);
+          applyMisses(behaviour, *s.miss_blocks[i], footprint.mask(i), version, t);
         return t;
       },
       [](Tally x, const Tally& y) { return x += y; });
@@ -330,6 +335,7 @@ void finishBlocks(ScanScratch& s, bool raycast, std::int64_t version) {
       block->scan_mark.fill(0);
       block->in_scan = false;
       block->version = version;
+      block->occupied_version = version;
     }
   if (raycast)
     for (Block* block : s.miss_blocks) block->version = version;
@@ -356,7 +362,8 @@ IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& senso
     tally = integrateHits(m.behaviour, access, s);
     result.voxels_hit = static_cast<std::int32_t>(tally.touched);
     if (m.config.raycast)
-      tally += integrateMisses(m.behaviour, access, m.grid, sensor_pose.translation(), s);
+      tally +=
+          integrateMisses(m.behaviour, access, m.grid, sensor_pose.translation(), m.version + 1, s);
   });
   finishBlocks(s, m.config.raycast, m.version + 1);
 

@@ -123,3 +123,47 @@ TEST(ChunkCache, AMalformedReplyResetsTheCache) {
   EXPECT_THROW(cache.apply(bad, center, kRadius), std::invalid_argument);
   EXPECT_EQ(cache.request(center, kRadius).since_epoch, 0);
 }
+
+// A parked car drives off: rays to the wall behind clear its voxels scan by scan. Deltas leave
+// out blocks whose changes were all below the map's threshold; every change a chunk can show
+// (occupancy of occupied voxels, voxels turning free) still reaches it, at the map's threshold
+// and below it.
+std::size_t carVoxels(const LocalMap& map) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < map.size(); ++i) n += map.voxel(i).label == socc::kCar ? 1 : 0;
+  return n;
+}
+
+TEST(ChunkCache, DeltasFollowVoxelsTurningFree) {
+  socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const auto scan = [&](bool car) {
+    socc::LabeledCloud cloud;
+    for (int i = 0; i < 6000; ++i) {
+      cloud.points.emplace_back(20.f, static_cast<float>(-6 + 12 * u(rng)),
+                                static_cast<float>(-1.7 + 4 * u(rng)));
+      cloud.labels.push_back(socc::kBuilding);
+      if (!car) continue;
+      cloud.points.emplace_back(static_cast<float>(9 + 2 * u(rng)),
+                                static_cast<float>(-1 + 2 * u(rng)),
+                                static_cast<float>(-0.7 + 0.7 * u(rng)));
+      cloud.labels.push_back(socc::kCar);
+    }
+    return cloud;
+  };
+  const Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  for (const double threshold : {kThreshold, 0.3}) {
+    ChunkCache cache(threshold);
+    for (int frame = 0; frame < 16; ++frame) {
+      map.integrate(Eigen::Isometry3d::Identity(), scan(frame < 3));
+      const LocalMap cached =
+          cache.apply(answer(map, cache.request(center, kRadius)), center, kRadius);
+      const socc::chunk_reply_t full = answer(map, featureChunkRequest(center, kRadius, threshold));
+      expectSameMap(cached, LocalMap::fromChunk(full, threshold));
+      if (frame == 2) EXPECT_GT(carVoxels(cached), 20u);
+    }
+    EXPECT_EQ(carVoxels(cache.apply(answer(map, cache.request(center, kRadius)), center, kRadius)),
+              0u);  // the car is gone
+  }
+}

@@ -33,6 +33,10 @@ struct SemanticBlock {
   std::array<std::uint64_t, kBlockVoxels / 64> scan_mark{};
   bool in_scan = false;      // scratch: block is in the scan's touched list
   std::int64_t version = 0;  // map version of the last change (delta chunks)
+  // Map version of the last change a chunk at the map's occupancy threshold (or above) can see:
+  // a hit, or a miss on a voxel at or near that threshold. Rays clearing free space, most of a
+  // scan's misses, leave it.
+  std::int64_t occupied_version = 0;
   std::vector<VoxelStats> stats;
   std::vector<std::uint16_t> free_slots;
 

@@ -69,6 +69,9 @@ class SemanticVoxelBehaviour {
   float classMissLogOdds(int miss_class) const { return class_miss_[miss_class]; }
   float hitLogOdds() const { return hit_; }
   bool isOccupied(float log_odds) const { return log_odds >= occupied_; }
+  /// Occupied, or within rounding of the threshold: a chunk asked at the map's threshold may
+  /// show the voxel (its test works in double).
+  bool nearOccupied(float log_odds) const { return log_odds >= occupied_ - 1e-3f; }
   float clampMin() const { return min_; }
   float clampMax() const { return max_; }
 
