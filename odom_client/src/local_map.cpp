@@ -79,87 +79,86 @@ class TwoNearestWithin {
 
 }  // namespace
 
-struct LocalMap::Impl {
-  // nanoflann dataset adaptor over the first-inserted points voxels[offset, offset + count).
+// One searched set of voxels, a chunk's or an overlay's, with its search tree and (on a voxel
+// grid) its voxels' keys. Immutable once built, so maps share it.
+class LocalMap::Layer {
+ public:
+  Layer(std::vector<MapVoxel> v, std::size_t first_id, double voxel_size)
+      : voxels(std::move(v)),
+        first_id_(first_id),
+        adaptor_{&voxels},
+        tree_(3, adaptor_, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {
+    if (voxel_size <= 0.0) return;
+    const double inv_size = 1.0 / voxel_size;
+    keys_.reserve(voxels.size());
+    for (const MapVoxel& voxel : voxels) keys_.insert(voxelIndex(voxel.point, inv_size));
+  }
+  Layer(const Layer&) = delete;  // the tree refers to adaptor_
+  Layer& operator=(const Layer&) = delete;
+
+  std::optional<Neighbor> nearest(const Eigen::Vector3d& query, double bound2) const {
+    if (voxels.empty()) return std::nullopt;
+    NearestWithin result(bound2);
+    tree_.findNeighbors(result, query.data(), nanoflann::SearchParams());
+    std::optional<Neighbor> n = result.result();
+    if (n) n->index += first_id_;
+    return n;
+  }
+  NearestTwo nearestTwo(const Eigen::Vector3d& query, double bound2) const {
+    if (voxels.empty()) return NearestTwo{std::nullopt, bound2};
+    TwoNearestWithin result(bound2);
+    tree_.findNeighbors(result, query.data(), nanoflann::SearchParams());
+    return result.result(first_id_);
+  }
+  bool holds(const VoxelIndex& key) const { return keys_.count(key) != 0; }
+
+  const std::vector<MapVoxel> voxels;
+
+ private:
+  // nanoflann dataset adaptor over the voxels' first-inserted points.
   struct PointsAdaptor {
     const std::vector<MapVoxel>* voxels;
-    std::size_t offset;
-    std::size_t count;
-    std::size_t kdtree_get_point_count() const { return count; }
-    double kdtree_get_pt(std::uint32_t i, std::size_t dim) const {
-      return (*voxels)[offset + i].point[dim];
-    }
+    std::size_t kdtree_get_point_count() const { return voxels->size(); }
+    double kdtree_get_pt(std::uint32_t i, std::size_t dim) const { return (*voxels)[i].point[dim]; }
     template <typename Box>
     bool kdtree_get_bbox(Box&) const {
       return false;
     }
   };
-
   using KdTree =
       nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>,
                                           PointsAdaptor, 3, std::uint32_t>;
 
-  // The tree over voxels[offset, voxels.size()): the whole map, or the overlay.
-  struct Tree {
-    Tree(const std::vector<MapVoxel>& voxels, std::size_t offset)
-        : adaptor{&voxels, offset, voxels.size() - offset},
-          tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {}
-    std::optional<Neighbor> nearest(const Eigen::Vector3d& query, double bound2) const {
-      if (adaptor.count == 0) return std::nullopt;
-      NearestWithin result(bound2);
-      tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
-      std::optional<Neighbor> n = result.result();
-      if (n) n->index += adaptor.offset;
-      return n;
-    }
-    NearestTwo nearestTwo(const Eigen::Vector3d& query, double bound2) const {
-      if (adaptor.count == 0) return NearestTwo{std::nullopt, bound2};
-      TwoNearestWithin result(bound2);
-      tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
-      return result.result(adaptor.offset);
-    }
-    PointsAdaptor adaptor;
-    KdTree tree;
-  };
-
-  explicit Impl(std::vector<MapVoxel> v) : voxels(std::move(v)) {
-    base = std::make_unique<Tree>(voxels, 0);
-  }
-  std::vector<MapVoxel> voxels;  // the chunk's, then the overlay's
-  std::unique_ptr<Tree> base;    // over the chunk's voxels
-  std::unique_ptr<Tree> overlay;
-  double voxel_size = 0.0;  // from the chunk; 0: not a chunk
-  double hit_occupancy = 0.0;
-  tsl::robin_set<VoxelIndex, VoxelIndexHash> keys;  // the chunk's voxels (when voxel_size > 0)
+  std::size_t first_id_;  // ids of this layer's voxels start here
+  PointsAdaptor adaptor_;
+  KdTree tree_;
+  tsl::robin_set<VoxelIndex, VoxelIndexHash> keys_;  // when on a voxel grid
 };
 
 LocalMap::LocalMap() : LocalMap(std::vector<MapVoxel>{}) {}
 LocalMap::LocalMap(std::vector<MapVoxel> voxels)
-    : impl_(std::make_unique<Impl>(std::move(voxels))) {}
+    : base_(std::make_shared<const Layer>(std::move(voxels), 0, 0.0)) {}
 LocalMap::~LocalMap() = default;
+LocalMap::LocalMap(const LocalMap&) = default;
+LocalMap& LocalMap::operator=(const LocalMap&) = default;
 LocalMap::LocalMap(LocalMap&&) noexcept = default;
 LocalMap& LocalMap::operator=(LocalMap&&) noexcept = default;
 
 std::size_t LocalMap::size() const {
-  return impl_->voxels.size();
+  return base_->voxels.size() + (overlay_ ? overlay_->voxels.size() : 0);
 }
 const MapVoxel& LocalMap::voxel(std::size_t i) const {
-  return impl_->voxels[i];
-}
-double LocalMap::voxelSize() const {
-  return impl_->voxel_size;
-}
-double LocalMap::hitOccupancy() const {
-  return impl_->hit_occupancy;
+  const std::size_t n = base_->voxels.size();
+  return i < n ? base_->voxels[i] : overlay_->voxels[i - n];
 }
 
 std::optional<Neighbor> LocalMap::nearest(const Eigen::Vector3d& query, double max_distance) const {
-  if (impl_->voxels.empty() || !query.allFinite()) return std::nullopt;
+  if (empty() || !query.allFinite()) return std::nullopt;
   const double bound2 = max_distance * max_distance;
-  std::optional<Neighbor> best = impl_->base->nearest(query, bound2);
-  if (impl_->overlay) {
+  std::optional<Neighbor> best = base_->nearest(query, bound2);
+  if (overlay_) {
     const std::optional<Neighbor> o =
-        impl_->overlay->nearest(query, best ? best->squared_distance : bound2);
+        overlay_->nearest(query, best ? best->squared_distance : bound2);
     if (o) best = o;
   }
   return best;
@@ -167,10 +166,10 @@ std::optional<Neighbor> LocalMap::nearest(const Eigen::Vector3d& query, double m
 
 NearestTwo LocalMap::nearestTwo(const Eigen::Vector3d& query, double max_distance) const {
   const double bound2 = max_distance * max_distance;
-  if (impl_->voxels.empty() || !query.allFinite()) return NearestTwo{std::nullopt, bound2};
-  NearestTwo best = impl_->base->nearestTwo(query, bound2);
-  if (!impl_->overlay) return best;
-  const NearestTwo o = impl_->overlay->nearestTwo(query, best.second_squared_distance);
+  if (empty() || !query.allFinite()) return NearestTwo{std::nullopt, bound2};
+  NearestTwo best = base_->nearestTwo(query, bound2);
+  if (!overlay_) return best;
+  const NearestTwo o = overlay_->nearestTwo(query, best.second_squared_distance);
   // The two smallest of the four distances (o's are below best's second, or o found none).
   if (!o.nearest) return best;
   if (!best.nearest || o.nearest->squared_distance < best.nearest->squared_distance) {
@@ -181,27 +180,26 @@ NearestTwo LocalMap::nearestTwo(const Eigen::Vector3d& query, double max_distanc
 }
 
 LabeledCloud LocalMap::pointsOutside(const LabeledCloud& cloud) const {
-  if (impl_->voxel_size <= 0.0) return cloud;
-  const double inv_size = 1.0 / impl_->voxel_size;
+  if (voxel_size_ <= 0.0) return cloud;
+  const double inv_size = 1.0 / voxel_size_;
   LabeledCloud out;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3f& p = cloud.points[i];
-    if (!p.allFinite() || impl_->keys.count(voxelIndex(p.cast<double>(), inv_size)) != 0) continue;
+    if (!p.allFinite()) continue;
+    const VoxelIndex key = voxelIndex(p.cast<double>(), inv_size);
+    if (base_->holds(key) || (overlay_ && overlay_->holds(key))) continue;
     out.points.push_back(p);
     if (cloud.hasLabels()) out.labels.push_back(cloud.labels[i]);
   }
   return out;
 }
 
-LocalMap LocalMap::withOverlay(std::vector<MapVoxel> overlay) && {
-  LocalMap out(std::move(*this));
-  Impl& m = *out.impl_;
-  if (overlay.empty()) return out;
-  if (m.overlay) throw std::logic_error("LocalMap::withOverlay: the map has an overlay already");
-  const std::size_t offset = m.voxels.size();
-  m.voxels.insert(m.voxels.end(), overlay.begin(), overlay.end());
-  // The base tree reads points through a pointer to the vector: its indices stay valid.
-  m.overlay = std::make_unique<Impl::Tree>(m.voxels, offset);
+LocalMap LocalMap::withOverlay(std::vector<MapVoxel> overlay) const {
+  LocalMap out = *this;
+  out.overlay_.reset();
+  if (!overlay.empty())
+    out.overlay_ =
+        std::make_shared<const Layer>(std::move(overlay), base_->voxels.size(), voxel_size_);
   return out;
 }
 
@@ -251,16 +249,12 @@ LocalMap LocalMap::fromChunk(const chunk_reply_t& chunk, double occupancy_thresh
 
 LocalMap LocalMap::fromVoxels(std::vector<MapVoxel> voxels, double voxel_size,
                               double hit_occupancy) {
-  LocalMap map(std::move(voxels));
-  Impl& m = *map.impl_;
-  m.voxel_size = voxel_size;
-  m.hit_occupancy = hit_occupancy;
-  const double inv_size = 1.0 / voxel_size;
-  m.keys.reserve(map.size());
-  for (const MapVoxel& v : m.voxels) m.keys.insert(voxelIndex(v.point, inv_size));
+  LocalMap map;
+  map.base_ = std::make_shared<const Layer>(std::move(voxels), 0, voxel_size);
+  map.voxel_size_ = voxel_size;
+  map.hit_occupancy_ = hit_occupancy;
   return map;
 }
-
 double fractionNearMap(const std::vector<Eigen::Vector3f>& points, const LocalMap& map,
                        const Eigen::Isometry3d& pose, double max_distance) {
   if (points.empty()) return 0.0;

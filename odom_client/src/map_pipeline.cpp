@@ -23,33 +23,36 @@ MapPipeline::MapPipeline(rpc::MapClient& client, const OdomConfig& config, Frame
     : client_(client), config_(config), log_(log), cache_(config.occupancy_threshold) {}
 
 MapPipeline::~MapPipeline() {
-  fetched_.reset();  // waits for the overlay task, which reads fetched_->map
+  target_.reset();  // waits for the overlay task
   if (in_flight_ && in_flight_->reply.valid()) in_flight_->reply.wait();
 }
 
 LocalMap MapPipeline::target(const Eigen::Vector3d& center, FrameStats& stats) {
   const Clock::time_point start = Clock::now();
-  if (!fetched_ || !covers(*fetched_, center)) {
+  if (!target_ || !covers(*target_, center)) {
     // Fetched now, after the Integrate in flight; the chunk that came with that Integrate is
     // kept for the next frame, which registers against it plus this frame's voxels.
-    fetched_.reset();
+    target_.reset();
     return fetchNow(center, stats);
   }
-  std::vector<MapVoxel> overlay;
-  if (fetched_->overlay.valid()) overlay = fetched_->overlay.get();
+  Target& t = *target_;
   const Clock::time_point build = Clock::now();
-  LocalMap map = std::move(fetched_->map).withOverlay(std::move(overlay));
+  if (t.pending.valid()) {
+    std::vector<MapVoxel> added = t.pending.get();
+    t.overlay.insert(t.overlay.end(), added.begin(), added.end());
+    t.map = t.chunk.withOverlay(t.overlay);
+  }
+  LocalMap map = t.map;
   stats.map_build_ms = msSince(build);
-  stats.bytes_received = fetched_->bytes;
-  stats.chunk_ms = fetched_->chunk_ms;
-  fetched_.reset();
+  stats.bytes_received = std::exchange(t.bytes, 0);  // counted once, by its first frame
+  stats.chunk_ms = std::exchange(t.chunk_ms, 0.0);
   stats.fetch_ms = msSince(start);
   stats.chunk_voxels = static_cast<std::int64_t>(map.size());
   return map;
 }
 
-bool MapPipeline::covers(const Fetched& fetched, const Eigen::Vector3d& center) const {
-  return (fetched.center - center).norm() <= kMaxCentreShift * config_.chunk_radius;
+bool MapPipeline::covers(const Target& target, const Eigen::Vector3d& center) const {
+  return (target.center - center).norm() <= kMaxCentreShift * config_.chunk_radius;
 }
 
 LocalMap MapPipeline::fetchNow(const Eigen::Vector3d& center, FrameStats& stats) {
@@ -71,6 +74,7 @@ LocalMap MapPipeline::fetchNow(const Eigen::Vector3d& center, FrameStats& stats)
   stats.chunk_ms = stats.fetch_ms;
   stats.chunk_voxels = static_cast<std::int64_t>(map.size());
   stats.bytes_received = chunk.bytes_received;
+  if (config_.pipelined_map) target_.emplace(Target{map, map, center, 0, 0.0, {}, {}});
   return map;
 }
 
@@ -88,24 +92,29 @@ void MapPipeline::integrate(FrameEstimate estimate, const FrameStats& stats,
   FrameStats row = stats;
   row.wait_ms = msSince(wait);
   row.total_ms += row.wait_ms;
-  if (fetched_ && !fetched_->overlay.valid())
+  if (target_ && !target_->pending.valid())
     startOverlay(estimate);
   else
-    fetched_.reset();  // it lacks this frame, and no overlay stands in for it
+    target_.reset();  // it lacks this frame, and no overlay stands in for it
+  // Every chunk_interval-th Integrate brings a chunk back; the frames in between register
+  // against the last one plus their predecessors' voxels.
+  const bool fetch = config_.pipelined_map && ++integrates_ % config_.chunk_interval == 0;
   integrate_request_t request =
       rpc::makeIntegrateRequest(estimate.seq, estimate.utime, estimate.pose, estimate.cloud);
   row.bytes_sent = static_cast<std::int64_t>(request.getEncodedSize());
   in_flight_.emplace();
   in_flight_->stats = row;
-  in_flight_->reply = std::async(
-      std::launch::async,
-      [this, ahead, r = std::move(request)]() mutable { return exchange(std::move(r), ahead); });
+  in_flight_->reply =
+      std::async(std::launch::async, [this, ahead, fetch, r = std::move(request)]() mutable {
+        return exchange(std::move(r), fetch ? std::optional(ahead) : std::nullopt);
+      });
 }
 
 void MapPipeline::startOverlay(const FrameEstimate& frame) {
-  // What the frame adds to fetched_'s chunk, worked out while its Integrate travels.
-  fetched_->overlay = std::async(
-      std::launch::async, [&base = fetched_->map, cloud = frame.cloud, pose = frame.pose]() {
+  // What the frame adds to the target, worked out while its Integrate travels.
+  Target& t = *target_;
+  t.pending =
+      std::async(std::launch::async, [base = t.map, cloud = frame.cloud, pose = frame.pose]() {
         std::vector<MapVoxel> voxels =
             scanVoxels(base.pointsOutside(transformed(cloud, pose)), base.voxelSize());
         for (MapVoxel& v : voxels) v.occupancy = base.hitOccupancy();
@@ -114,12 +123,13 @@ void MapPipeline::startOverlay(const FrameEstimate& frame) {
 }
 
 MapPipeline::Exchange MapPipeline::exchange(integrate_request_t request,
-                                            const Eigen::Vector3d& ahead) {
+                                            const std::optional<Eigen::Vector3d>& fetch_at) {
   Exchange x;
   const Clock::time_point start = Clock::now();
   x.integrate = client_.integrate(std::move(request));
   x.integrate_ms = msSince(start);
-  if (!config_.pipelined_map || !x.integrate.ok()) return x;
+  if (!fetch_at || !x.integrate.ok()) return x;
+  const Eigen::Vector3d& ahead = *fetch_at;
   const Clock::time_point fetch = Clock::now();
   if (!config_.delta_chunks) cache_.reset();
   const rpc::Result<chunk_reply_t> chunk =
@@ -145,8 +155,8 @@ std::int64_t MapPipeline::finish() {
   stats.integrate_ms = x.integrate_ms;
   log_.add(stats);
   if (x.chunk) {
-    fetched_.reset();  // an older chunk (and its overlay) is superseded
-    fetched_.emplace(Fetched{std::move(*x.chunk), x.center, x.chunk_bytes, x.chunk_ms, {}});
+    target_.reset();  // an older chunk (and its overlay) is superseded
+    target_.emplace(Target{*x.chunk, *x.chunk, x.center, x.chunk_bytes, x.chunk_ms, {}, {}});
   }
   return x.integrate.reply->map_version;
 }

@@ -48,6 +48,7 @@ YamlFields fields(OdomConfig& c) {
       {"min_map_points", &c.min_map_points},
       {"pipelined_map", &c.pipelined_map},
       {"delta_chunks", &c.delta_chunks},
+      {"chunk_interval", &c.chunk_interval},
       {"planarity_threshold", &c.planarity_threshold},
       {"point_to_plane", &c.point_to_plane},
       {"sparse_voxel_pairs", &c.sparse_voxel_pairs},
@@ -103,6 +104,7 @@ std::string validate(const OdomConfig& c) {
   if (!finite_pos(c.frame_period)) return "frame_period must be > 0";
   if (!std::isfinite(c.deskew_reference_time)) return "deskew_reference_time must be finite";
   if (c.deskew_iterations < 1) return "deskew_iterations must be >= 1";
+  if (c.chunk_interval < 1) return "chunk_interval must be >= 1";
   if (!std::isfinite(c.sweep_twist_sigma_linear) || c.sweep_twist_sigma_linear < 0.0 ||
       !std::isfinite(c.sweep_twist_sigma_angular) || c.sweep_twist_sigma_angular < 0.0)
     return "sweep_twist_sigma_linear/angular must be >= 0";

@@ -296,9 +296,10 @@ TEST_F(OdomOnSimulatedDrive, TwoRobotsShareOneMap) {
   EXPECT_EQ(last_seq.at("b"), 39);
 }
 
-// The pipelined target (the chunk after the frame before last plus the last frame's own voxels,
+// The pipelined target (a chunk with every second Integrate plus the frames' own voxels since,
 // map_pipeline.hpp) against the serial one (the chunk after the last frame), each on a fresh
-// map: both within the GT bounds, and within 1 cm of each other at every frame.
+// map: both within the GT bounds, and within 2 cm of each other at every frame (each is up to
+// ~2.5 cm from the GT after 36 m; with a chunk every frame they stayed within 1 cm).
 TEST_F(OdomOnSimulatedDrive, PipelinedTargetAgreesWithTheSerialOne) {
   const fs::path pipelined = work_ / "pipelined", serial = work_ / "serial";
   ASSERT_EQ(runClient("sim", pipelined, {}, seq()), 0);
@@ -319,5 +320,5 @@ TEST_F(OdomOnSimulatedDrive, PipelinedTargetAgreesWithTheSerialOne) {
   expectStepsMatchGroundTruth(gt, p, 0);
   expectStepsMatchGroundTruth(gt, s, 0);
   for (std::size_t k = 0; k < p.size(); ++k)
-    EXPECT_LT((p[k].translation() - s[k].translation()).norm(), 0.01) << "frame " << k;
+    EXPECT_LT((p[k].translation() - s[k].translation()).norm(), 0.02) << "frame " << k;
 }

@@ -41,6 +41,8 @@ class LocalMap {
   LocalMap();  // empty
   explicit LocalMap(std::vector<MapVoxel> voxels);
   ~LocalMap();
+  LocalMap(const LocalMap&);  // cheap: the voxels and their search trees are shared
+  LocalMap& operator=(const LocalMap&);
   LocalMap(LocalMap&&) noexcept;
   LocalMap& operator=(LocalMap&&) noexcept;
 
@@ -56,15 +58,18 @@ class LocalMap {
   const MapVoxel& voxel(std::size_t i) const;
 
   /// The chunk's voxel size and the p_occ of a voxel hit once (0 when not made from a chunk).
-  double voxelSize() const;
-  double hitOccupancy() const;
+  double voxelSize() const { return voxel_size_; }
+  double hitOccupancy() const { return hit_occupancy_; }
 
-  /// The points of cloud (map frame) in voxels that hold none of this chunk's voxels: where
-  /// integrating the cloud adds voxels. All of them when this map was not made from a chunk.
+  /// The points of cloud (map frame) in voxels that hold none of this map's voxels (chunk or
+  /// overlay): where integrating the cloud adds voxels. All of them when this map was not made
+  /// from a chunk.
   LabeledCloud pointsOutside(const LabeledCloud& cloud) const;
 
-  /// This map plus overlay, searched together; this map's search tree is kept.
-  LocalMap withOverlay(std::vector<MapVoxel> overlay) &&;
+  /// This map's chunk plus overlay (instead of any overlay this map has), searched together;
+  /// the chunk's voxels and search tree are shared, not copied. Overlay voxels follow the
+  /// chunk's in index order.
+  LocalMap withOverlay(std::vector<MapVoxel> overlay) const;
 
   /// The nearest first-inserted point within max_distance of query, if any (exact).
   std::optional<Neighbor> nearest(const Eigen::Vector3d& query, double max_distance) const;
@@ -72,8 +77,11 @@ class LocalMap {
   NearestTwo nearestTwo(const Eigen::Vector3d& query, double max_distance) const;
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  class Layer;
+  std::shared_ptr<const Layer> base_;     // the chunk's voxels
+  std::shared_ptr<const Layer> overlay_;  // none: no overlay
+  double voxel_size_ = 0.0;               // from the chunk; 0: not a chunk
+  double hit_occupancy_ = 0.0;
 };
 
 /// Every voxel of a chunk with FIELD_FEATURES, in the reply's order. Throws

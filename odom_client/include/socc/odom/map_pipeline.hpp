@@ -3,13 +3,14 @@
 // "Pipeline").
 //
 // Serial, each frame waits for the server: Integrate of frame k-1, then the chunk around frame
-// k (query, encode, send, decode, search tree). Pipelined, frame k registers against the chunk
-// fetched after frame k-2 was integrated plus frame k-1's own voxels that chunk lacks (with the
-// first points the server keeps for them), while a worker thread sends frame k-1's Integrate,
-// then fetches the chunk after it and builds its tree. The server and the client work at the
-// same time; the target differs from the serial one only in the features of the voxels frame
-// k-1 hit again. Soft state: dropping it loses nothing, the next frame then fetches its chunk
-// itself (the first frame, after a frame that was not integrated, after a jump).
+// k (query, encode, send, decode, search tree). Pipelined, frame k registers against the last
+// chunk the worker fetched plus the own voxels of the frames integrated since (frame k-1, or
+// k-2 and k-1) that the chunk lacks (with the first points the server keeps for them), while the
+// worker sends frame k-1's Integrate and, with every chunk_interval-th one, fetches the chunk
+// after it and builds its tree. The server and the client work at the same time; the target
+// differs from the serial one only in the features of the voxels those frames hit again. Soft
+// state: dropping it loses nothing, the next frame then fetches its chunk itself (the first
+// frame, after a jump).
 #include <Eigen/Core>
 #include <cstdint>
 #include <future>
@@ -61,26 +62,29 @@ class MapPipeline {
     std::future<Exchange> reply;
     FrameStats stats;
   };
-  struct Fetched {  // a chunk the worker fetched, with the voxels of the frame after it
-    LocalMap map;
+  struct Target {  // the last chunk, with the voxels of the integrated frames after it
+    LocalMap chunk;
+    LocalMap map;  // chunk with overlay: the next frame's target
     Eigen::Vector3d center;
-    std::int64_t bytes = 0;
+    std::int64_t bytes = 0;  // of the chunk, until a frame reported them
     double chunk_ms = 0.0;
-    std::future<std::vector<MapVoxel>> overlay;  // not valid: none
+    std::vector<MapVoxel> overlay;
+    std::future<std::vector<MapVoxel>> pending;  // the last frame's voxels; not valid: none
   };
 
   LocalMap fetchNow(const Eigen::Vector3d& center, FrameStats& stats);
-  void startOverlay(const FrameEstimate& frame);  // fetched_->overlay from frame's cloud
-  /// In the worker: the Integrate, then (pipelined) the chunk around ahead.
-  Exchange exchange(integrate_request_t request, const Eigen::Vector3d& ahead);
+  void startOverlay(const FrameEstimate& frame);  // target_->pending from frame's cloud
+  /// In the worker: the Integrate, then (when fetch_at) the chunk around fetch_at.
+  Exchange exchange(integrate_request_t request, const std::optional<Eigen::Vector3d>& fetch_at);
   rpc::Result<chunk_reply_t> fetchChunk(const Eigen::Vector3d& center);
-  bool covers(const Fetched& fetched, const Eigen::Vector3d& center) const;
+  bool covers(const Target& target, const Eigen::Vector3d& center) const;
 
   rpc::MapClient& client_;
   const OdomConfig& config_;
   FrameLog& log_;
   std::optional<InFlight> in_flight_;
-  std::optional<Fetched> fetched_;
+  std::optional<Target> target_;
+  std::int64_t integrates_ = 0;
   ChunkCache cache_;  // the worker's (delta_chunks)
   std::int64_t refetched_chunks_ = 0;
 };

@@ -71,6 +71,9 @@ struct OdomConfig {
   bool pipelined_map = true;
   // ... and fetch those chunks as deltas on the last one (chunk_cache.hpp).
   bool delta_chunks = true;
+  // ... a chunk with every chunk_interval-th Integrate: the frames in between register against
+  // the last chunk plus the voxels of the frames integrated since (1: a chunk every frame).
+  int chunk_interval = 2;
 
   // Registration.
   double planarity_threshold = 0.1;  // tau < this (and n >= 5) => point-to-plane
