@@ -16,6 +16,7 @@
 #include "socc/progress_bar.hpp"
 
 using namespace socc::odom;
+using socc::localization::SearchParams;
 
 namespace {
 
@@ -64,10 +65,37 @@ void mapWorld(const socc::sim::Scene& scene, const socc::sim::LidarModel& lidar,
   }
 }
 
+double metresOff(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return (a.inverse() * b).translation().norm();
+}
+
+double degreesOff(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd((a.inverse() * b).linear()).angle() * 180.0 / M_PI;
+}
+
+// --diagnose: the search's candidates of one attempt against the true pose (rank of the true
+// place, scores of the first candidates) and the verdict.
+void diagnose(double when, const Eigen::Isometry3d& truth, const harness::InProcessMap& access,
+              const Relocalization& r) {
+  const auto& answer = access.lastAnswer();
+  int rank = -1;
+  for (std::size_t i = 0; i < answer.candidates.size() && rank < 0; ++i)
+    if (metresOff(truth, answer.candidates[i].pose) < 2.0 &&
+        degreesOff(truth, answer.candidates[i].pose) < 10.0)
+      rank = static_cast<int>(i);
+  std::fprintf(stderr, "t=%.2f keypoints %zu true rank %d:", when, answer.scan_keypoints, rank);
+  for (std::size_t i = 0; i < answer.candidates.size() && i < 6; ++i) {
+    const auto& c = answer.candidates[i];
+    std::fprintf(stderr, " [%.2f-%.2f %.1fm]", c.inlier_fraction, c.conflict,
+                 metresOff(truth, c.pose));
+  }
+  std::fprintf(stderr, " -> %s\n", r.pose ? "localized" : r.problem.c_str());
+}
+
 // One robot dropped at time t: tries scans t, t + 0.1, ... until one is localized.
 void dropRobot(const OdomConfig& cfg, const socc::sim::Scene& scene,
                const socc::sim::LidarModel& lidar, double t, int max_scans, std::uint64_t seed,
-               harness::InProcessMap& access, Tally& tally, bool verbose) {
+               harness::InProcessMap& access, Tally& tally, bool verbose, bool diagnostics) {
   ++tally.starts;
   for (int j = 0; j < max_scans; ++j) {
     const double when = t + 0.1 * j;
@@ -78,14 +106,14 @@ void dropRobot(const OdomConfig& cfg, const socc::sim::Scene& scene,
     tally.attempt_seconds.push_back(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     tally.server_seconds.push_back(access.serverSeconds());
+    if (diagnostics) diagnose(when, scene.trajectory.poseAt(when), access, r);
     if (!r.pose) {
       if (j + 1 == max_scans && verbose)
         std::fprintf(stderr, "not localized at t = %.2f: %s\n", t, r.problem.c_str());
       continue;
     }
-    const Eigen::Isometry3d d = scene.trajectory.poseAt(when).inverse() * *r.pose;
-    const double m = d.translation().norm();
-    const double deg = Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI;
+    const double m = metresOff(scene.trajectory.poseAt(when), *r.pose);
+    const double deg = degreesOff(scene.trajectory.poseAt(when), *r.pose);
     if (m > 0.5 || deg > 2.0) {
       ++tally.wrong;
       std::fprintf(stderr,
@@ -102,14 +130,22 @@ void dropRobot(const OdomConfig& cfg, const socc::sim::Scene& scene,
   }
 }
 
-Tally runScene(const SceneRun& run, const std::string& sensor, int starts, int max_scans,
-               std::uint64_t seed, const socc::localization::LocalizerParams& params,
-               bool progress) {
+struct Options {
+  int starts = 100, max_scans = 5, street_frames = 1000, indoor_frames = 300;
+  std::string sensor = "hdl64", scenes = "street,indoor";
+  std::uint64_t seed = 1, world_seed = 1;
+  bool smoke = false, quiet = false, diagnose = false;
+  socc::localization::LocalizerParams params;
+};
+
+Tally runScene(const SceneRun& run, const Options& o) {
+  const bool progress = !o.quiet;
   socc::sim::SceneOptions options;
   options.type = run.type;
   options.frames = static_cast<std::size_t>(run.map_frames);
+  options.seed = o.world_seed;
   const socc::sim::Scene scene = socc::sim::buildScene(options);
-  const socc::sim::LidarModel lidar = socc::sim::lidarPreset(sensor);
+  const socc::sim::LidarModel lidar = socc::sim::lidarPreset(o.sensor);
   const OdomConfig cfg;
   socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
   mapWorld(scene, lidar, run.map_frames, map, progress);
@@ -117,7 +153,7 @@ Tally runScene(const SceneRun& run, const std::string& sensor, int starts, int m
   Tally tally;
   tally.voxels = map.stats().num_voxels;
   tally.occupied = map.stats().num_occupied;
-  harness::InProcessMap access(map, cfg, params);
+  harness::InProcessMap access(map, cfg, o.params);
   {  // the descriptors of the whole map, built at the first LOCALIZE (then cached)
     const auto start = std::chrono::steady_clock::now();
     access.candidates({Eigen::Vector3f::Zero()}, std::nullopt, 1);
@@ -125,26 +161,18 @@ Tally runScene(const SceneRun& run, const std::string& sensor, int starts, int m
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     tally.keypoints = access.mapKeypoints();
   }
-  std::mt19937_64 rng(seed);
+  std::mt19937_64 rng(o.seed);
   // Drop places along the mapped trajectory, leaving room for max_scans scans after them.
-  const double last = 0.1 * (run.map_frames - 1) - 0.1 * max_scans;
+  const double last = 0.1 * (run.map_frames - 1) - 0.1 * o.max_scans;
   std::uniform_real_distribution<double> when(0.0, std::max(0.0, last));
-  socc::ProgressBar bar(run.name + " starts", static_cast<std::size_t>(starts), progress);
-  for (int i = 0; i < starts; ++i) {
-    dropRobot(cfg, scene, lidar, when(rng), max_scans, seed * 1000 + static_cast<std::uint64_t>(i),
-              access, tally, !progress);
+  socc::ProgressBar bar(run.name + " starts", static_cast<std::size_t>(o.starts), progress);
+  for (int i = 0; i < o.starts; ++i) {
+    dropRobot(cfg, scene, lidar, when(rng), o.max_scans,
+              o.seed * 1000 + static_cast<std::uint64_t>(i), access, tally, !progress, o.diagnose);
     bar.tick();
   }
   return tally;
 }
-
-struct Options {
-  int starts = 100, max_scans = 5, street_frames = 1000, indoor_frames = 300;
-  std::string sensor = "hdl64";
-  std::uint64_t seed = 1;
-  bool smoke = false, quiet = false;
-  socc::localization::LocalizerParams params;
-};
 
 void addOptions(CLI::App& app, Options& o) {
   app.add_option("--starts", o.starts, "robots dropped per scene")->capture_default_str();
@@ -155,17 +183,31 @@ void addOptions(CLI::App& app, Options& o) {
       ->capture_default_str();
   app.add_option("--sensor", o.sensor, "hdl64, vlp32 or vlp16")->capture_default_str();
   app.add_option("--seed", o.seed, "seed of the drop places and scan noise")->capture_default_str();
+  app.add_option("--world-seed", o.world_seed, "seed of the socc-sim worlds (their layout)")
+      ->capture_default_str();
+  app.add_option("--scenes", o.scenes, "street, indoor or both")->capture_default_str();
+  app.add_flag("--diagnose", o.diagnose,
+               "per attempt: the true place's rank among the candidates, their scores");
   socc::localization::LocalizerParams& p = o.params;  // map_server's search parameters
   app.add_option("--min-curvature", p.features.min_curvature, "keypoints on structure only")
       ->capture_default_str();
   app.add_option("--feature-radius", p.features.feature_radius, "FPFH radius [m]")
       ->capture_default_str();
   app.add_option("--keypoint-voxel", p.features.keypoint_voxel, "[m]")->capture_default_str();
-  app.add_option("--iterations", p.iterations, "RANSAC iterations per run")->capture_default_str();
-  app.add_option("--runs", p.runs, "RANSAC runs")->capture_default_str();
-  app.add_option("--randomness", p.correspondence_randomness, "feature neighbours per sample")
+  SearchParams& s = p.search;
+  app.add_option("--iterations", s.max_iterations, "RANSAC samples at most")->capture_default_str();
+  app.add_option("--search-seconds", s.max_seconds, "RANSAC time budget [s]")
       ->capture_default_str();
-  app.add_option("--similarity", p.similarity, "edge-length similarity")->capture_default_str();
+  app.add_option("--randomness", s.correspondence_randomness, "feature neighbours per sample")
+      ->capture_default_str();
+  app.add_option("--edge-tolerance", s.edge_tolerance, "sample edge lengths agree within [m]")
+      ->capture_default_str();
+  app.add_option("--min-edge", s.min_edge, "sample edge length at least [m]")
+      ->capture_default_str();
+  app.add_option("--keep", s.keep, "distinct hypotheses kept")->capture_default_str();
+  app.add_option("--conflict-points", p.conflict_points,
+                 "scan points checked for free space per hypothesis (0: all)")
+      ->capture_default_str();
   app.add_flag("--smoke", o.smoke, "a tiny run, targets not judged (CI: the benchmark must run)");
   app.add_flag("--quiet", o.quiet, "no progress bars");
 }
@@ -217,7 +259,8 @@ int main(int argc, char** argv) {
   printHeader(o.max_scans);
   bool pass = true;
   for (const SceneRun& run : runs) {
-    const Tally t = runScene(run, o.sensor, o.starts, o.max_scans, o.seed, o.params, !o.quiet);
+    if (o.scenes.find(run.name) == std::string::npos) continue;
+    const Tally t = runScene(run, o);
     pass = printRow(run, t) && pass;
   }
   if (o.smoke) {

@@ -38,8 +38,7 @@ inline service::ServerConfig smallServerConfig() {
   config.limits.max_render_pixels = 40'000;
   config.limits.max_robots = 8;
   config.limits.max_localize_points = 2'000;
-  config.localization.iterations = 200;  // the search's cost is not what is fuzzed
-  config.localization.runs = 1;
+  config.localization.search.max_iterations = 200;  // the search's cost is not what is fuzzed
   const char* tmp = std::getenv("TMPDIR");
   config.file_dir = tmp ? tmp : "/tmp";
   return config;

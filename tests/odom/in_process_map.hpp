@@ -24,11 +24,11 @@ class InProcessMap : public MapAccess {
       h = socc::localization::LocalizeHint{hint->position, hint->yaw, hint->radius,
                                            hint->yaw_tolerance};
     const auto start = std::chrono::steady_clock::now();
-    const auto answer = localizer_.localize(map_, scan, h, max);
+    last_ = localizer_.localize(map_, scan, h, max);
     server_seconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::vector<Eigen::Isometry3d> out;
-    for (const auto& c : answer.candidates) out.push_back(c.pose);
+    for (const auto& c : last_.candidates) out.push_back(c.pose);
     return out;
   }
   LocalMap chunk(const Eigen::Vector3d& center) override { return chunkAround(map_, center, cfg_); }
@@ -45,6 +45,8 @@ class InProcessMap : public MapAccess {
   /// Server time of the last candidates() call (descriptor upkeep included) [s].
   double serverSeconds() const { return server_seconds_; }
   std::size_t mapKeypoints() const { return localizer_.mapKeypoints(); }
+  /// The search's answer to the last candidates() call (scores of the candidates).
+  const socc::localization::LocalizeAnswer& lastAnswer() const { return last_; }
   const socc::map::SemanticOccupancyMap& map() const { return map_; }
 
  private:
@@ -52,6 +54,7 @@ class InProcessMap : public MapAccess {
   OdomConfig cfg_;
   socc::localization::GlobalLocalizer localizer_;
   double server_seconds_ = 0.0;
+  socc::localization::LocalizeAnswer last_;
 };
 
 }  // namespace socc::odom::harness

@@ -1,19 +1,12 @@
 #include "global_localizer.hpp"
 
-#include <pcl/registration/sample_consensus_prerejective.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdlib>
 
 #include "socc/map/semantic_voxel.hpp"
 
 namespace socc::localization {
 namespace {
-
-using Aligner =
-    pcl::SampleConsensusPrerejective<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33>;
 
 // A surface seen from a sensor has free space on the sensor's side: the map's normals are
 // turned towards the side its rays cleared, as a scan's are turned towards its sensor.
@@ -45,13 +38,6 @@ std::vector<Eigen::Vector3f> occupiedPoints(const map::SemanticOccupancyMap& map
   return points;
 }
 
-bool sameHypothesis(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
-                    const LocalizerParams& params) {
-  const Eigen::Isometry3d d = a.inverse() * b;
-  return d.translation().norm() < params.distinct_translation &&
-         Eigen::AngleAxisd(d.linear()).angle() < params.distinct_rotation;
-}
-
 bool withinHint(const Eigen::Isometry3d& pose, const std::optional<LocalizeHint>& hint) {
   if (!hint) return true;
   if ((pose.translation() - hint->position).norm() > hint->radius) return false;
@@ -77,6 +63,48 @@ double reachOf(const FeatureCloud& scan) {
   for (const pcl::PointNormal& p : *scan.keypoints)
     reach = std::max(reach, static_cast<double>(p.getVector3fMap().norm()));
   return reach;
+}
+
+// Every k-th point: a spread of the scan on which the search checks free space cheaply.
+std::vector<Eigen::Vector3f> spread(const std::vector<Eigen::Vector3f>& scan, int count) {
+  if (count <= 0 || scan.size() <= static_cast<std::size_t>(count)) return scan;
+  std::vector<Eigen::Vector3f> out;
+  const double step = static_cast<double>(scan.size()) / count;
+  for (int i = 0; i < count; ++i) out.push_back(scan[static_cast<std::size_t>(i * step)]);
+  return out;
+}
+
+// Free-space evidence at p that a pose error of up to margin cannot explain: p and the six
+// points margin away along the axes all lie in space the map saw free; the weakest evidence of
+// the seven (0 when any of them is occupied or unobserved).
+double deepFree(const map::SemanticOccupancyMap& map, const Eigen::Vector3d& p, double margin,
+                double confident) {
+  double weakest = 1.0;
+  for (int k = 0; k < 7; ++k) {
+    Eigen::Vector3d q = p;
+    if (k > 0) q[(k - 1) / 2] += (k % 2 ? margin : -margin);
+    const double occupancy = map.occupancyAt(q);
+    if (occupancy < 0.0 || occupancy >= map.config().occupancy_threshold) return 0.0;
+    weakest = std::min(weakest, -map::logit(occupancy) / confident);
+  }
+  return std::min(1.0, weakest);
+}
+
+// The share of the observed scan points a pose puts into free space deeper than margin: the
+// search's poses are good to about a keypoint spacing, and a point that close to a surface
+// proves nothing against them.
+double conflictOf(const map::SemanticOccupancyMap& map, const std::vector<Eigen::Vector3f>& scan,
+                  const Eigen::Isometry3d& pose, double margin) {
+  const double confident = std::abs(map::logit(map.config().clamp_min));
+  std::size_t observed = 0;
+  double free = 0.0;
+  for (const Eigen::Vector3f& point : scan) {
+    const Eigen::Vector3d p = pose * point.cast<double>();
+    if (map.occupancyAt(p) < 0.0) continue;
+    ++observed;
+    free += deepFree(map, p, margin, confident);
+  }
+  return observed == 0 ? 0.0 : free / static_cast<double>(observed);
 }
 
 }  // namespace
@@ -111,66 +139,16 @@ struct GlobalLocalizer::Impl {
   explicit Impl(const LocalizerParams& p) : params(p) {}
 
   LocalizerParams params;
-  FeatureCloud map;
-  std::int64_t map_occupied = -1;  // occupied voxels when map was built; -1: never
-  Aligner aligner;                 // target = map: its feature tree is built once per rebuild
-
-  void configure(Aligner& a) const {
-    a.setMaximumIterations(params.iterations);
-    a.setNumberOfSamples(3);
-    a.setCorrespondenceRandomness(params.correspondence_randomness);
-    a.setSimilarityThreshold(static_cast<float>(params.similarity));
-    a.setMaxCorrespondenceDistance(params.inlier_distance);
-    a.setInlierFraction(static_cast<float>(params.min_inlier_fraction));
-  }
+  std::shared_ptr<const IndexedFeatures> map;  // with its trees: built once per rebuild
+  std::int64_t map_occupied = -1;              // occupied voxels when map was built; -1: never
 
   void refresh(const map::SemanticOccupancyMap& m) {
     const std::int64_t occupied = m.stats().num_occupied;
     const double change = std::abs(static_cast<double>(occupied - map_occupied));
-    if (map_occupied >= 0 && change <= params.rebuild_change * static_cast<double>(map_occupied))
-      return;
-    map = describe(occupiedPoints(m), params.features, freeSideOf(m));
+    if (map && change <= params.rebuild_change * static_cast<double>(map_occupied)) return;
+    map = std::make_shared<IndexedFeatures>(
+        describe(occupiedPoints(m), params.features, freeSideOf(m)));
     map_occupied = occupied;
-    aligner = Aligner();
-    configure(aligner);
-    if (map.size() == 0) return;
-    aligner.setInputTarget(map.keypoints);
-    aligner.setTargetFeatures(map.features);
-  }
-
-  // Distinct hypotheses of all runs, most inliers first.
-  std::vector<PoseCandidate> search(Aligner& a, const FeatureCloud& scan) const {
-    a.setInputSource(scan.keypoints);
-    a.setSourceFeatures(scan.features);
-    std::vector<PoseCandidate> found;
-    pcl::PointCloud<pcl::PointNormal> aligned;
-    // On a small or repetitive map most samples pass the pre-rejection and are scored, so the
-    // cost of a run varies by orders of magnitude: runs go on until the time budget is spent.
-    const auto start = std::chrono::steady_clock::now();
-    const auto spent = [&start] {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
-    for (int run = 0; run < params.runs && (run == 0 || spent() < params.max_seconds); ++run) {
-      // PCL draws its samples with std::rand: seeded per run, answers are reproducible.
-      std::srand(static_cast<unsigned>(run + 1));
-      a.align(aligned);
-      if (!a.hasConverged()) continue;
-      PoseCandidate c;
-      c.pose.matrix() = a.getFinalTransformation().cast<double>();
-      c.inliers = static_cast<int>(a.getInliers().size());
-      c.inlier_fraction = static_cast<double>(c.inliers) / static_cast<double>(scan.size());
-      const auto same = [&](const PoseCandidate& o) {
-        return sameHypothesis(o.pose, c.pose, params);
-      };
-      const auto it = std::find_if(found.begin(), found.end(), same);
-      if (it == found.end())
-        found.push_back(c);
-      else if (c.inliers > it->inliers)
-        *it = c;
-    }
-    std::sort(found.begin(), found.end(),
-              [](const PoseCandidate& x, const PoseCandidate& y) { return x.inliers > y.inliers; });
-    return found;
   }
 };
 
@@ -180,7 +158,7 @@ GlobalLocalizer::GlobalLocalizer(GlobalLocalizer&&) noexcept = default;
 GlobalLocalizer& GlobalLocalizer::operator=(GlobalLocalizer&&) noexcept = default;
 
 std::size_t GlobalLocalizer::mapKeypoints() const {
-  return impl_->map.size();
+  return impl_->map ? impl_->map->cloud.size() : 0;
 }
 
 LocalizeAnswer GlobalLocalizer::localize(const map::SemanticOccupancyMap& map,
@@ -189,27 +167,28 @@ LocalizeAnswer GlobalLocalizer::localize(const map::SemanticOccupancyMap& map,
                                          int max_candidates) {
   impl_->refresh(map);
   LocalizeAnswer answer;
-  answer.map_keypoints = impl_->map.size();
+  answer.map_keypoints = impl_->map->cloud.size();
   const FeatureCloud source = describe(scan, impl_->params.features);
   answer.scan_keypoints = source.size();
-  if (source.size() < 3 || impl_->map.size() < 3) return answer;
+  if (source.size() < 3 || impl_->map->cloud.size() < 3) return answer;
 
-  std::vector<PoseCandidate> found;
+  const std::vector<Eigen::Vector3f> checked = spread(scan, impl_->params.conflict_points);
+  const double margin = impl_->params.search.inlier_distance;
+  const ConflictAt conflict = [&map, &checked, margin](const Eigen::Isometry3d& pose) {
+    return conflictOf(map, checked, pose, margin);
+  };
+  std::vector<Hypothesis> found;
   if (hint) {
     // Only the map a scan from within the hint can see: a smaller feature tree, fewer lookalikes.
-    Aligner local;
-    impl_->configure(local);
-    const FeatureCloud target = nearHint(impl_->map, *hint, reachOf(source));
-    if (target.size() < 3) return answer;
-    local.setInputTarget(target.keypoints);
-    local.setTargetFeatures(target.features);
-    found = impl_->search(local, source);
+    const IndexedFeatures target(nearHint(impl_->map->cloud, *hint, reachOf(source)));
+    if (target.cloud.size() < 3) return answer;
+    found = searchHypotheses(target, source, conflict, impl_->params.search);
   } else {
-    found = impl_->search(impl_->aligner, source);
+    found = searchHypotheses(*impl_->map, source, conflict, impl_->params.search);
   }
-  for (const PoseCandidate& c : found)
-    if (withinHint(c.pose, hint) && static_cast<int>(answer.candidates.size()) < max_candidates)
-      answer.candidates.push_back(c);
+  for (const Hypothesis& h : found)
+    if (withinHint(h.pose, hint) && static_cast<int>(answer.candidates.size()) < max_candidates)
+      answer.candidates.push_back({h.pose, h.inliers, h.inlier_fraction, h.conflict, h.score});
   return answer;
 }
 

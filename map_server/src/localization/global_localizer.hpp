@@ -1,10 +1,10 @@
 #pragma once
 // Global localization of a scan in the map without a pose prior (service LOCALIZE,
 // docs/relocalization.md). FPFH keypoints of scan and map (feature_cloud.hpp) are matched by
-// PCL's SampleConsensusPrerejective: RANSAC over feature correspondences whose samples are
-// pre-rejected when their edge lengths disagree. Several seeded runs give several hypotheses;
-// distinct ones are ranked by inliers. They are hypotheses, not answers: the client verifies
-// each with SOCC-ICP and its health check before it trusts one.
+// RANSAC over feature correspondences (hypothesis_search.hpp), each hypothesis scored by the
+// scan keypoints it explains minus the share of the scan it puts into the map's free space.
+// The best distinct hypotheses are returned. They are hypotheses, not answers: the client
+// verifies each with SOCC-ICP and its health check before it trusts one.
 //
 // The map's descriptors are cached. They are rebuilt when the map's occupied voxels changed by
 // more than rebuild_change since the last build (new ground mapped), not at every Integrate: a
@@ -16,22 +16,17 @@
 #include <vector>
 
 #include "feature_cloud.hpp"
+#include "hypothesis_search.hpp"
 #include "socc/map/semantic_occupancy_map.hpp"
 
 namespace socc::localization {
 
 struct LocalizerParams {
   FeatureParams features;
-  int iterations = 20000;    // RANSAC iterations per run
-  int runs = 30;             // seeded runs, each may find another hypothesis; at least one, and
-  double max_seconds = 1.0;  // no new run after this long: bounds the search on any map
-  int correspondence_randomness = 6;  // each sample picks one of this many nearest features
-  double similarity = 0.9;            // edge-length ratio a sample must keep
-  double inlier_distance = 1.0;       // [m] keypoint match distance (one keypoint spacing)
-  double min_inlier_fraction = 0.1;   // of the scan keypoints, for a hypothesis to count
-  double rebuild_change = 0.02;       // relative change of occupied voxels that rebuilds
-  double distinct_translation = 2.0;  // [m] hypotheses closer than this and
-  double distinct_rotation = 0.17;    // [rad] this are one (about 10 deg)
+  SearchParams search;
+  // Scan points (of those sent) on which the search checks a hypothesis' free-space conflict.
+  int conflict_points = 512;
+  double rebuild_change = 0.02;  // relative change of occupied voxels that rebuilds
 };
 
 struct LocalizeHint {
@@ -45,6 +40,8 @@ struct PoseCandidate {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // map_T_sensor
   int inliers = 0;
   double inlier_fraction = 0.0;
+  double conflict = 0.0;  // share of the checked scan points in the map's free space
+  double score = 0.0;     // inlier_fraction - conflict: the rank
 };
 
 struct LocalizeAnswer {

@@ -1,0 +1,269 @@
+#include "hypothesis_search.hpp"
+
+#include <pcl/registration/transformation_estimation_svd.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+namespace socc::localization {
+namespace {
+
+using Point = pcl::PointNormal;
+using Cloud = pcl::PointCloud<Point>;
+
+// Scan keypoints counted between two tests of a hypothesis' inlier share.
+constexpr std::size_t kBlock = 64;
+// A hypothesis is given up when its share so far lies this many standard deviations below the
+// share it must reach (the keypoints counted are a binomial draw).
+constexpr double kSigmas = 3.0;
+// Scan keypoints tried as a sample's next point before the draw is given up.
+constexpr int kPartnerAttempts = 16;
+// Refinement of the kept hypotheses on their inliers (least squares, as LO-RANSAC does).
+constexpr int kRefinements = 3;
+
+bool sameHypothesis(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
+                    const SearchParams& params) {
+  const Eigen::Isometry3d d = a.inverse() * b;
+  return d.translation().norm() < params.distinct_translation &&
+         Eigen::AngleAxisd(d.linear()).angle() < params.distinct_rotation;
+}
+
+Eigen::Isometry3d toIsometry(const Eigen::Matrix4f& m) {
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.matrix() = m.cast<double>();
+  return out;
+}
+
+class Search {
+ public:
+  Search(const IndexedFeatures& map, const FeatureCloud& scan, const ConflictAt& conflict,
+         const SearchParams& params)
+      : map_(map),
+        scan_(*scan.keypoints),
+        scan_features_(*scan.features),
+        conflict_(conflict),
+        params_(params),
+        rng_(params.seed),
+        similar_(scan_.size()) {
+    order_.resize(scan_.size());
+    std::iota(order_.begin(), order_.end(), std::size_t{0});
+    std::shuffle(order_.begin(), order_.end(), rng_);
+  }
+
+  std::vector<Hypothesis> run() {
+    const auto start = std::chrono::steady_clock::now();
+    pcl::Indices source(3), target(3);
+    for (int i = 0; i < params_.max_iterations; ++i) {
+      if (i % 256 == 255 &&
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
+              params_.max_seconds)
+        break;
+      if (!drawSample(source, target)) continue;
+      Eigen::Matrix4f m;
+      svd_.estimateRigidTransformation(scan_, source, *map_.cloud.keypoints, target, m);
+      consider(m);
+    }
+    for (Hypothesis& h : kept_) refine(h);
+    return distinctBest(std::move(kept_));
+  }
+
+ private:
+  const IndexedFeatures& map_;
+  const Cloud& scan_;
+  const pcl::PointCloud<pcl::FPFHSignature33>& scan_features_;
+  const ConflictAt& conflict_;
+  const SearchParams& params_;
+  std::mt19937 rng_;
+  std::vector<pcl::Indices> similar_;  // nearest map features of each scan keypoint (lazily)
+  std::vector<std::size_t> order_;     // the scan keypoints shuffled: blocks of it are fair draws
+  std::vector<Hypothesis> kept_;       // best score first
+  pcl::Indices consistent_;            // scratch: a partner's candidates that fit the sample
+  pcl::registration::TransformationEstimationSVD<Point, Point> svd_;
+
+  const pcl::Indices& similarTo(int i) {
+    pcl::Indices& s = similar_[static_cast<std::size_t>(i)];
+    if (s.empty()) {
+      std::vector<float> distances;
+      map_.features.nearestKSearch(scan_features_[static_cast<std::size_t>(i)],
+                                   params_.correspondence_randomness, s, distances);
+    }
+    return s;
+  }
+
+  // A sample grown from one random correspondence (a scan keypoint and one of its nearest map
+  // features): each further scan keypoint takes one of its candidates whose distances to the
+  // map keypoints already chosen equal its own distances to their scan keypoints within
+  // edge_tolerance (a rigid motion keeps distances). When the first pair is right, the partners
+  // found are mostly right too, even where the descriptor ranks the right candidate far down:
+  // the search needs one right pair in a draw, not three.
+  bool drawSample(pcl::Indices& source, pcl::Indices& target) {
+    std::uniform_int_distribution<int> pick(0, static_cast<int>(scan_.size()) - 1);
+    source[0] = pick(rng_);
+    const pcl::Indices& first = similarTo(source[0]);
+    if (first.empty()) return false;
+    target[0] = first[std::uniform_int_distribution<std::size_t>(0, first.size() - 1)(rng_)];
+    for (std::size_t k = 1; k < 3; ++k)
+      if (!addPartner(k, source, target)) return false;
+    return true;
+  }
+
+  bool addPartner(std::size_t k, pcl::Indices& source, pcl::Indices& target) {
+    std::uniform_int_distribution<int> pick(0, static_cast<int>(scan_.size()) - 1);
+    const float min_edge = static_cast<float>(params_.min_edge);
+    const auto tolerance = static_cast<float>(params_.edge_tolerance);
+    const Cloud& map = *map_.cloud.keypoints;
+    for (int attempt = 0; attempt < kPartnerAttempts; ++attempt) {
+      const int j = pick(rng_);
+      const Eigen::Vector3f pj = scan_[static_cast<std::size_t>(j)].getVector3fMap();
+      std::array<float, 2> edges{};
+      bool spread = true;
+      for (std::size_t m = 0; m < k; ++m) {
+        edges[m] = (pj - scan_[static_cast<std::size_t>(source[m])].getVector3fMap()).norm();
+        spread = spread && edges[m] >= min_edge;
+      }
+      if (!spread) continue;
+      consistent_.clear();
+      for (const int b : similarTo(j)) {
+        const Eigen::Vector3f qb = map[static_cast<std::size_t>(b)].getVector3fMap();
+        bool fits = true;
+        for (std::size_t m = 0; m < k && fits; ++m) {
+          const float d = (qb - map[static_cast<std::size_t>(target[m])].getVector3fMap()).norm();
+          fits = std::abs(d - edges[m]) <= tolerance;
+        }
+        if (fits) consistent_.push_back(b);
+      }
+      if (consistent_.empty()) continue;
+      source[k] = j;
+      target[k] =
+          consistent_[std::uniform_int_distribution<std::size_t>(0, consistent_.size() - 1)(rng_)];
+      return true;
+    }
+    return false;
+  }
+
+  bool isInlier(const Eigen::Matrix4f& m, std::size_t i, pcl::Indices& nearest,
+                std::vector<float>& distance) const {
+    Point p;
+    p.getVector3fMap() =
+        m.topLeftCorner<3, 3>() * scan_[i].getVector3fMap() + m.topRightCorner<3, 1>();
+    const auto max2 = static_cast<float>(params_.inlier_distance * params_.inlier_distance);
+    return map_.positions.nearestKSearch(p, 1, nearest, distance) == 1 && distance[0] <= max2;
+  }
+
+  // All inliers of a pose, with their nearest map keypoints when matches is given.
+  int inliers(const Eigen::Matrix4f& m, pcl::Correspondences* matches = nullptr) const {
+    pcl::Indices nearest(1);
+    std::vector<float> distance(1);
+    int count = 0;
+    for (std::size_t i = 0; i < scan_.size(); ++i) {
+      if (!isInlier(m, i, nearest, distance)) continue;
+      ++count;
+      if (matches) matches->emplace_back(static_cast<int>(i), nearest[0], distance[0]);
+    }
+    return count;
+  }
+
+  // The inliers of a pose counted in blocks of the shuffled keypoints; -1 as soon as the share
+  // so far lies kSigmas standard deviations below need (most poses are given up after a block).
+  int inliersAbove(const Eigen::Matrix4f& m, double need) const {
+    pcl::Indices nearest(1);
+    std::vector<float> distance(1);
+    int count = 0;
+    for (std::size_t done = 0; done < order_.size();) {
+      const std::size_t end = std::min(order_.size(), done + kBlock);
+      for (; done < end; ++done)
+        if (isInlier(m, order_[done], nearest, distance)) ++count;
+      if (done == order_.size()) break;
+      const double n = static_cast<double>(done);
+      if (count / n < need - kSigmas * std::sqrt(need * (1.0 - need) / n)) return -1;
+    }
+    return count;
+  }
+
+  // The inlier share a new hypothesis must reach to be kept.
+  double bar() const {
+    if (static_cast<int>(kept_.size()) < params_.keep) return params_.min_inlier_fraction;
+    return std::max(params_.min_inlier_fraction, kept_.back().inlier_fraction);
+  }
+
+  void consider(const Eigen::Matrix4f& m) {
+    const double need = bar();
+    const int count = inliersAbove(m, need);
+    if (count < 0) return;
+    Hypothesis h;
+    h.pose = toIsometry(m);
+    h.inliers = count;
+    h.inlier_fraction = static_cast<double>(count) / static_cast<double>(scan_.size());
+    if (h.inlier_fraction < need) return;
+    h.score = h.inlier_fraction;  // during the search; the free space is checked at the end
+    offer(h);
+  }
+
+  void offer(const Hypothesis& h) {
+    const auto same = [&](const Hypothesis& o) { return sameHypothesis(o.pose, h.pose, params_); };
+    const auto it = std::find_if(kept_.begin(), kept_.end(), same);
+    if (it != kept_.end()) {
+      if (it->score >= h.score) return;
+      kept_.erase(it);
+    }
+    const auto at = std::upper_bound(
+        kept_.begin(), kept_.end(), h,
+        [](const Hypothesis& a, const Hypothesis& b) { return a.score > b.score; });
+    kept_.insert(at, h);
+    if (static_cast<int>(kept_.size()) > params_.keep) kept_.pop_back();
+  }
+
+  // Least-squares pose on the hypothesis' inliers, repeated while it explains more of the scan.
+  void refine(Hypothesis& h) const {
+    Eigen::Matrix4f m = h.pose.matrix().cast<float>();
+    for (int k = 0; k < kRefinements; ++k) {
+      pcl::Correspondences matches;
+      inliers(m, &matches);
+      if (matches.size() < 3) return;
+      Eigen::Matrix4f next;
+      svd_.estimateRigidTransformation(scan_, *map_.cloud.keypoints, matches, next);
+      const int count = inliers(next);
+      if (count <= h.inliers) break;
+      m = next;
+      h.pose = toIsometry(m);
+      h.inliers = count;
+    }
+    h.inlier_fraction = static_cast<double>(h.inliers) / static_cast<double>(scan_.size());
+    h.conflict = conflict_ ? conflict_(h.pose) : 0.0;
+    h.score = h.inlier_fraction - h.conflict;
+  }
+
+  // Refinement may bring two hypotheses together: one per place, best score first.
+  std::vector<Hypothesis> distinctBest(std::vector<Hypothesis> all) const {
+    std::sort(all.begin(), all.end(),
+              [](const Hypothesis& a, const Hypothesis& b) { return a.score > b.score; });
+    std::vector<Hypothesis> out;
+    for (const Hypothesis& h : all) {
+      const auto same = [&](const Hypothesis& o) {
+        return sameHypothesis(o.pose, h.pose, params_);
+      };
+      if (std::none_of(out.begin(), out.end(), same)) out.push_back(h);
+    }
+    return out;
+  }
+};
+
+}  // namespace
+
+IndexedFeatures::IndexedFeatures(FeatureCloud c) : cloud(std::move(c)) {
+  if (cloud.size() == 0) return;
+  positions.setInputCloud(cloud.keypoints);
+  features.setInputCloud(cloud.features);
+}
+
+std::vector<Hypothesis> searchHypotheses(const IndexedFeatures& map, const FeatureCloud& scan,
+                                         const ConflictAt& conflict, const SearchParams& params) {
+  if (scan.size() < 3 || map.cloud.size() < 3) return {};
+  return Search(map, scan, conflict, params).run();
+}
+
+}  // namespace socc::localization

@@ -1,0 +1,69 @@
+#pragma once
+// The RANSAC stage of global localization (docs/relocalization.md): pose hypotheses of a scan in
+// the map from FPFH correspondences, built from PCL's parts (feature and keypoint KD-trees, SVD
+// pose estimation).
+//
+// Why not SampleConsensusPrerejective: it draws three correspondences independently, each among
+// the few nearest features of its scan keypoint, and needs all three right. On a street of
+// repeated structure FPFH ranks the right map keypoint among the 6 nearest features for about
+// 1 % of the scan keypoints (among the 30 nearest for about 4 %), so almost no draw is right.
+// And a run returns one pose, the one whose inliers lie closest on average among all poses with
+// a minimum inlier share, which in a repetitive world is a lookalike's more often than not.
+//
+// Here a sample grows from one correspondence: the next scan keypoints take, among their
+// correspondence_randomness nearest features, one whose distances to the map keypoints already
+// chosen equal the scan's (rigid motions keep distances). One right first pair is then enough,
+// and the candidate lists can be long. A hypothesis' inliers (scan keypoints within
+// inlier_distance of a map keypoint) are counted in blocks and most are given up after the first
+// block; the `keep` distinct hypotheses with the most inliers are kept, refined on their inliers
+// and ranked by
+//   score = inlier share - conflict (the share of the scan the pose puts into the map's free
+//           space, ConflictAt).
+#include <pcl/kdtree/kdtree_flann.h>
+
+#include <Eigen/Geometry>
+#include <functional>
+#include <vector>
+
+#include "feature_cloud.hpp"
+
+namespace socc::localization {
+
+struct SearchParams {
+  int max_iterations = 2'000'000;      // samples drawn at most
+  double max_seconds = 1.0;            // and no more after this long
+  int correspondence_randomness = 30;  // candidates of a scan keypoint: its nearest map features
+  double edge_tolerance = 1.0;        // [m] a sample's edge lengths in scan and map agree this well
+  double min_edge = 2.0;              // [m] sample points closer than this fix no rotation
+  double inlier_distance = 1.0;       // [m] keypoint match distance (one keypoint spacing)
+  double min_inlier_fraction = 0.1;   // of the scan keypoints, for a hypothesis to count
+  int keep = 32;                      // distinct hypotheses kept
+  double distinct_translation = 2.0;  // [m] hypotheses closer than this and
+  double distinct_rotation = 0.17;    // [rad] this are one (about 10 deg)
+  unsigned seed = 1;                  // of the sampling: answers are reproducible
+};
+
+/// Keypoints and features of the map with their search trees (built once per map version).
+struct IndexedFeatures {
+  explicit IndexedFeatures(FeatureCloud cloud);
+  FeatureCloud cloud;
+  pcl::KdTreeFLANN<pcl::PointNormal> positions;
+  pcl::KdTreeFLANN<pcl::FPFHSignature33> features;
+};
+
+/// Share of the scan a pose puts into the map's free space (0: none, 1: all), for the ranking.
+using ConflictAt = std::function<double(const Eigen::Isometry3d& map_T_scan)>;
+
+struct Hypothesis {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // map_T_scan
+  int inliers = 0;
+  double inlier_fraction = 0.0;
+  double conflict = 0.0;
+  double score = 0.0;  // inlier_fraction - conflict: the rank
+};
+
+/// Distinct hypotheses, best score first (at most params.keep).
+std::vector<Hypothesis> searchHypotheses(const IndexedFeatures& map, const FeatureCloud& scan,
+                                         const ConflictAt& conflict, const SearchParams& params);
+
+}  // namespace socc::localization
