@@ -216,7 +216,10 @@ class RayLanes4 {
   __m256d tx_, ty_, tz_, dx_, dy_, dz_, sx_, sy_, sz_, index_;
 };
 
-/// walkLanesSse2 with groups of eight rays in two AVX2 quadruples.
+/// walkLanesSse2 with groups of eight rays in two AVX2 quadruples. The grouping loop is
+/// repeated, not shared: a shared template would be compiled for the default target, and GCC
+/// neither inlines AVX2 code into it nor lets it carry the target per instantiation, so every
+/// group would pay a call (and a lambda would not inherit the attribute at all).
 SOCC_AVX2 std::size_t walkLanesAvx2(const DenseWalks& d, const double* stride) {
   constexpr std::size_t kRays = 8;
   std::size_t next = 0;
