@@ -134,8 +134,9 @@ bool OdomRunner::relocalize(Odometry& odometry, const Scan& scan) {
     return false;
   }
   std::cerr << "odom_client: localized in the map at frame " << scan.seq << " (explains "
-            << static_cast<int>(found.fitness * 100) << " % of the scan, next place "
-            << static_cast<int>(found.runner_up * 100) << " %)\n";
+            << static_cast<int>(found.fitness * 100) << " % of the scan, "
+            << static_cast<int>(found.free * 100) << " % in free space; next place "
+            << static_cast<int>(found.runner_up * 100) << " % net)\n";
   // A verified pose is a given pose: the scan is integrated there, odometry goes on from it.
   odometry = Odometry(config_, *found.pose, true);
   const bool was_lost = tracking_.state() == TrackingState::kLost;

@@ -17,6 +17,10 @@ constexpr std::size_t kMaxLocalizePoints = 100'000;
 struct Verified {
   Eigen::Isometry3d pose;
   double fitness = 0.0;
+  double free = 0.0;  // share of the scan in the map's free space (set by the check)
+  // What the place explains net of what it contradicts: the scan's points a place puts into
+  // space the map saw free are evidence against it, as those near the map are for it.
+  double evidence() const { return fitness - free; }
 };
 
 bool samePlace(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
@@ -62,7 +66,7 @@ std::vector<Verified> consistentPlaces(const OdomConfig& config, std::vector<Ver
   const std::vector<SpaceCheck> checks = map.check(points, poses);
   std::vector<Verified> consistent;
   for (std::size_t i = 0; i < places.size() && i < checks.size(); ++i) {
-    if (i == 0) out.free = checks[i].free;
+    places[i].free = checks[i].free;
     if (checks[i].free <= config.relocalize_max_free)
       consistent.push_back(places[i]);
     else if (out.problem.empty())
@@ -71,6 +75,8 @@ std::vector<Verified> consistentPlaces(const OdomConfig& config, std::vector<Ver
                     percent(config.relocalize_max_free) + ")";
   }
   if (!consistent.empty()) out.problem.clear();
+  std::sort(consistent.begin(), consistent.end(),
+            [](const Verified& a, const Verified& b) { return a.evidence() > b.evidence(); });
   return consistent;
 }
 
@@ -112,13 +118,15 @@ Relocalization relocalize(const OdomConfig& config, const PreparedScan& scan, Ma
     return out;
   }
   out.fitness = places[0].fitness;
-  out.runner_up = places.size() > 1 ? places[1].fitness : 0.0;
+  out.free = places[0].free;
+  out.evidence = places[0].evidence();
+  out.runner_up = places.size() > 1 ? places[1].evidence() : 0.0;
   if (out.fitness < config.relocalize_min_fitness)
     out.problem = "best candidate explains " + percent(out.fitness) + " of the scan (< " +
                   percent(config.relocalize_min_fitness) + ")";
-  else if (out.fitness - out.runner_up < config.relocalize_margin)
-    out.problem = "ambiguous: two places explain " + percent(out.fitness) + " and " +
-                  percent(out.runner_up) + " of the scan";
+  else if (out.evidence - out.runner_up < config.relocalize_margin)
+    out.problem = "ambiguous: two places explain " + percent(out.evidence) + " and " +
+                  percent(out.runner_up) + " of the scan net of the free space they contradict";
   else
     out.pose = places[0].pose;
   return out;

@@ -90,11 +90,12 @@ struct OdomConfig {
   // Relocalization (--relocalize, and recovery after LOST; docs/relocalization.md): the server's
   // candidate poses are each verified by registration; one is accepted only when it is healthy,
   // explains at least relocalize_min_fitness of the scan, puts at most relocalize_max_free of it
-  // into the map's free space, and explains relocalize_margin more than any other such place.
+  // into the map's free space, and its evidence (fitness minus free share) exceeds any other such
+  // place's by relocalize_margin.
   int relocalize_candidates = 5;         // candidates verified per scan
   double relocalize_min_fitness = 0.5;   // share of scan points within 0.5 m of the map
   double relocalize_max_free = 0.2;      // share of (observed) scan points in the map's free space
-  double relocalize_margin = 0.1;        // over the next distinct candidate's share
+  double relocalize_margin = 0.1;        // over the next distinct candidate's evidence
   double relocalize_timeout = 10.0;      // [s of scan time] without success: exit 4
   double relocalize_voxel_size = 0.5;    // [m] the scan is downsampled to this for LOCALIZE
   double relocalize_hint_radius = 30.0;  // [m] --resume --relocalize: around the last pose

@@ -5,9 +5,10 @@
 // against the map around it. A pose is accepted only when its registration is healthy, it
 // explains at least relocalize_min_fitness of the scan, puts at most relocalize_max_free of its
 // points where the map's rays passed freely (the server's free-space check: a scan seen from the
-// wrong place sees through the map's walls), and explains relocalize_margin more than any other
-// such place: a place that only looks like another is left unlocalized rather than guessed, and
-// the caller tries the next scan.
+// wrong place sees through the map's walls), and its evidence (the share it explains minus the
+// share it puts into free space) exceeds any other such place's by relocalize_margin: a place
+// that only looks like another is left unlocalized rather than guessed, and the caller tries the
+// next scan.
 #include <Eigen/Geometry>
 #include <cmath>
 #include <optional>
@@ -55,8 +56,9 @@ struct Relocalization {
   std::string problem;                    // why not, when not
   int candidates = 0;                     // proposed by the server
   double fitness = 0.0;                   // of the best verified candidate
-  double runner_up = 0.0;                 // of the next distinct verified candidate
   double free = 0.0;                      // free-space share of the best verified candidate
+  double evidence = 0.0;                  // fitness - free of the best verified candidate
+  double runner_up = 0.0;                 // evidence of the next distinct verified candidate
 };
 
 /// One attempt on one scan.
