@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <array>
+#include <cmath>
 #include <nanoflann.hpp>
 
 #include "socc/voxel.hpp"
@@ -33,6 +34,9 @@ Eigen::Vector3f normalAt(const Tree& tree, const Points& points, std::size_t i, 
   std::array<float, kNeighbours> squared{};
   nanoflann::KNNResultSet<float, std::size_t> result(kNeighbours);
   result.init(index.data(), squared.data());
+  // The result set's worst distance starts at the radius instead of infinity: the search prunes
+  // what lies beyond it (the same neighbours; an isolated point no longer searches far).
+  squared.back() = std::nextafter(static_cast<float>(radius * radius), HUGE_VALF);
   tree.findNeighbors(result, points[i].data(), nanoflann::SearchParams());
   PointMoments moments;
   for (std::size_t k = 0; k < result.size(); ++k)
