@@ -113,7 +113,9 @@ Vector6d mapFrameTwist(const Eigen::Isometry3d& pose, const Vector6d& c) {
 // The nearest map voxel of each scan point within the bound, kept across iterations. A point
 // that moved by less than half the gap between its nearest and second-nearest voxel since it was
 // searched still has the same nearest voxel (triangle inequality), so late iterations, whose
-// steps are millimetres, search almost nothing. The answers are those of a fresh search.
+// steps are millimetres, search almost nothing. A point that moved further is searched within
+// its old second-nearest distance plus the move (two voxels lie within it), not within the whole
+// bound. The answers are those of a fresh search.
 class NearestCache {
  public:
   NearestCache(const LocalMap& map, std::size_t points, double max_distance)
@@ -121,19 +123,23 @@ class NearestCache {
   // Called for each i by one thread at a time.
   std::optional<std::size_t> nearest(std::size_t i, const Eigen::Vector3d& p) {
     Entry& e = entries_[i];
-    if (e.searched && (p - e.at).squaredNorm() < e.slack * e.slack) {
-      if (!e.nearest) return std::nullopt;
-      const bool within = (p - map_.voxel(*e.nearest).point).norm() < max_distance_;
-      return within ? e.nearest : std::nullopt;
+    double bound = max_distance_;
+    if (e.searched && e.nearest) {
+      const double moved = (p - e.at).norm();
+      if (moved < (e.second - e.first) / 2) {
+        const bool within = (p - map_.voxel(*e.nearest).point).norm() < max_distance_;
+        return within ? e.nearest : std::nullopt;
+      }
+      bound = std::min(bound, e.second + moved + 1e-9);
     }
-    const NearestTwo n = map_.nearestTwo(p, max_distance_);
+    const NearestTwo n = map_.nearestTwo(p, bound);
     e.searched = true;
     e.at = p;
-    e.nearest.reset();
-    e.slack = 0.0;  // none within the bound: searched again next time
+    e.nearest.reset();  // none within the bound: searched again next time
     if (n.nearest) {
       e.nearest = n.nearest->index;
-      e.slack = (std::sqrt(n.second_squared_distance) - std::sqrt(n.nearest->squared_distance)) / 2;
+      e.first = std::sqrt(n.nearest->squared_distance);
+      e.second = std::sqrt(n.second_squared_distance);  // or the bound: no nearer
     }
     return e.nearest;
   }
@@ -142,7 +148,8 @@ class NearestCache {
   struct Entry {
     Eigen::Vector3d at;  // where it was searched
     std::optional<std::size_t> nearest;
-    double slack = 0.0;  // the distance from `at` within which `nearest` stays the answer
+    double first = 0.0;   // its distance from `at`
+    double second = 0.0;  // the second nearest's (at least)
     bool searched = false;
   };
   const LocalMap& map_;
