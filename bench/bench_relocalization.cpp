@@ -198,7 +198,8 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--iterations", s.max_iterations, "RANSAC samples at most")->capture_default_str();
   app.add_option("--search-seconds", s.max_seconds, "RANSAC time budget [s]")
       ->capture_default_str();
-  app.add_option("--randomness", s.correspondence_randomness, "feature neighbours per sample")
+  app.add_option("--randomness", s.correspondence_randomness,
+                 "candidates per scan keypoint (nearest map features)")
       ->capture_default_str();
   app.add_option("--edge-tolerance", s.edge_tolerance, "sample edge lengths agree within [m]")
       ->capture_default_str();
