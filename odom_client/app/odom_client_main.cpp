@@ -176,9 +176,9 @@ void resumeFromServer(socc::rpc::MapClient& client, Args& a, const OdomConfig& c
 }
 
 std::unique_ptr<ScanSource> openSource(const Args& a, const OdomConfig& config) {
-  if (!a.input.empty()) return openKittiDirectory(a.input, {a.first, a.last});
+  if (!a.input.empty()) return readAhead(openKittiDirectory(a.input, {a.first, a.last}));
   if (!a.pcd_dir.empty())
-    return openPointCloudDirectory(a.pcd_dir, {a.first, a.last}, config.frame_period);
+    return readAhead(openPointCloudDirectory(a.pcd_dir, {a.first, a.last}, config.frame_period));
   auto source = openLcmScans(a.scan_lcm_url.empty() ? a.lcm_url : a.scan_lcm_url, a.robot_id,
                              std::chrono::milliseconds(static_cast<int>(a.idle_timeout_s * 1000)));
   // Scans published before this line are not received: start lcm-logplayer after it.

@@ -92,39 +92,39 @@ void MapPipeline::integrate(FrameEstimate estimate, const FrameStats& stats,
   FrameStats row = stats;
   row.wait_ms = msSince(wait);
   row.total_ms += row.wait_ms;
+  // Shared by the overlay's and the Integrate's threads: nothing of the scan is copied here.
+  const auto frame = std::make_shared<const FrameEstimate>(std::move(estimate));
   if (target_ && !target_->pending.valid())
-    startOverlay(estimate);
+    startOverlay(frame);
   else
     target_.reset();  // it lacks this frame, and no overlay stands in for it
   // Every chunk_interval-th Integrate brings a chunk back; the frames in between register
   // against the last one plus their predecessors' voxels.
   const bool fetch = config_.pipelined_map && ++integrates_ % config_.chunk_interval == 0;
-  integrate_request_t request =
-      rpc::makeIntegrateRequest(estimate.seq, estimate.utime, estimate.pose, estimate.cloud);
-  row.bytes_sent = static_cast<std::int64_t>(request.getEncodedSize());
   in_flight_.emplace();
   in_flight_->stats = row;
-  in_flight_->reply =
-      std::async(std::launch::async, [this, ahead, fetch, r = std::move(request)]() mutable {
-        return exchange(std::move(r), fetch ? std::optional(ahead) : std::nullopt);
-      });
+  in_flight_->reply = std::async(std::launch::async, [this, ahead, fetch, frame]() {
+    return exchange(*frame, fetch ? std::optional(ahead) : std::nullopt);
+  });
 }
 
-void MapPipeline::startOverlay(const FrameEstimate& frame) {
+void MapPipeline::startOverlay(std::shared_ptr<const FrameEstimate> frame) {
   // What the frame adds to the target, worked out while its Integrate travels.
   Target& t = *target_;
-  t.pending =
-      std::async(std::launch::async, [base = t.map, cloud = frame.cloud, pose = frame.pose]() {
-        std::vector<MapVoxel> voxels =
-            scanVoxels(base.pointsOutside(transformed(cloud, pose)), base.voxelSize());
-        for (MapVoxel& v : voxels) v.occupancy = base.hitOccupancy();
-        return voxels;
-      });
+  t.pending = std::async(std::launch::async, [base = t.map, frame = std::move(frame)]() {
+    std::vector<MapVoxel> voxels =
+        scanVoxels(base.pointsOutside(transformed(frame->cloud, frame->pose)), base.voxelSize());
+    for (MapVoxel& v : voxels) v.occupancy = base.hitOccupancy();
+    return voxels;
+  });
 }
 
-MapPipeline::Exchange MapPipeline::exchange(integrate_request_t request,
+MapPipeline::Exchange MapPipeline::exchange(const FrameEstimate& frame,
                                             const std::optional<Eigen::Vector3d>& fetch_at) {
   Exchange x;
+  integrate_request_t request =
+      rpc::makeIntegrateRequest(frame.seq, frame.utime, frame.pose, frame.cloud);
+  x.bytes_sent = static_cast<std::int64_t>(request.getEncodedSize());
   const Clock::time_point start = Clock::now();
   x.integrate = client_.integrate(std::move(request));
   x.integrate_ms = msSince(start);
@@ -153,6 +153,7 @@ std::int64_t MapPipeline::finish() {
   if (!x.integrate.ok())
     throw std::runtime_error(callError("INTEGRATE", x.integrate.error, x.integrate.attempts));
   stats.integrate_ms = x.integrate_ms;
+  stats.bytes_sent = x.bytes_sent;
   log_.add(stats);
   if (x.chunk) {
     target_.reset();  // an older chunk (and its overlay) is superseded

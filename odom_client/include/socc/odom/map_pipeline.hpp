@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <future>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -53,6 +54,7 @@ class MapPipeline {
   struct Exchange {  // what the worker brings back
     rpc::Result<integrate_reply_t> integrate;
     double integrate_ms = 0.0;
+    std::int64_t bytes_sent = 0;
     std::optional<LocalMap> chunk;  // none: not asked for, or the service failed (soft state)
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     std::int64_t chunk_bytes = 0;
@@ -73,9 +75,9 @@ class MapPipeline {
   };
 
   LocalMap fetchNow(const Eigen::Vector3d& center, FrameStats& stats);
-  void startOverlay(const FrameEstimate& frame);  // target_->pending from frame's cloud
-  /// In the worker: the Integrate, then (when fetch_at) the chunk around fetch_at.
-  Exchange exchange(integrate_request_t request, const std::optional<Eigen::Vector3d>& fetch_at);
+  void startOverlay(std::shared_ptr<const FrameEstimate> frame);  // target_->pending
+  /// In the worker: the frame's Integrate, then (when fetch_at) the chunk around fetch_at.
+  Exchange exchange(const FrameEstimate& frame, const std::optional<Eigen::Vector3d>& fetch_at);
   rpc::Result<chunk_reply_t> fetchChunk(const Eigen::Vector3d& center);
   bool covers(const Target& target, const Eigen::Vector3d& center) const;
 

@@ -42,6 +42,10 @@ std::unique_ptr<ScanSource> openKittiDirectory(const std::filesystem::path& root
 std::unique_ptr<ScanSource> openPointCloudDirectory(const std::filesystem::path& dir,
                                                     FrameRange range, double frame_period);
 
+/// source, read one scan ahead in a worker thread: the next file is read while the current scan
+/// is registered. For directories; a live source buffers what arrives anyway.
+std::unique_ptr<ScanSource> readAhead(std::unique_ptr<ScanSource> source);
+
 /// Subscribes to SOCC/SCAN/<robot_id>; next() waits up to idle_timeout for a scan. Scans are
 /// not signed: lcm_url must stay on this machine (ttl=0 or memq://; throws otherwise).
 /// Malformed scans (sizes, labels) are reported on stderr and skipped.
