@@ -35,6 +35,10 @@ LocalMap withCloud(const LocalMap& map, const LabeledCloud& cloud) {
   return LocalMap(std::move(voxels));
 }
 
+// First-motion search: a hypothesis this close (twist norm: metres and radians) to where an
+// earlier one ended is in the same basin.
+constexpr double kSameBasin = 0.02;
+
 // A point this close to the map is explained by it: the map's resolution.
 constexpr double kNearMap = 0.5;  // [m]
 
@@ -51,9 +55,15 @@ Odometry::Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_po
                    bool initial_pose_known)
     : config_(config),
       class_factor_(classFactors(config)),
-      params_{config.planarity_threshold, config.gamma,       config.w_lower,
-              config.max_iterations,      config.convergence, config.point_to_plane,
-              config.sparse_voxel_pairs},
+      params_{config.planarity_threshold,
+              config.gamma,
+              config.w_lower,
+              config.max_iterations,
+              config.convergence,
+              config.point_to_plane,
+              config.sparse_voxel_pairs,
+              {},
+              0.0},
       threshold_(config.initial_threshold, config.min_motion, config.max_range),
       voxel_size_(config.initial_voxel_size, config.min_voxel_size, config.max_voxel_size,
                   config.target_points),
@@ -237,6 +247,10 @@ Eigen::Isometry3d Odometry::searchFirstMotion(const PreparedScan& scan, const Lo
   // drops them again (sparse_voxel_pairs).
   RegistrationParams search = params_;
   search.sparse_voxel_pairs = true;
+  // Without point times every hypothesis registers the same points: one whose iterations lead it
+  // next to where an earlier one ended stops there (same basin, same score; ties go to the
+  // earlier one anyway). With times each is deskewed with its own speed and scored on its own.
+  if (!scan.cloud.hasTimes()) search.join_distance = kSameBasin;
   Eigen::Isometry3d best = from;
   double best_score = -1.0;
   for (const double speed : {0.0, 7.0, 14.0, 21.0, 28.0, 35.0, -7.0}) {
@@ -245,8 +259,10 @@ Eigen::Isometry3d Odometry::searchFirstMotion(const PreparedScan& scan, const Lo
     twist[0] = speed;
     const LabeledCloud down = semanticVoxelDownsample(deskew(scan.cloud, twist, scan.mid_time),
                                                       voxel_size_.size(), class_factor_);
-    const Eigen::Isometry3d pose =
-        registerScan(down, map, from * expSe3(twist * dt), sigma, search).pose;
+    const RegistrationResult r = registerScan(down, map, from * expSe3(twist * dt), sigma, search);
+    if (r.joined) continue;
+    const Eigen::Isometry3d pose = r.pose;
+    search.join_ends.push_back(pose);
     const double score = fractionNearMap(down.points, map, pose, kNearMap);
     if (score > best_score) {
       best_score = score;

@@ -287,7 +287,9 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
     }
     for (const Eigen::Isometry3d& old : recent)
       if (logSe3(old.inverse() * result.pose).norm() < params.convergence) result.stalled = true;
-    if (result.stalled) break;
+    for (const Eigen::Isometry3d& end : params.join_ends)
+      if (logSe3(end.inverse() * result.pose).norm() < params.join_distance) result.joined = true;
+    if (result.stalled || result.joined) break;
     recent.push_back(result.pose);
     if (recent.size() > kCycle) recent.pop_front();
   }

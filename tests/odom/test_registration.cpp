@@ -45,8 +45,15 @@ socc::LabeledCloud registrationCloud(const socc::LabeledCloud& scan, double min_
 // here are built from one scan; the pipeline's own pairs are tested in test_grid_registration).
 RegistrationParams paperParams() {
   const OdomConfig cfg;
-  return {cfg.planarity_threshold, cfg.gamma,          cfg.w_lower, cfg.max_iterations,
-          cfg.convergence,         cfg.point_to_plane, true};
+  return {cfg.planarity_threshold,
+          cfg.gamma,
+          cfg.w_lower,
+          cfg.max_iterations,
+          cfg.convergence,
+          cfg.point_to_plane,
+          true,
+          {},
+          0.0};
 }
 
 // A box-shaped room (planes) plus scattered clutter.
@@ -94,6 +101,29 @@ TEST(Registration, RecoversAKnownTransformOnSyntheticStructure) {
   EXPECT_NEAR(r.alpha, double(r.planar) / (r.planar + r.non_planar), 1e-12);
   EXPECT_LT(translationError(r.pose, truth), 0.02);
   EXPECT_LT(rotationErrorDeg(r.pose, truth), 0.05);
+}
+
+TEST(Registration, ARunThatReachesAnEarlierRunsEndJoinsIt) {
+  const socc::LabeledCloud world = syntheticRoom();
+  const LocalMap map = buildScanMap(world, 0.5);
+  const Eigen::Isometry3d truth =
+      expSe3((Vector6d() << 0.4, -0.3, 0.05, 0.01, -0.02, 0.08).finished());
+  const socc::LabeledCloud down =
+      semanticVoxelDownsample(transformed(world, truth.inverse()), 0.6, classFactors(OdomConfig{}));
+  const RegistrationResult first =
+      registerScan(down, map, Eigen::Isometry3d::Identity(), 1.0, paperParams());
+  ASSERT_TRUE(first.converged);
+  RegistrationParams params = paperParams();
+  params.join_ends = {first.pose};
+  params.join_distance = 0.02;
+  const Eigen::Isometry3d other_guess = expSe3((Vector6d() << 0.8, 0, 0, 0, 0, 0).finished());
+  const RegistrationResult alone = registerScan(down, map, other_guess, 1.0, paperParams());
+  const RegistrationResult joined = registerScan(down, map, other_guess, 1.0, params);
+  EXPECT_TRUE(joined.joined);
+  EXPECT_FALSE(alone.joined);
+  EXPECT_LT(joined.iterations, alone.iterations);
+  EXPECT_LT(logSe3(first.pose.inverse() * joined.pose).norm(), 0.02);
+  EXPECT_LT(logSe3(first.pose.inverse() * alone.pose).norm(), 0.02);  // the same basin
 }
 
 TEST(Registration, ContinuousTimeRecoversTheSweepsTwist) {

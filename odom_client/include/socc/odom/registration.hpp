@@ -3,6 +3,7 @@
 // voxels) and point-to-point residuals, alpha = N_pl / (N_pl + N_po), each correspondence
 // weighted by w_gm * w_occ * w_sem; Gauss-Newton on SE(3) (6x6 normal equations, LDLT).
 #include <Eigen/Geometry>
+#include <vector>
 
 #include "socc/odom/local_map.hpp"
 #include "socc/odom/se3.hpp"
@@ -22,6 +23,10 @@ struct RegistrationParams {
   // onto the map's rings favours standing still; but on a degenerate street a VLP-16 needs them
   // (docs/robustness.md). false: weight 0.
   bool sparse_voxel_pairs = true;
+  // Poses at which an iteration that comes within join_distance (twist norm) ends, `joined`:
+  // the ends of earlier runs from other guesses (a basin already explored).
+  std::vector<Eigen::Isometry3d> join_ends;
+  double join_distance = 0.0;
 };
 
 struct RegistrationResult {
@@ -29,6 +34,7 @@ struct RegistrationResult {
   int iterations = 0;
   bool converged = false;  // ||dx|| < convergence
   bool stalled = false;    // stopped because the iteration cycled back to a recent pose
+  bool joined = false;     // stopped next to one of RegistrationParams::join_ends
   int planar = 0;          // correspondences of the last iteration
   int non_planar = 0;
   double alpha = 0.0;         // N_pl / (N_pl + N_po) of the last iteration
