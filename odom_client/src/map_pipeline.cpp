@@ -38,9 +38,9 @@ LocalMap MapPipeline::target(const Eigen::Vector3d& center, FrameStats& stats) {
   Target& t = *target_;
   const Clock::time_point build = Clock::now();
   if (t.pending.valid()) {
-    std::vector<MapVoxel> added = t.pending.get();
-    t.overlay.insert(t.overlay.end(), added.begin(), added.end());
-    t.map = t.chunk.withOverlay(t.overlay);
+    Overlaid next = t.pending.get();
+    t.overlay = std::move(next.overlay);
+    t.map = std::move(next.map);
   }
   LocalMap map = t.map;
   stats.map_build_ms = msSince(build);
@@ -109,14 +109,21 @@ void MapPipeline::integrate(FrameEstimate estimate, const FrameStats& stats,
 }
 
 void MapPipeline::startOverlay(std::shared_ptr<const FrameEstimate> frame) {
-  // What the frame adds to the target, worked out while its Integrate travels.
+  // What the frame adds to the target, and the next target with it, worked out while its
+  // Integrate travels.
   Target& t = *target_;
-  t.pending = std::async(std::launch::async, [base = t.map, frame = std::move(frame)]() {
-    std::vector<MapVoxel> voxels =
-        scanVoxels(base.pointsOutside(transformed(frame->cloud, frame->pose)), base.voxelSize());
-    for (MapVoxel& v : voxels) v.occupancy = base.hitOccupancy();
-    return voxels;
-  });
+  t.pending =
+      std::async(std::launch::async, [base = t.map, chunk = t.chunk, overlay = std::move(t.overlay),
+                                      frame = std::move(frame)]() mutable {
+        const std::vector<MapVoxel> added = scanVoxels(
+            base.pointsOutside(transformed(frame->cloud, frame->pose)), base.voxelSize());
+        for (MapVoxel v : added) {
+          v.occupancy = base.hitOccupancy();
+          overlay.push_back(v);
+        }
+        LocalMap map = chunk.withOverlay(overlay);
+        return Overlaid{std::move(overlay), std::move(map)};
+      });
 }
 
 MapPipeline::Exchange MapPipeline::exchange(const FrameEstimate& frame,

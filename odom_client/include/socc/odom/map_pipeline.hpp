@@ -64,6 +64,10 @@ class MapPipeline {
     std::future<Exchange> reply;
     FrameStats stats;
   };
+  struct Overlaid {  // a chunk's overlay, and the chunk with it
+    std::vector<MapVoxel> overlay;
+    LocalMap map;
+  };
   struct Target {  // the last chunk, with the voxels of the integrated frames after it
     LocalMap chunk;
     LocalMap map;  // chunk with overlay: the next frame's target
@@ -71,7 +75,7 @@ class MapPipeline {
     std::int64_t bytes = 0;  // of the chunk, until a frame reported them
     double chunk_ms = 0.0;
     std::vector<MapVoxel> overlay;
-    std::future<std::vector<MapVoxel>> pending;  // the last frame's voxels; not valid: none
+    std::future<Overlaid> pending;  // with the last frame's voxels; not valid: none
   };
 
   LocalMap fetchNow(const Eigen::Vector3d& center, FrameStats& stats);
