@@ -30,8 +30,8 @@ MapPipeline::~MapPipeline() {
 LocalMap MapPipeline::target(const Eigen::Vector3d& center, FrameStats& stats) {
   const Clock::time_point start = Clock::now();
   if (!target_ || !covers(*target_, center)) {
-    // Fetched now, after the Integrate in flight; the chunk that came with that Integrate is
-    // kept for the next frame, which registers against it plus this frame's voxels.
+    // Fetched now, after the Integrate in flight; it is the target of the next frames too, with
+    // their predecessors' voxels, until the worker brings a newer one.
     target_.reset();
     return fetchNow(center, stats);
   }
