@@ -91,7 +91,9 @@ bool runPass(const Options& o, unsigned seed, Measured& out) {
   const fs::path log_file =
       fs::temp_directory_path() / ("bench_odometry_server_" + std::to_string(seed) + ".log");
   socc::testing::ChildProcess server(
-      {o.server_bin, "--lcm-url", url, "--quiet", "--status-period", "0"}, log_file);
+      {o.server_bin, "--lcm-url", url, "--quiet", "--status-period", "0", "--config",
+       SOCC_BENCH_SERVER_CONFIG},  // without the per-robot rate limits: a replay at full speed
+      log_file);
   socc::rpc::ClientOptions options;
   options.lcm_url = url;
   options.client_id = "bench";

@@ -52,7 +52,10 @@ done
 url="${SOCC_LCM_URL:-udpm://239.255.76.67:$((20000 + RANDOM % 40000))?ttl=0&recv_buf_size=33554432}"
 cli=("$build/tools/socc-cli" --lcm-url "$url" --client-id bench)
 
-"$build/map_server/map_server" --lcm-url "$url" --quiet >"$out/server.log" 2>&1 &
+# One robot replaying as fast as it can: without the per-robot fairness limits (server.yaml caps
+# a robot at 40 INTEGRATEs a second), bench/config/server_unthrottled.yaml.
+"$build/map_server/map_server" --lcm-url "$url" --quiet \
+  --config "$root/bench/config/server_unthrottled.yaml" >"$out/server.log" 2>&1 &
 server=$!
 trap 'kill "$server" 2>/dev/null || true; wait "$server" 2>/dev/null || true' EXIT
 for _ in $(seq 50); do "${cli[@]}" stats >/dev/null 2>&1 && break; sleep 0.2; done
