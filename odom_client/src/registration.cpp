@@ -146,7 +146,7 @@ class NearestCache {
 
  private:
   struct Entry {
-    Eigen::Vector3d at;  // where it was searched
+    Eigen::Vector3d at = Eigen::Vector3d::Zero();  // where it was searched
     std::optional<std::size_t> nearest;
     double first = 0.0;   // its distance from `at`
     double second = 0.0;  // the second nearest's (at least)
