@@ -161,7 +161,9 @@ TEST(ChunkCache, DeltasFollowVoxelsTurningFree) {
           cache.apply(answer(map, cache.request(center, kRadius)), center, kRadius);
       const socc::chunk_reply_t full = answer(map, featureChunkRequest(center, kRadius, threshold));
       expectSameMap(cached, LocalMap::fromChunk(full, threshold));
-      if (frame == 2) EXPECT_GT(carVoxels(cached), 20u);
+      if (frame == 2) {
+        EXPECT_GT(carVoxels(cached), 20u);
+      }
     }
     EXPECT_EQ(carVoxels(cache.apply(answer(map, cache.request(center, kRadius)), center, kRadius)),
               0u);  // the car is gone
