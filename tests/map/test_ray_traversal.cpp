@@ -78,6 +78,16 @@ TEST(RayTraversal, SinglePointAndNegativeCoordinates) {
   EXPECT_EQ(v.back(), VoxelIndex(-5, 0, 0));
 }
 
+// The voxels a footprint marks.
+std::set<Key> voxelsOfFootprint(const RayFootprint& f) {
+  std::set<Key> out;
+  for (std::size_t b = 0; b < f.numBlocks(); ++b)
+    for (int local = 0; local < kBlockVoxels; ++local)
+      if ((f.mask(b)[static_cast<std::size_t>(local / 64)] >> (local % 64)) & 1u)
+        out.insert(key(voxelOf(f.key(b), local)));
+  return out;
+}
+
 // The footprint is the set of voxels of all rays, whichever storage it picks: a dense box
 // (small extents) and the hash map (forced by a huge box) give the same blocks and masks, and
 // merging two halves gives the same as marking everything into one.
@@ -93,14 +103,6 @@ TEST(RayFootprint, DenseAndHashedAgreeWithTraversal) {
   for (const auto& e : ends)
     forEachVoxelOnRay(origin, e, vs, [&](const VoxelIndex& v) { expected.insert(key(v)); });
 
-  const auto voxelsOf = [](const RayFootprint& f) {
-    std::set<Key> out;
-    for (std::size_t b = 0; b < f.numBlocks(); ++b)
-      for (int local = 0; local < kBlockVoxels; ++local)
-        if ((f.mask(b)[static_cast<std::size_t>(local / 64)] >> (local % 64)) & 1u)
-          out.insert(key(voxelOf(f.key(b), local)));
-    return out;
-  };
   const VoxelIndex lo(-70, -70, -20), hi(70, 70, 20);
   const VoxelIndex huge(1 << 20, 1 << 20, 1 << 20);
   const auto mark = [&](RayFootprint& f, std::size_t begin, std::size_t end) {
@@ -119,20 +121,11 @@ TEST(RayFootprint, DenseAndHashedAgreeWithTraversal) {
   mark(second_half, ends.size() / 2, ends.size());
   first_half.merge(second_half);
 
-  EXPECT_EQ(voxelsOf(dense), expected);
-  EXPECT_EQ(voxelsOf(hashed), expected);
-  EXPECT_EQ(voxelsOf(first_half), expected);
+  EXPECT_EQ(voxelsOfFootprint(dense), expected);
+  EXPECT_EQ(voxelsOfFootprint(hashed), expected);
+  EXPECT_EQ(voxelsOfFootprint(first_half), expected);
   EXPECT_EQ(dense.numBlocks(), hashed.numBlocks());
   EXPECT_EQ(first_half.numBlocks(), dense.numBlocks());  // merge does not duplicate blocks
-}
-
-std::set<Key> voxelsOfFootprint(const RayFootprint& f) {
-  std::set<Key> out;
-  for (std::size_t b = 0; b < f.numBlocks(); ++b)
-    for (int local = 0; local < kBlockVoxels; ++local)
-      if ((f.mask(b)[static_cast<std::size_t>(local / 64)] >> (local % 64)) & 1u)
-        out.insert(key(voxelOf(f.key(b), local)));
-  return out;
 }
 
 // markRays (rays walked several at a time in SIMD lanes, then scalar to their ends) marks the
