@@ -74,13 +74,16 @@ std::vector<Eigen::Vector3f> spread(const std::vector<Eigen::Vector3f>& scan, in
   return out;
 }
 
-// Free-space evidence at p that a pose error of up to margin cannot explain: p and the six
-// points margin away along the axes all lie in space the map saw free; the weakest evidence of
-// the seven (0 when any of them is occupied or unobserved).
-double deepFree(const map::SemanticOccupancyMap& map, const Eigen::Vector3d& p, double margin,
-                double confident) {
+// Free-space evidence at p that a pose error of up to margin cannot explain: p and (margin > 0)
+// the six points margin away along the axes all lie in space the map saw free; the weakest
+// evidence of them (0 when any is occupied or unobserved). A voxel at the lower clamp (missed by
+// many rays) counts fully, one missed by a single ray (a map of one scan) or flickering at a
+// surface hardly at all.
+double freeEvidence(const map::SemanticOccupancyMap& map, const Eigen::Vector3d& p, double margin,
+                    double confident) {
   double weakest = 1.0;
-  for (int k = 0; k < 7; ++k) {
+  const int probes = margin > 0.0 ? 7 : 1;
+  for (int k = 0; k < probes; ++k) {
     Eigen::Vector3d q = p;
     if (k > 0) q[(k - 1) / 2] += (k % 2 ? margin : -margin);
     const double occupancy = map.occupancyAt(q);
@@ -90,44 +93,42 @@ double deepFree(const map::SemanticOccupancyMap& map, const Eigen::Vector3d& p, 
   return std::min(1.0, weakest);
 }
 
+// The scan points a pose puts into observed space, and their summed free-space evidence.
+struct FreeTally {
+  std::size_t observed = 0;
+  double free = 0.0;
+};
+FreeTally tallyFree(const map::SemanticOccupancyMap& map, const std::vector<Eigen::Vector3f>& scan,
+                    const Eigen::Isometry3d& pose, double margin) {
+  const double confident = std::abs(map::logit(map.config().clamp_min));
+  FreeTally t;
+  for (const Eigen::Vector3f& point : scan) {
+    const Eigen::Vector3d p = pose * point.cast<double>();
+    if (map.occupancyAt(p) < 0.0) continue;
+    ++t.observed;
+    t.free += freeEvidence(map, p, margin, confident);
+  }
+  return t;
+}
+
 // The share of the observed scan points a pose puts into free space deeper than margin: the
 // search's poses are good to about a keypoint spacing, and a point that close to a surface
 // proves nothing against them.
 double conflictOf(const map::SemanticOccupancyMap& map, const std::vector<Eigen::Vector3f>& scan,
                   const Eigen::Isometry3d& pose, double margin) {
-  const double confident = std::abs(map::logit(map.config().clamp_min));
-  std::size_t observed = 0;
-  double free = 0.0;
-  for (const Eigen::Vector3f& point : scan) {
-    const Eigen::Vector3d p = pose * point.cast<double>();
-    if (map.occupancyAt(p) < 0.0) continue;
-    ++observed;
-    free += deepFree(map, p, margin, confident);
-  }
-  return observed == 0 ? 0.0 : free / static_cast<double>(observed);
+  const FreeTally t = tallyFree(map, scan, pose, margin);
+  return t.observed == 0 ? 0.0 : t.free / static_cast<double>(t.observed);
 }
 
 }  // namespace
 
 SpaceCheck checkFreeSpace(const map::SemanticOccupancyMap& map,
                           const std::vector<Eigen::Vector3f>& scan, const Eigen::Isometry3d& pose) {
-  // Free space is weighed by the evidence for it: a voxel at the lower clamp (missed by many
-  // rays) counts fully, one missed by a single ray (a map of one scan) or flickering at a
-  // surface hardly at all.
-  const double confident = std::abs(map::logit(map.config().clamp_min));
-  std::size_t observed = 0;
-  double free = 0.0;
-  for (const Eigen::Vector3f& p : scan) {
-    const double occupancy = map.occupancyAt(pose * p.cast<double>());
-    if (occupancy < 0.0) continue;
-    ++observed;
-    if (occupancy < map.config().occupancy_threshold)
-      free += std::min(1.0, -map::logit(occupancy) / confident);
-  }
+  const FreeTally t = tallyFree(map, scan, pose, 0.0);  // exact poses: no margin
   SpaceCheck out;
-  if (scan.empty() || observed == 0) return out;
-  out.observed = static_cast<double>(observed) / static_cast<double>(scan.size());
-  out.free = free / static_cast<double>(observed);
+  if (scan.empty() || t.observed == 0) return out;
+  out.observed = static_cast<double>(t.observed) / static_cast<double>(scan.size());
+  out.free = t.free / static_cast<double>(t.observed);
   return out;
 }
 
