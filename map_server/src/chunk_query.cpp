@@ -8,12 +8,13 @@
 #include "map_impl.hpp"
 #include "region.hpp"
 #include "socc/map/voxel_features.hpp"
+#include "socc/rounding.hpp"
 
 namespace socc::map {
 namespace {
 
 std::uint8_t toByte(double p) {
-  return static_cast<std::uint8_t>(std::lround(std::clamp(p, 0.0, 1.0) * 255.0));
+  return static_cast<std::uint8_t>(roundHalfAway(std::clamp(p, 0.0, 1.0) * 255.0));
 }
 
 void checkQuery(const ChunkQuery& q) {
@@ -51,7 +52,7 @@ void appendOccupied(ChunkVoxels& out, const VoxelIndex& v, const Eigen::Vector3d
     else  // occupied without statistics (only below the map's threshold): use the centre
       push3(out.first_point, centref.x(), centref.y(), centref.z());
     const VoxelFeatures f = computeFeatures(s);
-    const auto q = [](double c) { return static_cast<std::int16_t>(std::lround(c * 32767.0)); };
+    const auto q = [](double c) { return static_cast<std::int16_t>(roundHalfAway(c * 32767.0)); };
     push3(out.normal, q(f.normal.x()), q(f.normal.y()), q(f.normal.z()));
     out.planarity.push_back(static_cast<float>(f.planarity));
     out.occupancy.push_back(toByte(probability(log_odds)));

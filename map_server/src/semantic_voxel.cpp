@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "socc/rounding.hpp"
+
 namespace socc::map {
 
 Eigen::Matrix3d VoxelStats::covariance() const {
@@ -72,10 +74,8 @@ void SemanticVoxelBehaviour::onHits(float& log_odds, VoxelStats& stats,
     if (frame.label_counts[k] == 0 && stats.class_prob[k] == 0) continue;
     const double p_hat = frame.label_counts[k] * inv_n;
     const double p = keep * stats.prob(k) + (1.0 - keep) * p_hat;
-    // + 0.5 and truncation: lround() for non-negative values, without a libm call (20 classes
-    // per hit voxel made it a visible share of integration time).
     stats.class_prob[k] =
-        static_cast<std::uint16_t>(std::clamp(p, 0.0, 1.0) * VoxelStats::kProbScale + 0.5);
+        static_cast<std::uint16_t>(roundHalfAway(std::clamp(p, 0.0, 1.0) * VoxelStats::kProbScale));
     if (stats.class_prob[k] > stats.class_prob[best]) best = k;
   }
   stats.label = static_cast<std::uint8_t>(best);

@@ -183,11 +183,18 @@ LabeledCloud LocalMap::pointsOutside(const LabeledCloud& cloud) const {
   if (voxel_size_ <= 0.0) return cloud;
   const double inv_size = 1.0 / voxel_size_;
   LabeledCloud out;
+  // A scan's consecutive points mostly share a voxel: its answer is reused.
+  VoxelIndex last_key(0, 0, 0);
+  bool last_held = false, any = false;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3f& p = cloud.points[i];
     if (!p.allFinite()) continue;
     const VoxelIndex key = voxelIndex(p.cast<double>(), inv_size);
-    if (base_->holds(key) || (overlay_ && overlay_->holds(key))) continue;
+    if (!any || key != last_key)
+      last_held = base_->holds(key) || (overlay_ && overlay_->holds(key));
+    last_key = key;
+    any = true;
+    if (last_held) continue;
     out.points.push_back(p);
     if (cloud.hasLabels()) out.labels.push_back(cloud.labels[i]);
   }

@@ -46,8 +46,8 @@ constexpr double kNearMap = 0.5;  // [m]
 
 struct Odometry::Sweep {
   RegistrationResult registration;
-  LabeledCloud cloud;  // the deskewed, downsampled points registered
-  Points normals;      // their surface normals (sparse_pairs_along_scan_normal), else empty
+  LabeledCloud cloud;                  // the deskewed, downsampled points registered
+  std::optional<ScanNormals> normals;  // of its points (sparse_pairs_along_scan_normal)
   std::size_t points() const { return cloud.size(); }
 };
 
@@ -196,7 +196,8 @@ Odometry::Sweep Odometry::registerSweep(const PreparedScan& scan, const LocalMap
   for (float& t : down.times) t -= static_cast<float>(scan.mid_time);  // the pose's instant
   // Neighbourhoods of a few downsampling cells span two or more rings of a sparse sensor.
   if (config_.sparse_pairs_along_scan_normal)
-    out.normals = scanNormals(down.points, 3.0 * voxel_size_.size(), config_.planarity_threshold);
+    out.normals.emplace(down.points, 3.0 * voxel_size_.size(), config_.planarity_threshold);
+  const ScanNormals* normals = out.normals ? &*out.normals : nullptr;
   // The initial threshold is wide so that it catches an unknown motion (or a rough initial pose
   // in a map other robots built): its kernel also gives weight to wrong correspondences, which
   // leaves the pose biased by centimetres. Halving sigma from the coarse result removes them;
@@ -205,12 +206,12 @@ Odometry::Sweep Odometry::registerSweep(const PreparedScan& scan, const LocalMap
   const bool refine = !threshold_.calibrated() && config_.refine_threshold > 0.0;
   const auto last = [&](double s) { return !refine || s / 2.0 < config_.refine_threshold; };
   out.registration =
-      registerScan(down, map, guess, sigma, params_, last(sigma) ? prior : nullptr, out.normals);
+      registerScan(down, map, guess, sigma, params_, last(sigma) ? prior : nullptr, normals);
   if (!refine) return out;
   for (double s = sigma / 2.0; s >= config_.refine_threshold; s /= 2.0) {
     const int iterations = out.registration.iterations;
     out.registration = registerScan(down, map, out.registration.pose, s, params_,
-                                    last(s) ? prior : nullptr, out.normals);
+                                    last(s) ? prior : nullptr, normals);
     out.registration.iterations += iterations;
   }
   return out;
@@ -247,26 +248,31 @@ Eigen::Isometry3d Odometry::searchFirstMotion(const PreparedScan& scan, const Lo
   // drops them again (sparse_voxel_pairs).
   RegistrationParams search = params_;
   search.sparse_voxel_pairs = true;
-  // Without point times every hypothesis registers the same points: one whose iterations lead it
-  // next to where an earlier one ended stops there (same basin, same score; ties go to the
-  // earlier one anyway). With times each is deskewed with its own speed and scored on its own.
-  if (!scan.cloud.hasTimes()) search.join_distance = kSameBasin;
+  // Without point times every hypothesis registers the same points: one whose iterations come
+  // next to an earlier one's path would follow it into the basin it found (same score; ties go
+  // to the earlier one anyway), so it stops there. With times each is deskewed with its own
+  // speed and scored on its own.
+  const bool same_points = !scan.cloud.hasTimes();
+  if (same_points) search.join_distance = kSameBasin;
+  std::optional<LabeledCloud> down;
   Eigen::Isometry3d best = from;
   double best_score = -1.0;
   for (const double speed : {0.0, 7.0, 14.0, 21.0, 28.0, 35.0, -7.0}) {
     if (std::abs(speed) > config_.max_linear_speed) continue;
     Vector6d twist = Vector6d::Zero();
     twist[0] = speed;
-    const LabeledCloud down = semanticVoxelDownsample(deskew(scan.cloud, twist, scan.mid_time),
-                                                      voxel_size_.size(), class_factor_);
-    const RegistrationResult r = registerScan(down, map, from * expSe3(twist * dt), sigma, search);
+    if (!down || !same_points)
+      down = semanticVoxelDownsample(deskew(scan.cloud, twist, scan.mid_time), voxel_size_.size(),
+                                     class_factor_);
+    const RegistrationResult r = registerScan(*down, map, from * expSe3(twist * dt), sigma, search);
+    // Each of its iterates leads into a basin explored now.
+    search.join_path.insert(search.join_path.end(), r.path.begin(), r.path.end());
     if (r.joined) continue;
-    const Eigen::Isometry3d pose = r.pose;
-    search.join_ends.push_back(pose);
-    const double score = fractionNearMap(down.points, map, pose, kNearMap);
+    search.join_path.push_back(r.pose);
+    const double score = fractionNearMap(down->points, map, r.pose, kNearMap);
     if (score > best_score) {
       best_score = score;
-      best = pose;
+      best = r.pose;
     }
   }
   return best;

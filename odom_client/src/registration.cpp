@@ -199,6 +199,16 @@ Step solve(const Systems& sys, double alpha, const Eigen::Isometry3d& pose, cons
   return step;
 }
 
+// pose within distance (twist norm) of one of path's poses.
+bool joins(const Eigen::Isometry3d& pose, const std::vector<Eigen::Isometry3d>& path,
+           double distance) {
+  for (const Eigen::Isometry3d& p : path)
+    if ((p.translation() - pose.translation()).norm() < distance &&
+        logSe3(p.inverse() * pose).norm() < distance)
+      return true;
+  return false;
+}
+
 }  // namespace
 
 Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t label,
@@ -226,12 +236,13 @@ Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t
 RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
                                 const Eigen::Isometry3d& initial_guess, double sigma,
                                 const RegistrationParams& params,
-                                const SweepTwistPrior* twist_prior, const Points& scan_normals) {
+                                const SweepTwistPrior* twist_prior,
+                                const ScanNormals* scan_normals) {
   RegistrationResult result;
   result.pose = initial_guess;
   if (scan.size() == 0 || map.empty()) return result;
   if (!scan.hasTimes()) twist_prior = nullptr;
-  const bool with_normals = scan_normals.size() == scan.size();
+  const bool with_normals = scan_normals != nullptr && scan_normals->size() == scan.size();
   // The change of the twist correction that moves the sweep's ends by one convergence step.
   double half_span = 0.0;
   if (twist_prior)
@@ -257,9 +268,11 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
             if (!nn) continue;
             const MapVoxel& v = map.voxel(*nn);
             const std::uint8_t label = scan.hasLabels() ? scan.labels[i] : 0;
+            // evaluateCorrespondence takes the scan's normal only where the voxel has none.
             const Eigen::Vector3d normal =
-                with_normals ? Eigen::Vector3d(pose.linear() * scan_normals[i].cast<double>())
-                             : Eigen::Vector3d::Zero();
+                with_normals && v.planarity < 0.f
+                    ? Eigen::Vector3d(pose.linear() * scan_normals->at(i).cast<double>())
+                    : Eigen::Vector3d::Zero();
             accumulate(p, v, evaluateCorrespondence(p, label, v, sigma, params, normal),
                        twist_prior ? &s : nullptr, local);
           }
@@ -287,8 +300,10 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
     }
     for (const Eigen::Isometry3d& old : recent)
       if (logSe3(old.inverse() * result.pose).norm() < params.convergence) result.stalled = true;
-    for (const Eigen::Isometry3d& end : params.join_ends)
-      if (logSe3(end.inverse() * result.pose).norm() < params.join_distance) result.joined = true;
+    if (params.join_distance > 0.0) {
+      result.path.push_back(result.pose);
+      result.joined = joins(result.pose, params.join_path, params.join_distance);
+    }
     if (result.stalled || result.joined) break;
     recent.push_back(result.pose);
     if (recent.size() > kCycle) recent.pop_front();

@@ -28,8 +28,27 @@ constexpr std::size_t kNeighbours = 12;
 // the smallest eigenvalue well below the middle one.
 constexpr double kMaxFlatRatio = 0.1;
 
-Eigen::Vector3f normalAt(const Tree& tree, const Points& points, std::size_t i, double radius,
-                         double planarity_threshold) {
+}  // namespace
+
+struct ScanNormals::Search {
+  Search(Points cloud, double r, double threshold)
+      : points(std::move(cloud)),
+        radius(r),
+        planarity_threshold(threshold),
+        adaptor{&points},
+        tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {
+    tree.buildIndex();
+  }
+  Eigen::Vector3f normalAt(std::size_t i) const;
+
+  const Points points;
+  const double radius;
+  const double planarity_threshold;
+  const CloudAdaptor adaptor;  // the tree keeps a reference to it
+  Tree tree;
+};
+
+Eigen::Vector3f ScanNormals::Search::normalAt(std::size_t i) const {
   std::array<std::size_t, kNeighbours> index{};
   std::array<float, kNeighbours> squared{};
   nanoflann::KNNResultSet<float, std::size_t> result(kNeighbours);
@@ -48,19 +67,33 @@ Eigen::Vector3f normalAt(const Tree& tree, const Points& points, std::size_t i, 
   return plane ? Eigen::Vector3f(f.normal.cast<float>()) : Eigen::Vector3f::Zero();
 }
 
-}  // namespace
+ScanNormals::ScanNormals(Points points, double radius, double planarity_threshold)
+    : normals_(points.size(), Eigen::Vector3f::Zero()), known_(points.size(), 0) {
+  if (points.size() < kMinPointsForFeatures)
+    known_.assign(known_.size(), 1);  // no plane anywhere
+  else
+    search_ = std::make_unique<const Search>(std::move(points), radius, planarity_threshold);
+}
+
+ScanNormals::~ScanNormals() = default;
+ScanNormals::ScanNormals(ScanNormals&&) noexcept = default;
+ScanNormals& ScanNormals::operator=(ScanNormals&&) noexcept = default;
+
+const Eigen::Vector3f& ScanNormals::at(std::size_t i) const {
+  if (!known_[i]) {
+    normals_[i] = search_->normalAt(i);
+    known_[i] = 1;
+  }
+  return normals_[i];
+}
 
 Points scanNormals(const Points& points, double radius, double planarity_threshold) {
-  Points normals(points.size(), Eigen::Vector3f::Zero());
-  if (points.size() < kMinPointsForFeatures) return normals;
-  const CloudAdaptor adaptor{&points};
-  Tree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
-  tree.buildIndex();
+  const ScanNormals normals(points, radius, planarity_threshold);
+  Points out(points.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i)
-      normals[i] = normalAt(tree, points, i, radius, planarity_threshold);
+    for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = normals.at(i);
   });
-  return normals;
+  return out;
 }
 
 }  // namespace socc::odom

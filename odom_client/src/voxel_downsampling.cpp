@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "socc/voxel.hpp"
 
@@ -39,15 +40,23 @@ LabeledCloud semanticVoxelDownsample(const LabeledCloud& cloud, double voxel_siz
 
   tsl::robin_map<VoxelKey, Sum, VoxelKeyHash> voxels;
   voxels.reserve(cloud.size() / 4);
+  // A scan's consecutive points mostly share a voxel: its sum is reused without a lookup (valid
+  // until the next insertion, which replaces it).
+  std::optional<VoxelKey> last_key;
+  Sum* last = nullptr;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const std::uint8_t label = cloud.hasLabels() ? cloud.labels[i] : std::uint8_t{kUnlabeled};
     if (!isValidClass(label) || inv_size[label] == 0.0) continue;
     const Eigen::Vector3d p = cloud.points[i].cast<double>();
     if (!p.allFinite()) continue;
     const VoxelKey key{voxelIndex(p, inv_size[label]), label};
-    auto [it, inserted] = voxels.try_emplace(key);
-    Sum& s = it.value();
-    if (inserted) s.order = i;
+    if (!last_key || !(key == *last_key)) {
+      auto [it, inserted] = voxels.try_emplace(key);
+      last = &it.value();
+      last_key = key;
+      if (inserted) last->order = i;
+    }
+    Sum& s = *last;
     s.sum += p;
     if (cloud.hasTimes()) s.time_sum += cloud.times[i];
     ++s.count;

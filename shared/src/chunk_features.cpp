@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "socc/rounding.hpp"
 namespace socc::chunk {
 namespace {
 
@@ -15,14 +16,14 @@ double signNotZero(double v) {
 }
 
 std::int16_t unitToInt16(double v) {
-  return static_cast<std::int16_t>(std::lround(std::clamp(v, -1.0, 1.0) * 32767.0));
+  return static_cast<std::int16_t>(roundHalfAway(std::clamp(v, -1.0, 1.0) * 32767.0));
 }
 
 }  // namespace
 
 std::int16_t encodeOffset(double offset, double block_size) {
   const double steps = std::clamp(offset / block_size, 0.0, 1.0) * kOffsetSteps;
-  return static_cast<std::int16_t>(std::lround(steps) - 32768);
+  return static_cast<std::int16_t>(roundHalfAway(steps) - 32768);
 }
 
 double decodeOffset(std::int16_t q, double block_size) {
@@ -53,7 +54,7 @@ Eigen::Vector3d decodeNormal(std::int16_t a, std::int16_t b) {
 
 std::uint8_t encodePlanarity(double tau) {
   if (!(tau >= 0.0)) return kUnknownPlanarity;
-  return static_cast<std::uint8_t>(std::lround(std::min(tau * kPlanarityScale, 254.0)));
+  return static_cast<std::uint8_t>(roundHalfAway(std::min(tau * kPlanarityScale, 254.0)));
 }
 
 double decodePlanarity(std::uint8_t q) {

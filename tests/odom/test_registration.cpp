@@ -103,26 +103,33 @@ TEST(Registration, RecoversAKnownTransformOnSyntheticStructure) {
   EXPECT_LT(rotationErrorDeg(r.pose, truth), 0.05);
 }
 
-TEST(Registration, ARunThatReachesAnEarlierRunsEndJoinsIt) {
+TEST(Registration, ARunThatReachesAnEarlierRunsPathJoinsIt) {
   const socc::LabeledCloud world = syntheticRoom();
   const LocalMap map = buildScanMap(world, 0.5);
   const Eigen::Isometry3d truth =
       expSe3((Vector6d() << 0.4, -0.3, 0.05, 0.01, -0.02, 0.08).finished());
   const socc::LabeledCloud down =
       semanticVoxelDownsample(transformed(world, truth.inverse()), 0.6, classFactors(OdomConfig{}));
-  const RegistrationResult first =
-      registerScan(down, map, Eigen::Isometry3d::Identity(), 1.0, paperParams());
-  ASSERT_TRUE(first.converged);
   RegistrationParams params = paperParams();
-  params.join_ends = {first.pose};
   params.join_distance = 0.02;
+  const RegistrationResult first =
+      registerScan(down, map, Eigen::Isometry3d::Identity(), 1.0, params);
+  ASSERT_TRUE(first.converged);
+  ASSERT_EQ(first.path.size(), static_cast<std::size_t>(first.iterations - 1));  // not the last
+  EXPECT_TRUE(
+      registerScan(down, map, Eigen::Isometry3d::Identity(), 1.0, paperParams()).path.empty());
+  params.join_path = first.path;
+  params.join_path.push_back(first.pose);
+  // Started on the earlier run's path: it joins at once, where that run went on.
+  const RegistrationResult on_path = registerScan(down, map, first.path.front(), 1.0, params);
+  EXPECT_TRUE(on_path.joined);
+  EXPECT_EQ(on_path.iterations, 1);
   const Eigen::Isometry3d other_guess = expSe3((Vector6d() << 0.8, 0, 0, 0, 0, 0).finished());
   const RegistrationResult alone = registerScan(down, map, other_guess, 1.0, paperParams());
   const RegistrationResult joined = registerScan(down, map, other_guess, 1.0, params);
   EXPECT_TRUE(joined.joined);
   EXPECT_FALSE(alone.joined);
   EXPECT_LT(joined.iterations, alone.iterations);
-  EXPECT_LT(logSe3(first.pose.inverse() * joined.pose).norm(), 0.02);
   EXPECT_LT(logSe3(first.pose.inverse() * alone.pose).norm(), 0.02);  // the same basin
 }
 

@@ -15,6 +15,7 @@
 #include "socc/integrate_request_t.hpp"
 #include "socc/localize_request_t.hpp"
 #include "socc/point_cloud.hpp"
+#include "socc/rounding.hpp"
 #include "socc/scan_t.hpp"
 
 namespace socc::wire {
@@ -57,7 +58,7 @@ inline float quantizePoints(const Points& points, Rows<std::int16_t>& xyz) {
   for (int a = 0; a < 3; ++a) {
     std::int16_t* row = xyz[a].data();
     for (std::size_t i = 0; i < n; ++i)
-      row[i] = static_cast<std::int16_t>(std::lround(points[i][a] * inv));
+      row[i] = static_cast<std::int16_t>(roundHalfAway(points[i][a] * inv));
   }
   return resolution;
 }

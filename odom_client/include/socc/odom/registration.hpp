@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "socc/odom/local_map.hpp"
+#include "socc/odom/scan_normals.hpp"
 #include "socc/odom/se3.hpp"
 #include "socc/point_cloud.hpp"
 
@@ -23,9 +24,11 @@ struct RegistrationParams {
   // onto the map's rings favours standing still; but on a degenerate street a VLP-16 needs them
   // (docs/robustness.md). false: weight 0.
   bool sparse_voxel_pairs = true;
-  // Poses at which an iteration that comes within join_distance (twist norm) ends, `joined`:
-  // the ends of earlier runs from other guesses (a basin already explored).
-  std::vector<Eigen::Isometry3d> join_ends;
+  // The iterates of earlier runs from other guesses on the same points: an iteration that comes
+  // within join_distance (twist norm) of one ends, `joined`. Each step is a function of the pose
+  // alone, so from there it would follow that run into the basin it already explored. A run
+  // records its own iterates in RegistrationResult::path when join_distance > 0.
+  std::vector<Eigen::Isometry3d> join_path;
   double join_distance = 0.0;
 };
 
@@ -34,7 +37,7 @@ struct RegistrationResult {
   int iterations = 0;
   bool converged = false;  // ||dx|| < convergence
   bool stalled = false;    // stopped because the iteration cycled back to a recent pose
-  bool joined = false;     // stopped next to one of RegistrationParams::join_ends
+  bool joined = false;     // stopped next to one of RegistrationParams::join_path
   int planar = 0;          // correspondences of the last iteration
   int non_planar = 0;
   double alpha = 0.0;         // N_pl / (N_pl + N_po) of the last iteration
@@ -48,6 +51,8 @@ struct RegistrationResult {
   // Continuous-time registration only (SweepTwistPrior given): the correction of the body twist
   // the scan was deskewed with [per second, translation first].
   Vector6d twist_correction = Vector6d::Zero();
+  // The poses the iteration went through (RegistrationParams::join_distance > 0 only).
+  std::vector<Eigen::Isometry3d> path;
   int correspondences() const { return planar + non_planar; }
 };
 
@@ -79,12 +84,13 @@ Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t
                                       const Eigen::Vector3d& scan_normal = Eigen::Vector3d::Zero());
 
 /// Registers scan (sensor frame, labels optional) against map from initial_guess; sigma is the
-/// adaptive threshold (correspondences within 3 sigma, kernel sigma / 3). scan_normals: empty,
-/// or the scan's surface normals (sensor frame, zero where none; scanNormals).
+/// adaptive threshold (correspondences within 3 sigma, kernel sigma / 3). scan_normals: none,
+/// or the scan's surface normals (sensor frame; asked for only where a voxel's geometry is
+/// unknown).
 RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
                                 const Eigen::Isometry3d& initial_guess, double sigma,
                                 const RegistrationParams& params,
                                 const SweepTwistPrior* twist_prior = nullptr,
-                                const Points& scan_normals = {});
+                                const ScanNormals* scan_normals = nullptr);
 
 }  // namespace socc::odom

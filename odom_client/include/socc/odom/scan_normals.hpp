@@ -4,15 +4,40 @@
 // sampling pattern (its rings) with the one that made the map, which on a young map of a sparse
 // sensor means "standing still". Where the scan itself shows a surface, the pair is taken along
 // that surface's normal instead (registration.hpp).
+#include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "socc/point_cloud.hpp"
 
 namespace socc::odom {
 
-/// Per point: the unit normal of the plane through its nearest neighbours within radius (at
-/// least 5, planarity below planarity_threshold, spread over a surface rather than along one
-/// ring's line); zero where the neighbourhood is no such plane.
+/// The normals of a scan's points, each worked out the first time it is asked for: registration
+/// needs them only for points paired with voxels of unknown geometry (few of a dense sensor's
+/// pairs, most of a young sparse map's), and a neighbour search per point is most of a frame's
+/// registration time otherwise.
+class ScanNormals {
+ public:
+  ScanNormals(Points points, double radius, double planarity_threshold);
+  ~ScanNormals();
+  ScanNormals(ScanNormals&&) noexcept;
+  ScanNormals& operator=(ScanNormals&&) noexcept;
+
+  std::size_t size() const { return normals_.size(); }
+  /// Point i's unit normal: of the plane through its nearest neighbours within radius (at least
+  /// 5, planarity below planarity_threshold, spread over a surface rather than along one ring's
+  /// line); zero where the neighbourhood is no such plane. Calls for distinct i may run at once.
+  const Eigen::Vector3f& at(std::size_t i) const;
+
+ private:
+  struct Search;
+  std::unique_ptr<const Search> search_;
+  // Filled in by at(): one element per point, each written by the one call that asks for it.
+  mutable std::vector<Eigen::Vector3f> normals_;
+  mutable std::vector<std::uint8_t> known_;
+};
+
+/// Every point's normal (ScanNormals::at).
 Points scanNormals(const Points& points, double radius, double planarity_threshold);
 
 }  // namespace socc::odom
