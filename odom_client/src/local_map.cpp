@@ -179,15 +179,16 @@ NearestTwo LocalMap::nearestTwo(const Eigen::Vector3d& query, double max_distanc
   return NearestTwo{best.nearest, o.nearest->squared_distance};
 }
 
-LabeledCloud LocalMap::pointsOutside(const LabeledCloud& cloud) const {
-  if (voxel_size_ <= 0.0) return cloud;
+LabeledCloud LocalMap::pointsOutside(const LabeledCloud& cloud,
+                                     const Eigen::Isometry3d& pose) const {
+  if (voxel_size_ <= 0.0) return transformed(cloud, pose);
   const double inv_size = 1.0 / voxel_size_;
   LabeledCloud out;
   // A scan's consecutive points mostly share a voxel: its answer is reused.
   VoxelIndex last_key(0, 0, 0);
   bool last_held = false, any = false;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const Eigen::Vector3f& p = cloud.points[i];
+    const Eigen::Vector3f p = (pose * cloud.points[i].cast<double>()).cast<float>();
     if (!p.allFinite()) continue;
     const VoxelIndex key = voxelIndex(p.cast<double>(), inv_size);
     if (!any || key != last_key)

@@ -115,8 +115,8 @@ void MapPipeline::startOverlay(std::shared_ptr<const FrameEstimate> frame) {
   t.pending =
       std::async(std::launch::async, [base = t.map, chunk = t.chunk, overlay = std::move(t.overlay),
                                       frame = std::move(frame)]() mutable {
-        const std::vector<MapVoxel> added = scanVoxels(
-            base.pointsOutside(transformed(frame->cloud, frame->pose)), base.voxelSize());
+        const std::vector<MapVoxel> added =
+            scanVoxels(base.pointsOutside(frame->cloud, frame->pose), base.voxelSize());
         for (MapVoxel v : added) {
           v.occupancy = base.hitOccupancy();
           overlay.push_back(v);

@@ -114,12 +114,18 @@ TEST(LocalMap, PointsOutsideAreThoseInVoxelsTheChunkLacks) {
   socc::LabeledCloud cloud;
   cloud.points = {{1.4f, 2.4f, 3.4f}, {10.1f, 10.1f, 10.1f}, {1.0f, 2.0f, 3.0f}};
   cloud.labels = {socc::kRoad, socc::kCar, socc::kRoad};
-  const socc::LabeledCloud outside = map.pointsOutside(cloud);
+  const socc::LabeledCloud outside = map.pointsOutside(cloud, Eigen::Isometry3d::Identity());
   ASSERT_EQ(outside.size(), 1u);
   EXPECT_TRUE(outside.points[0].isApprox(Eigen::Vector3f(10.1f, 10.1f, 10.1f)));
   EXPECT_EQ(outside.labels[0], socc::kCar);
+  // The cloud taken 10 m further along x: the chunk's voxel is now where the second point lies.
+  const Eigen::Isometry3d back(Eigen::Translation3d(-9.0, -8.0, -7.0));
+  const socc::LabeledCloud moved = map.pointsOutside(cloud, back);
+  ASSERT_EQ(moved.size(), 2u);
+  EXPECT_TRUE(moved.points[0].isApprox(Eigen::Vector3f(-7.6f, -5.6f, -3.6f)));
+  EXPECT_EQ(moved.labels[1], socc::kRoad);
   // A map not made from a chunk knows no voxel grid: every point adds.
-  EXPECT_EQ(LocalMap().pointsOutside(cloud).size(), 3u);
+  EXPECT_EQ(LocalMap().pointsOutside(cloud, Eigen::Isometry3d::Identity()).size(), 3u);
 }
 
 namespace {

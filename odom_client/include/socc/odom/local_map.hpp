@@ -61,10 +61,10 @@ class LocalMap {
   double voxelSize() const { return voxel_size_; }
   double hitOccupancy() const { return hit_occupancy_; }
 
-  /// The points of cloud (map frame) in voxels that hold none of this map's voxels (chunk or
-  /// overlay): where integrating the cloud adds voxels. All of them when this map was not made
-  /// from a chunk.
-  LabeledCloud pointsOutside(const LabeledCloud& cloud) const;
+  /// The points of cloud (sensor frame, taken at pose), in the map frame, that fall in voxels
+  /// holding none of this map's voxels (chunk or overlay): where integrating the cloud adds
+  /// voxels. All of them when this map was not made from a chunk.
+  LabeledCloud pointsOutside(const LabeledCloud& cloud, const Eigen::Isometry3d& pose) const;
 
   /// This map's chunk plus overlay (instead of any overlay this map has), searched together;
   /// the chunk's voxels and search tree are shared, not copied. Overlay voxels follow the
