@@ -84,6 +84,7 @@ std::int32_t parseFields(const std::vector<std::string>& names) {
     if (n == "stats") fields |= socc::chunk_request_t::FIELD_STATS;
     if (n == "free") fields |= socc::chunk_request_t::FIELD_FREE;
     if (n == "index") fields |= socc::chunk_request_t::FIELD_INDEX;
+    if (n == "moments") fields |= socc::chunk_request_t::FIELD_MOMENTS;
   }
   return fields;
 }
@@ -366,8 +367,8 @@ struct ChunkCommand {
     command->add_option("--box", box, "xmin ymin zmin xmax ymax zmax")
         ->expected(6)
         ->excludes(sphere_opt);
-    command->add_option("--fields", field_names, "features stats free index")
-        ->check(CLI::IsMember({"features", "stats", "free", "index"}))
+    command->add_option("--fields", field_names, "features stats free index moments")
+        ->check(CLI::IsMember({"features", "stats", "free", "index", "moments"}))
         ->capture_default_str();
     command->add_option("--limit", limit, "max voxels (0 = server max)");
     command->add_option("--threshold", threshold, "occupancy threshold")->capture_default_str();

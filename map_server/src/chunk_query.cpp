@@ -7,6 +7,7 @@
 
 #include "map_impl.hpp"
 #include "region.hpp"
+#include "socc/chunk_features.hpp"
 #include "socc/map/voxel_features.hpp"
 #include "socc/rounding.hpp"
 
@@ -58,6 +59,12 @@ void appendOccupied(ChunkVoxels& out, const VoxelIndex& v, const Eigen::Vector3d
     out.occupancy.push_back(toByte(probability(log_odds)));
     out.label.push_back(s.label);
     out.label_prob.push_back(s.has_semantics ? toByte(s.prob(s.label)) : 0);
+    if (fields & ChunkQuery::kMoments) out.point_count.push_back(s.count);
+    if ((fields & ChunkQuery::kMoments) && s.count < chunk::kMomentsBelow) {
+      for (int a = 0; a < 3; ++a)
+        out.moment_mean[a].push_back(stats != nullptr ? s.mean[a] : centref[a]);
+      for (int k = 0; k < 6; ++k) out.moment_m2[k].push_back(s.m2[k]);
+    }
   }
   if (fields & ChunkQuery::kStats) {
     if (stats != nullptr)
@@ -174,8 +181,10 @@ ChunkVoxels SemanticOccupancyMap::queryChunk(const ChunkQuery& query) const {
   checkQuery(query);
   const Impl& m = *impl_;
   const QueryRegion region(query, m.config.voxel_size);
-  const std::int32_t fields = query.fields & (ChunkQuery::kFeatures | ChunkQuery::kStats |
-                                              ChunkQuery::kFree | ChunkQuery::kIndex);
+  std::int32_t fields =
+      query.fields & (ChunkQuery::kFeatures | ChunkQuery::kStats | ChunkQuery::kFree |
+                      ChunkQuery::kIndex | ChunkQuery::kMoments);
+  if (!(fields & ChunkQuery::kFeatures)) fields &= ~ChunkQuery::kMoments;  // they go with features
   const std::size_t limit =
       query.limit > 0 ? static_cast<std::size_t>(query.limit) : static_cast<std::size_t>(-1);
   ChunkVoxels out;

@@ -7,41 +7,15 @@
 namespace socc::map {
 
 Eigen::Matrix3d VoxelStats::covariance() const {
-  Eigen::Matrix3d m;
-  m << m2[0], m2[1], m2[2],  //
-      m2[1], m2[3], m2[4],   //
-      m2[2], m2[4], m2[5];
-  return sampleCovariance(m, count);
+  return sampleCovariance(symmetricOf(m2), count);
 }
 
 void mergeStatistics(VoxelStats& stats, const FrameAggregate& frame) {
   if (frame.count == 0) return;
-  const Eigen::Vector3d mean_b = frame.mean();
-  const Eigen::Matrix3d mb = frame.m2();
-  if (stats.count == 0) {
-    for (int i = 0; i < 3; ++i) stats.mean[i] = static_cast<float>(mean_b[i]);
-    stats.m2 = {static_cast<float>(mb(0, 0)), static_cast<float>(mb(0, 1)),
-                static_cast<float>(mb(0, 2)), static_cast<float>(mb(1, 1)),
-                static_cast<float>(mb(1, 2)), static_cast<float>(mb(2, 2))};
+  if (stats.count == 0)
     stats.first_point = {static_cast<float>(frame.first.x()), static_cast<float>(frame.first.y()),
                          static_cast<float>(frame.first.z())};
-    stats.count = frame.count;
-    return;
-  }
-  const double na = stats.count;
-  const double nb = frame.count;
-  const double n = na + nb;
-  const Eigen::Vector3d mean_a = stats.meanVector();
-  const Eigen::Vector3d delta = mean_b - mean_a;
-  const Eigen::Vector3d mean = mean_a + delta * (nb / n);
-  const Eigen::Matrix3d corr = delta * delta.transpose() * (na * nb / n);
-  const int idx[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
-  for (int k = 0; k < 6; ++k) {
-    const int r = idx[k][0], c = idx[k][1];
-    stats.m2[k] = static_cast<float>(stats.m2[k] + mb(r, c) + corr(r, c));
-  }
-  for (int i = 0; i < 3; ++i) stats.mean[i] = static_cast<float>(mean[i]);
-  stats.count += frame.count;
+  mergeMoments(stats.count, stats.mean, stats.m2, frame);
 }
 
 SemanticVoxelBehaviour::SemanticVoxelBehaviour(const MapConfig& c)

@@ -9,14 +9,15 @@
 namespace socc::odom {
 
 chunk_request_t featureChunkRequest(const Eigen::Vector3d& center, double radius,
-                                    double occupancy_threshold) {
+                                    double occupancy_threshold, bool with_moments) {
   chunk_request_t r = rpc::sphereChunkRequest(center, radius);
   r.occupancy_threshold = static_cast<float>(occupancy_threshold);
+  if (with_moments) r.fields |= chunk_request_t::FIELD_MOMENTS;
   return r;
 }
 
 chunk_request_t ChunkCache::request(const Eigen::Vector3d& center, double radius) const {
-  chunk_request_t r = featureChunkRequest(center, radius, occupancy_threshold_);
+  chunk_request_t r = featureChunkRequest(center, radius, occupancy_threshold_, true);
   if (held_) {
     r.since_epoch = held_->epoch;
     r.since_version = held_->version;

@@ -1,6 +1,6 @@
 #include "socc/odom/local_map.hpp"
 
-#include <tsl/robin_set.h>
+#include <tsl/robin_map.h>
 
 #include <algorithm>
 #include <cmath>
@@ -77,6 +77,31 @@ class TwoNearestWithin {
   throw std::invalid_argument("malformed chunk reply: " + why);
 }
 
+// FIELD_MOMENTS: the moments of the voxels of fewer points than moments_below, in their order.
+void decodeMoments(const chunk_reply_t& chunk, std::vector<MapVoxel>& voxels) {
+  if (chunk.n_counts != static_cast<std::int32_t>(voxels.size()))
+    malformed("n_counts (" + std::to_string(chunk.n_counts) + ") != num_voxels");
+  const auto with = std::count_if(chunk.point_count.begin(), chunk.point_count.end(),
+                                  [&](std::uint8_t c) { return c < chunk.moments_below; });
+  if (chunk.n_moments != with)
+    malformed("n_moments (" + std::to_string(chunk.n_moments) + ") != voxels below " +
+              std::to_string(chunk.moments_below) + " points (" + std::to_string(with) + ")");
+  const double scale = chunk.voxel_size / 32767.0;
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < voxels.size(); ++i) {
+    if (chunk.point_count[i] >= chunk.moments_below) continue;
+    StoredMoments m;
+    m.count = chunk.point_count[i];
+    for (int a = 0; a < 3; ++a)
+      m.mean[a] = static_cast<float>(voxels[i].point[a] + chunk.moment_mean[a][j] * scale);
+    for (int k = 0; k < 6; ++k)
+      m.m2[k] = static_cast<float>(
+          chunk::decodeScatter(chunk.moment_m2[k][j], m.count, chunk.voxel_size));
+    voxels[i].moments = m;
+    ++j;
+  }
+}
+
 }  // namespace
 
 // One searched set of voxels, a chunk's or an overlay's, with its search tree and (on a voxel
@@ -91,7 +116,9 @@ class LocalMap::Layer {
     if (voxel_size <= 0.0) return;
     const double inv_size = 1.0 / voxel_size;
     keys_.reserve(voxels.size());
-    for (const MapVoxel& voxel : voxels) keys_.insert(voxelIndex(voxel.point, inv_size));
+    for (std::size_t i = 0; i < voxels.size(); ++i)
+      keys_.emplace(voxelIndex(voxels[i].point, inv_size),
+                    Key{static_cast<std::uint32_t>(i), voxels[i].moments.has_value()});
   }
   Layer(const Layer&) = delete;  // the tree refers to adaptor_
   Layer& operator=(const Layer&) = delete;
@@ -110,7 +137,12 @@ class LocalMap::Layer {
     tree_.findNeighbors(result, query.data(), nanoflann::SearchParams());
     return result.result(first_id_);
   }
-  bool holds(const VoxelIndex& key) const { return keys_.count(key) != 0; }
+  /// The voxel at key, if this layer holds it.
+  std::optional<Held> find(const VoxelIndex& key) const {
+    const auto it = keys_.find(key);
+    if (it == keys_.end()) return std::nullopt;
+    return Held{first_id_ + it->second.index, it->second.moments};
+  }
 
   const std::vector<MapVoxel> voxels;
 
@@ -132,7 +164,17 @@ class LocalMap::Layer {
   std::size_t first_id_;  // ids of this layer's voxels start here
   PointsAdaptor adaptor_;
   KdTree tree_;
-  tsl::robin_set<VoxelIndex, VoxelIndexHash> keys_;  // when on a voxel grid
+  struct Key {
+    std::uint32_t index;
+    bool moments;
+  };
+  tsl::robin_map<VoxelIndex, Key, VoxelIndexHash> keys_;  // on a voxel grid
+};
+
+// Chunk voxels replaced by updated ones: slot[id] indexes voxels, -1 where not replaced.
+struct LocalMap::Updates {
+  std::vector<std::int32_t> slot;
+  std::vector<MapVoxel> voxels;
 };
 
 LocalMap::LocalMap() : LocalMap(std::vector<MapVoxel>{}) {}
@@ -149,7 +191,9 @@ std::size_t LocalMap::size() const {
 }
 const MapVoxel& LocalMap::voxel(std::size_t i) const {
   const std::size_t n = base_->voxels.size();
-  return i < n ? base_->voxels[i] : overlay_->voxels[i - n];
+  if (i >= n) return overlay_->voxels[i - n];
+  if (updated_ && updated_->slot[i] >= 0) return updated_->voxels[updated_->slot[i]];
+  return base_->voxels[i];
 }
 
 std::optional<Neighbor> LocalMap::nearest(const Eigen::Vector3d& query, double max_distance) const {
@@ -179,35 +223,28 @@ NearestTwo LocalMap::nearestTwo(const Eigen::Vector3d& query, double max_distanc
   return NearestTwo{best.nearest, o.nearest->squared_distance};
 }
 
-LabeledCloud LocalMap::pointsOutside(const LabeledCloud& cloud,
-                                     const Eigen::Isometry3d& pose) const {
-  if (voxel_size_ <= 0.0) return transformed(cloud, pose);
-  const double inv_size = 1.0 / voxel_size_;
-  LabeledCloud out;
-  // A scan's consecutive points mostly share a voxel: its answer is reused.
-  VoxelIndex last_key(0, 0, 0);
-  bool last_held = false, any = false;
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const Eigen::Vector3f p = (pose * cloud.points[i].cast<double>()).cast<float>();
-    if (!p.allFinite()) continue;
-    const VoxelIndex key = voxelIndex(p.cast<double>(), inv_size);
-    if (!any || key != last_key)
-      last_held = base_->holds(key) || (overlay_ && overlay_->holds(key));
-    last_key = key;
-    any = true;
-    if (last_held) continue;
-    out.points.push_back(p);
-    if (cloud.hasLabels()) out.labels.push_back(cloud.labels[i]);
-  }
-  return out;
+std::optional<LocalMap::Held> LocalMap::find(const VoxelIndex& key) const {
+  if (voxel_size_ <= 0.0) return std::nullopt;
+  if (std::optional<Held> held = base_->find(key)) return held;
+  return overlay_ ? overlay_->find(key) : std::nullopt;
 }
 
-LocalMap LocalMap::withOverlay(std::vector<MapVoxel> overlay) const {
+LocalMap LocalMap::withOverlay(std::vector<MapVoxel> overlay, const VoxelUpdates& updated) const {
   LocalMap out = *this;
   out.overlay_.reset();
+  out.updated_.reset();
   if (!overlay.empty())
     out.overlay_ =
         std::make_shared<const Layer>(std::move(overlay), base_->voxels.size(), voxel_size_);
+  if (!updated.empty()) {
+    auto u = std::make_shared<Updates>();
+    u->slot.assign(base_->voxels.size(), -1);
+    for (const auto& [id, v] : updated) {
+      u->slot.at(id) = static_cast<std::int32_t>(u->voxels.size());
+      u->voxels.push_back(v);
+    }
+    out.updated_ = std::move(u);
+  }
   return out;
 }
 
@@ -239,6 +276,7 @@ std::vector<MapVoxel> decodeChunkVoxels(const chunk_reply_t& chunk) {
       malformed("label " + std::to_string(v.label) + " at voxel " + std::to_string(i));
     v.label_prob = chunk.label_prob[i] / 255.f;
   }
+  if (chunk.fields & chunk_request_t::FIELD_MOMENTS) decodeMoments(chunk, voxels);
   return voxels;
 }
 

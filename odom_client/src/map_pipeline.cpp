@@ -5,6 +5,7 @@
 #include <string>
 #include <utility>
 
+#include "socc/odom/frame_overlay.hpp"
 #include "socc/odom/scan_map.hpp"
 #include "socc/odom/service_map_access.hpp"
 
@@ -40,6 +41,7 @@ LocalMap MapPipeline::target(const Eigen::Vector3d& center, FrameStats& stats) {
   if (t.pending.valid()) {
     Overlaid next = t.pending.get();
     t.overlay = std::move(next.overlay);
+    t.updated = std::move(next.updated);
     t.map = std::move(next.map);
   }
   LocalMap map = t.map;
@@ -74,55 +76,59 @@ LocalMap MapPipeline::fetchNow(const Eigen::Vector3d& center, FrameStats& stats)
   stats.chunk_ms = stats.fetch_ms;
   stats.chunk_voxels = static_cast<std::int64_t>(map.size());
   stats.bytes_received = chunk.bytes_received;
-  if (config_.pipelined_map) target_.emplace(Target{map, map, center, 0, 0.0, {}, {}});
+  if (config_.pipelined_map) target_.emplace(Target{map, map, center, 0, 0.0, {}, {}, {}});
   return map;
 }
 
 rpc::Result<chunk_reply_t> MapPipeline::fetchChunk(const Eigen::Vector3d& center) {
-  rpc::Result<chunk_reply_t> chunk = client_.getChunk(
-      featureChunkRequest(center, config_.chunk_radius, config_.occupancy_threshold));
+  rpc::Result<chunk_reply_t> chunk = client_.getChunk(featureChunkRequest(
+      center, config_.chunk_radius, config_.occupancy_threshold, config_.pipelined_map));
   if (!chunk.ok()) throw std::runtime_error(callError("GET_CHUNK", chunk.error, chunk.attempts));
   return chunk;
 }
 
 void MapPipeline::integrate(FrameEstimate estimate, const FrameStats& stats,
                             const Eigen::Vector3d& ahead) {
+  // Shared by the overlay's and the Integrate's threads: nothing of the scan is copied here.
+  const auto frame = std::make_shared<const FrameEstimate>(std::move(estimate));
+  // Unless the Integrate in flight brings a chunk (the target changes then), the frame's overlay
+  // is worked out while that Integrate is still awaited.
+  const bool early = !(in_flight_ && in_flight_->fetch) && overlay(frame);
   const Clock::time_point wait = Clock::now();
-  finish();  // fetched_ is now the chunk after the previous frame, if one came with it
+  finish();  // target_ is now the chunk after the previous frame, if one came with it
   FrameStats row = stats;
   row.wait_ms = msSince(wait);
   row.total_ms += row.wait_ms;
-  // Shared by the overlay's and the Integrate's threads: nothing of the scan is copied here.
-  const auto frame = std::make_shared<const FrameEstimate>(std::move(estimate));
-  if (target_ && !target_->pending.valid())
-    startOverlay(frame);
-  else
+  if (!early && !overlay(frame))
     target_.reset();  // it lacks this frame, and no overlay stands in for it
   // Every chunk_interval-th Integrate brings a chunk back; the frames in between register
   // against the last one plus their predecessors' voxels.
   const bool fetch = config_.pipelined_map && ++integrates_ % config_.chunk_interval == 0;
   in_flight_.emplace();
   in_flight_->stats = row;
+  in_flight_->fetch = fetch;
   in_flight_->reply = std::async(std::launch::async, [this, ahead, fetch, frame]() {
     return exchange(*frame, fetch ? std::optional(ahead) : std::nullopt);
   });
 }
 
+bool MapPipeline::overlay(const std::shared_ptr<const FrameEstimate>& frame) {
+  if (!target_ || target_->pending.valid()) return false;
+  startOverlay(frame);
+  return true;
+}
+
 void MapPipeline::startOverlay(std::shared_ptr<const FrameEstimate> frame) {
   // What the frame adds to the target, and the next target with it, worked out while its
-  // Integrate travels.
+  // Integrate travels: voxels the target lacks, and the points it merges into voxels of few
+  // points (the chunk's, with their moments, and the overlay's own).
   Target& t = *target_;
-  t.pending =
-      std::async(std::launch::async, [base = t.map, chunk = t.chunk, overlay = std::move(t.overlay),
-                                      frame = std::move(frame)]() mutable {
-        const std::vector<MapVoxel> added =
-            scanVoxels(base.pointsOutside(frame->cloud, frame->pose), base.voxelSize());
-        for (MapVoxel v : added) {
-          v.occupancy = base.hitOccupancy();
-          overlay.push_back(v);
-        }
-        LocalMap map = chunk.withOverlay(overlay);
-        return Overlaid{std::move(overlay), std::move(map)};
+  t.pending = std::async(
+      std::launch::async, [base = t.map, chunk = t.chunk, overlay = std::move(t.overlay),
+                           updated = std::move(t.updated), frame = std::move(frame)]() mutable {
+        addFrame(base, chunk.size(), frame->cloud, frame->pose, overlay, updated);
+        LocalMap map = chunk.withOverlay(overlay, updated);
+        return Overlaid{std::move(overlay), std::move(updated), std::move(map)};
       });
 }
 
@@ -164,7 +170,7 @@ std::int64_t MapPipeline::finish() {
   log_.add(stats);
   if (x.chunk) {
     target_.reset();  // an older chunk (and its overlay) is superseded
-    target_.emplace(Target{*x.chunk, *x.chunk, x.center, x.chunk_bytes, x.chunk_ms, {}, {}});
+    target_.emplace(Target{*x.chunk, *x.chunk, x.center, x.chunk_bytes, x.chunk_ms, {}, {}, {}});
   }
   return x.integrate.reply->map_version;
 }

@@ -52,6 +52,16 @@ Eigen::Vector3d decodeNormal(std::int16_t a, std::int16_t b) {
   return n.normalized();
 }
 
+std::int16_t encodeScatter(double value, std::uint32_t count, double voxel_size) {
+  const double range = count * voxel_size * voxel_size;
+  if (!(range > 0.0)) return 0;
+  return static_cast<std::int16_t>(roundHalfAway(std::clamp(value / range, -1.0, 1.0) * 32767.0));
+}
+
+double decodeScatter(std::int16_t q, std::uint32_t count, double voxel_size) {
+  return q / 32767.0 * count * voxel_size * voxel_size;
+}
+
 std::uint8_t encodePlanarity(double tau) {
   if (!(tau >= 0.0)) return kUnknownPlanarity;
   return static_cast<std::uint8_t>(roundHalfAway(std::min(tau * kPlanarityScale, 254.0)));

@@ -9,6 +9,7 @@
 #include "socc/labels.hpp"
 #include "socc/map/semantic_occupancy_map.hpp"
 #include "socc/odom/chunk_cache.hpp"
+#include "socc/odom/frame_overlay.hpp"
 
 using namespace socc::odom;
 
@@ -168,4 +169,72 @@ TEST(ChunkCache, DeltasFollowVoxelsTurningFree) {
     EXPECT_EQ(carVoxels(cache.apply(answer(map, cache.request(center, kRadius)), center, kRadius)),
               0u);  // the car is gone
   }
+}
+
+// The pipelined target (map_pipeline.hpp): a chunk with FIELD_MOMENTS, and the client's next
+// frame merged into its voxels of few points, gives those voxels the normals and planarity the
+// server's next chunk gives them (the first normal of some); malformed moments are refused.
+TEST(PipelinedTarget, OwnPointsMergedIntoVoxelsOfFewPointsGiveTheServersFeatures) {
+  socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const auto sparseWall = [&]() {  // about 3 points per 0.5 m voxel of the wall x = 6
+    socc::LabeledCloud cloud;
+    for (int i = 0; i < 120; ++i) {  // 40 voxels
+      cloud.points.emplace_back(6.f + static_cast<float>(0.02 * (u(rng) - 0.5)),
+                                static_cast<float>(-2.5 + 5.0 * u(rng)),
+                                static_cast<float>(-1.0 + 2.0 * u(rng)));
+      cloud.labels.push_back(socc::kBuilding);
+    }
+    return cloud;
+  };
+  const Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  for (int frame = 0; frame < 2; ++frame)
+    map.integrate(Eigen::Isometry3d::Identity(), sparseWall());
+  const socc::chunk_reply_t reply =
+      answer(map, featureChunkRequest(center, kRadius, kThreshold, true));
+  const LocalMap target = LocalMap::fromChunk(reply, kThreshold);
+  ASSERT_GT(target.size(), 30u);
+  ASSERT_EQ(reply.n_moments, static_cast<std::int32_t>(target.size()));  // all of few points
+  std::size_t without_normal = 0;
+  for (std::size_t i = 0; i < target.size(); ++i) {
+    ASSERT_TRUE(target.voxel(i).moments) << "voxel " << i;
+    without_normal += target.voxel(i).planarity < 0.f ? 1 : 0;
+  }
+  ASSERT_GT(without_normal, 5u);
+
+  const socc::LabeledCloud next = sparseWall();
+  map.integrate(Eigen::Isometry3d::Identity(), next);
+  const LocalMap served = LocalMap::fromChunk(
+      answer(map, featureChunkRequest(center, kRadius, kThreshold)), kThreshold);
+  const FrameSplit split = splitFrame(target, next, Eigen::Isometry3d::Identity());
+  VoxelUpdates updated;
+  for (const auto& [id, points] : split.into_known)
+    updated[id] = withPoints(target.voxel(id), points);
+  const LocalMap merged = target.withOverlay({}, updated);
+  std::size_t gained = 0, changed = 0;
+  for (std::size_t i = 0; i < target.size(); ++i) {
+    const MapVoxel& mine = merged.voxel(i);
+    std::size_t k = 0;
+    while (k < served.size() && (served.voxel(k).point - mine.point).norm() > 1e-3) ++k;
+    ASSERT_LT(k, served.size()) << "voxel " << i;
+    const MapVoxel& theirs = served.voxel(k);
+    ASSERT_EQ(mine.planarity < 0.f, theirs.planarity < 0.f) << "voxel " << i;
+    if (mine.planarity < 0.f) continue;
+    gained += target.voxel(i).planarity < 0.f ? 1 : 0;
+    changed += mine.planarity != target.voxel(i).planarity ? 1 : 0;
+    EXPECT_GT(std::abs(mine.normal.dot(theirs.normal)), 0.9999) << "voxel " << i;
+    EXPECT_NEAR(mine.planarity, theirs.planarity, 2e-3) << "voxel " << i;
+  }
+  EXPECT_GT(gained, 3u);    // voxels that reached five points with this frame
+  EXPECT_GT(changed, 20u);  // and those whose features the frame moved
+
+  socc::chunk_reply_t bad = reply;
+  bad.n_moments -= 1;
+  for (auto& row : bad.moment_mean) row.pop_back();
+  for (auto& row : bad.moment_m2) row.pop_back();
+  EXPECT_THROW(LocalMap::fromChunk(bad, kThreshold), std::invalid_argument);
+  bad = reply;
+  bad.point_count[0] = 255;  // a voxel of too many points for moments, which the reply has
+  EXPECT_THROW(LocalMap::fromChunk(bad, kThreshold), std::invalid_argument);
 }

@@ -5,6 +5,7 @@
 #include "socc/chunk_features.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/labels.hpp"
+#include "socc/odom/frame_overlay.hpp"
 #include "socc/odom/local_map.hpp"
 
 using namespace socc::odom;
@@ -108,24 +109,26 @@ TEST(LocalMap, KeepsTheMapsResolutionEvenWhenEmpty) {
   EXPECT_FLOAT_EQ(static_cast<float>(map.hitOccupancy()), 0.55f);
 }
 
-TEST(LocalMap, PointsOutsideAreThoseInVoxelsTheChunkLacks) {
+TEST(FrameOverlay, SplitFindsTheVoxelsTheChunkLacks) {
   // Voxel (2, 4, 6) of 0.5 m is in the chunk; (20, 20, 20) is not.
   const LocalMap map = LocalMap::fromChunk(makeChunk({{1.1f, 2.1f, 3.1f}}, 200), 0.5);
   socc::LabeledCloud cloud;
   cloud.points = {{1.4f, 2.4f, 3.4f}, {10.1f, 10.1f, 10.1f}, {1.0f, 2.0f, 3.0f}};
   cloud.labels = {socc::kRoad, socc::kCar, socc::kRoad};
-  const socc::LabeledCloud outside = map.pointsOutside(cloud, Eigen::Isometry3d::Identity());
-  ASSERT_EQ(outside.size(), 1u);
-  EXPECT_TRUE(outside.points[0].isApprox(Eigen::Vector3f(10.1f, 10.1f, 10.1f)));
-  EXPECT_EQ(outside.labels[0], socc::kCar);
+  const FrameSplit split = splitFrame(map, cloud, Eigen::Isometry3d::Identity());
+  ASSERT_EQ(split.outside.size(), 1u);
+  EXPECT_TRUE(split.outside[0].moments.first.isApprox(Eigen::Vector3d(10.1, 10.1, 10.1), 1e-6));
+  EXPECT_EQ(split.outside[0].labels[socc::kCar], 1u);
+  EXPECT_TRUE(split.into_known.empty());  // the chunk sent no moments
   // The cloud taken 10 m further along x: the chunk's voxel is now where the second point lies.
   const Eigen::Isometry3d back(Eigen::Translation3d(-9.0, -8.0, -7.0));
-  const socc::LabeledCloud moved = map.pointsOutside(cloud, back);
-  ASSERT_EQ(moved.size(), 2u);
-  EXPECT_TRUE(moved.points[0].isApprox(Eigen::Vector3f(-7.6f, -5.6f, -3.6f)));
-  EXPECT_EQ(moved.labels[1], socc::kRoad);
-  // A map not made from a chunk knows no voxel grid: every point adds.
-  EXPECT_EQ(LocalMap().pointsOutside(cloud, Eigen::Isometry3d::Identity()).size(), 3u);
+  const FrameSplit moved = splitFrame(map, cloud, back);
+  ASSERT_EQ(moved.outside.size(), 1u);  // the first and third point share a voxel there
+  EXPECT_EQ(moved.outside[0].moments.count, 2u);
+  EXPECT_TRUE(moved.outside[0].moments.first.isApprox(Eigen::Vector3d(-7.6, -5.6, -3.6), 1e-6));
+  EXPECT_EQ(moved.outside[0].labels[socc::kRoad], 2u);
+  // A map not made from a chunk knows no voxel grid.
+  EXPECT_THROW(splitFrame(LocalMap(), cloud, Eigen::Isometry3d::Identity()), std::logic_error);
 }
 
 namespace {

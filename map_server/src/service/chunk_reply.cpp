@@ -1,11 +1,13 @@
 #include "service/chunk_reply.hpp"
 
+#include <algorithm>
 #include <iterator>
 #include <utility>
 
 #include "socc/chunk_features.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/map/voxel_grid.hpp"
+#include "socc/rounding.hpp"
 
 namespace socc::service {
 namespace {
@@ -14,7 +16,8 @@ namespace {
 static_assert(map::ChunkQuery::kFeatures == chunk_request_t::FIELD_FEATURES &&
               map::ChunkQuery::kStats == chunk_request_t::FIELD_STATS &&
               map::ChunkQuery::kFree == chunk_request_t::FIELD_FREE &&
-              map::ChunkQuery::kIndex == chunk_request_t::FIELD_INDEX);
+              map::ChunkQuery::kIndex == chunk_request_t::FIELD_INDEX &&
+              map::ChunkQuery::kMoments == chunk_request_t::FIELD_MOMENTS);
 
 template <typename T, std::size_t N>
 std::vector<std::vector<T>> rowsOf(std::array<std::vector<T>, N>&& rows) {
@@ -47,6 +50,32 @@ void encodeFeatures(const map::ChunkVoxels& v, double voxel_size, chunk_reply_t&
   }
 }
 
+// FIELD_MOMENTS in the compact encoding (socc/chunk_features.hpp).
+void encodeMoments(const map::ChunkVoxels& v, double voxel_size, chunk_reply_t& out) {
+  const std::size_t n = v.point_count.size();
+  out.n_counts = static_cast<std::int32_t>(n);
+  out.point_count.resize(n);
+  out.moments_below = static_cast<std::uint8_t>(chunk::kMomentsBelow);
+  const std::size_t m = v.moment_m2[0].size();
+  out.n_moments = static_cast<std::int32_t>(m);
+  out.moment_mean.assign(m == 0 ? 0 : 3, std::vector<std::int16_t>(m));
+  out.moment_m2.assign(m == 0 ? 0 : 6, std::vector<std::int16_t>(m));
+  const double scale = 32767.0 / voxel_size;
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    out.point_count[i] = static_cast<std::uint8_t>(std::min<std::uint32_t>(v.point_count[i], 255));
+    if (v.point_count[i] >= chunk::kMomentsBelow) continue;
+    for (int a = 0; a < 3; ++a) {
+      const double offset = (double{v.moment_mean[a][j]} - v.first_point[a][i]) * scale;
+      out.moment_mean[a][j] =
+          static_cast<std::int16_t>(roundHalfAway(std::clamp(offset, -32767.0, 32767.0)));
+    }
+    for (int k = 0; k < 6; ++k)
+      out.moment_m2[k][j] = chunk::encodeScatter(v.moment_m2[k][j], v.point_count[i], voxel_size);
+    ++j;
+  }
+}
+
 }  // namespace
 
 void toChunkReply(map::ChunkVoxels&& voxels, double voxel_size, chunk_reply_t& out) {
@@ -55,6 +84,7 @@ void toChunkReply(map::ChunkVoxels&& voxels, double voxel_size, chunk_reply_t& o
   out.num_voxels = voxels.num_occupied;
   out.delta_of_version = voxels.delta_of_version;
   encodeFeatures(voxels, voxel_size, out);  // before the block lists move out
+  encodeMoments(voxels, voxel_size, out);
   out.block = rowsOf(std::move(voxels.block_key));
   out.block_voxels = std::move(voxels.block_voxels);
   out.n_blocks = static_cast<std::int32_t>(out.block_voxels.size());

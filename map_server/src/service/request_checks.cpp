@@ -59,9 +59,9 @@ Status checkIntegrateRequest(const integrate_request_t& request, const map::MapC
 }
 
 Status checkChunkRequest(const chunk_request_t& request, const ServiceLimits& limits) {
-  constexpr std::int32_t kKnownFields = chunk_request_t::FIELD_FEATURES |
-                                        chunk_request_t::FIELD_STATS | chunk_request_t::FIELD_FREE |
-                                        chunk_request_t::FIELD_INDEX;
+  constexpr std::int32_t kKnownFields =
+      chunk_request_t::FIELD_FEATURES | chunk_request_t::FIELD_STATS | chunk_request_t::FIELD_FREE |
+      chunk_request_t::FIELD_INDEX | chunk_request_t::FIELD_MOMENTS;
   if ((request.fields & ~kKnownFields) != 0) return Status::invalid("unknown bits in fields");
   if (request.limit < 0) return Status::invalid("limit must be >= 0");
   if (Status s = checkThreshold(request.occupancy_threshold); !s.ok()) return s;

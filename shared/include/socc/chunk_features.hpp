@@ -5,7 +5,9 @@
 //   for the default 4 m blocks);
 // - normal: a unit vector, octahedral, two int16 (error < 0.01 deg);
 // - planarity tau in [0, 1/3]: a byte, tau * 762 rounded (error < 0.0007); 255 when unknown, and
-//   then the normal is unknown too (fewer than 5 points).
+//   then the normal is unknown too (fewer than 5 points);
+// - FIELD_MOMENTS: point counts in a byte, means as int16 offsets from the first point, sums of
+//   squared deviations as int16 of their range (encodeScatter).
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
@@ -17,6 +19,17 @@
 namespace socc::chunk {
 
 inline constexpr std::uint8_t kUnknownPlanarity = 255;
+
+/// FIELD_MOMENTS: voxels of fewer points than this come with their moments, i.e. all whose count
+/// fits the point_count byte: the few points a scan adds still move the normal and planarity of a
+/// sparse sensor's voxels of a hundred points (and give a voxel of fewer than 5 its first).
+inline constexpr std::uint32_t kMomentsBelow = 255;
+
+/// A component of a voxel's sum of squared deviations (|value| <= count * voxel_size^2 inside
+/// the voxel) as an int16 of that range: steps of count * voxel_size^2 / 32767, which resolve a
+/// plane's thickness 6x finer than the planarity byte.
+std::int16_t encodeScatter(double value, std::uint32_t count, double voxel_size);
+double decodeScatter(std::int16_t q, std::uint32_t count, double voxel_size);
 
 /// Offset [m] of a coordinate from its block's corner, in [0, block_size] (clamped).
 std::int16_t encodeOffset(double offset, double block_size);

@@ -4,6 +4,7 @@
 // client's scan maps and downsampling use these, so a voxel of one scan and a voxel of the
 // map agree on where they are and on their geometry (paper, Sec. SOCC-ICP).
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -59,6 +60,26 @@ struct PointMoments {
   /// Sum of squared deviations from the mean.
   Eigen::Matrix3d m2() const { return sum_sq - sum * sum.transpose() / static_cast<double>(count); }
 };
+
+/// A voxel's point moments as a map keeps them: count, mean and the sum of squared deviations
+/// from the mean (xx xy xz yy yz zz), in floats.
+struct StoredMoments {
+  std::uint32_t count = 0;
+  std::array<float, 3> mean{};
+  std::array<float, 6> m2{};
+};
+
+/// The symmetric matrix of stored upper-triangle components xx xy xz yy yz zz.
+Eigen::Matrix3d symmetricOf(const std::array<float, 6>& upper);
+
+/// Merges a scan's points in a voxel into its stored moments (Chan et al.'s parallel update, in
+/// double). The map server's voxel update and a client's stand-in for it (its pipelined target)
+/// both use it, so the two agree.
+void mergeMoments(std::uint32_t& count, std::array<float, 3>& mean, std::array<float, 6>& m2,
+                  const PointMoments& frame);
+inline void mergeMoments(StoredMoments& m, const PointMoments& frame) {
+  mergeMoments(m.count, m.mean, m.m2, frame);
+}
 
 /// Sample covariance M2 / (n - 1); zero below two points.
 inline Eigen::Matrix3d sampleCovariance(const Eigen::Matrix3d& m2, std::uint32_t count) {

@@ -169,6 +169,9 @@ inline std::string checkArrays(const chunk_reply_t& m) {
   if (!hasRows(m.mean, 3, s) || !hasRows(m.covariance, 6, s) || !hasCount(m.count, s) ||
       !hasCount(m.log_odds, s) || !hasRows(m.class_prob, m.num_classes, s))
     return "n_stats or num_classes does not match the statistics arrays";
+  if (!hasCount(m.point_count, m.n_counts)) return "n_counts does not match point_count";
+  if (!hasRows(m.moment_mean, 3, m.n_moments) || !hasRows(m.moment_m2, 6, m.n_moments))
+    return "n_moments does not match the moment arrays";
   if (!hasRows(m.free_index, 3, m.n_free)) return "n_free does not match free_index";
   return {};
 }

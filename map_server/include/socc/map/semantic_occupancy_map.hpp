@@ -37,6 +37,7 @@ struct ChunkQuery {
   static constexpr std::int32_t kStats = 2;     // mean, covariance, count, log-odds, classes
   static constexpr std::int32_t kFree = 4;      // also the indices of free voxels
   static constexpr std::int32_t kIndex = 8;     // voxel index of each occupied voxel
+  static constexpr std::int32_t kMoments = 16;  // with kFeatures: point counts, some moments
   std::int32_t fields = kFeatures;
   std::int32_t limit = 0;  // 0 = unlimited
 
@@ -72,6 +73,10 @@ struct ChunkVoxels {
   std::vector<std::uint8_t> occupancy;  // round(p_occ * 255)
   std::vector<std::uint8_t> label;
   std::vector<std::uint8_t> label_prob;  // round(p_label * 255)
+  // kMoments: each voxel's point count; the moments of those below chunk::kMomentsBelow points
+  std::vector<std::uint32_t> point_count;
+  std::array<std::vector<float>, 3> moment_mean;  // map frame [m]
+  std::array<std::vector<float>, 6> moment_m2;    // xx xy xz yy yz zz [m^2]
   // kStats
   std::array<std::vector<float>, 3> mean;
   std::array<std::vector<float>, 6> covariance;  // xx xy xz yy yz zz

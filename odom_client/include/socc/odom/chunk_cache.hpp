@@ -20,15 +20,16 @@
 namespace socc::odom {
 
 /// GET_CHUNK of the sphere's voxels with p_occ >= occupancy_threshold, with FIELD_FEATURES: the
-/// registration target's request.
+/// registration target's request. with_moments: also FIELD_MOMENTS, for a target the client
+/// merges its own frames into (map_pipeline.hpp).
 chunk_request_t featureChunkRequest(const Eigen::Vector3d& center, double radius,
-                                    double occupancy_threshold);
+                                    double occupancy_threshold, bool with_moments = false);
 
 class ChunkCache {
  public:
   explicit ChunkCache(double occupancy_threshold) : occupancy_threshold_(occupancy_threshold) {}
 
-  /// GET_CHUNK (FIELD_FEATURES) of the sphere: a delta on what is held, if anything.
+  /// GET_CHUNK (FIELD_FEATURES, FIELD_MOMENTS) of the sphere: a delta on what is held, if any.
   chunk_request_t request(const Eigen::Vector3d& center, double radius) const;
 
   /// Applies the reply to request(center, radius); returns the map of the whole sphere.

@@ -5,6 +5,8 @@
 // A chunk may carry an overlay: voxels of the robot's own frames the chunk predates (their
 // first points are the ones the server will keep), searched in a small second tree so the
 // chunk's tree is built once (map_pipeline.hpp).
+#include <tsl/robin_map.h>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
@@ -14,6 +16,7 @@
 
 #include "socc/chunk_reply_t.hpp"
 #include "socc/point_cloud.hpp"
+#include "socc/voxel.hpp"
 
 namespace socc::odom {
 
@@ -24,7 +27,14 @@ struct MapVoxel {
   float occupancy = 0.f;   // p_occ
   std::uint8_t label = 0;  // argmax class
   float label_prob = 0.f;  // probability of that class
+  // Of a voxel of few points, when known (a chunk with FIELD_MOMENTS, the client's own voxels):
+  // its points so far, into which the client merges its next frames' points as the server will
+  // (map_pipeline.hpp).
+  std::optional<StoredMoments> moments;
 };
+
+/// Voxels by id, e.g. a chunk's voxels after the client's own frames hit them again.
+using VoxelUpdates = tsl::robin_map<std::size_t, MapVoxel>;
 
 struct Neighbor {
   std::size_t index;
@@ -61,15 +71,19 @@ class LocalMap {
   double voxelSize() const { return voxel_size_; }
   double hitOccupancy() const { return hit_occupancy_; }
 
-  /// The points of cloud (sensor frame, taken at pose), in the map frame, that fall in voxels
-  /// holding none of this map's voxels (chunk or overlay): where integrating the cloud adds
-  /// voxels. All of them when this map was not made from a chunk.
-  LabeledCloud pointsOutside(const LabeledCloud& cloud, const Eigen::Isometry3d& pose) const;
+  struct Held {
+    std::size_t id;
+    bool moments;  // the voxel came with moments (it may have lost them in an update since)
+  };
+  /// The voxel at key (chunk or overlay), found without touching the voxels; none when this
+  /// map was not made from a chunk (no voxel grid).
+  std::optional<Held> find(const VoxelIndex& key) const;
 
-  /// This map's chunk plus overlay (instead of any overlay this map has), searched together;
-  /// the chunk's voxels and search tree are shared, not copied. Overlay voxels follow the
-  /// chunk's in index order.
-  LocalMap withOverlay(std::vector<MapVoxel> overlay) const;
+  /// This map's chunk plus overlay, and with the chunk's voxels in updated replaced (by id; each
+  /// keeps its first point, which the search tree holds), instead of any overlay and updates this
+  /// map has; searched together. The chunk's voxels and search tree are shared, not copied.
+  /// Overlay voxels follow the chunk's in id order.
+  LocalMap withOverlay(std::vector<MapVoxel> overlay, const VoxelUpdates& updated = {}) const;
 
   /// The nearest first-inserted point within max_distance of query, if any (exact).
   std::optional<Neighbor> nearest(const Eigen::Vector3d& query, double max_distance) const;
@@ -80,7 +94,9 @@ class LocalMap {
   class Layer;
   std::shared_ptr<const Layer> base_;     // the chunk's voxels
   std::shared_ptr<const Layer> overlay_;  // none: no overlay
-  double voxel_size_ = 0.0;               // from the chunk; 0: not a chunk
+  struct Updates;
+  std::shared_ptr<const Updates> updated_;  // none: the chunk's voxels as sent
+  double voxel_size_ = 0.0;                 // from the chunk; 0: not a chunk
   double hit_occupancy_ = 0.0;
 };
 

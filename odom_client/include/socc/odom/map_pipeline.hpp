@@ -7,8 +7,11 @@
 // chunk the worker fetched plus the own voxels of the frames integrated since (frame k-1, or
 // k-2 and k-1) that the chunk lacks (with the first points the server keeps for them), while the
 // worker sends frame k-1's Integrate and, with every chunk_interval-th one, fetches the chunk
-// after it and builds its tree. The server and the client work at the same time; the target
-// differs from the serial one only in the features of the voxels those frames hit again. Soft
+// after it and builds its tree. The server and the client work at the same time. Voxels of few
+// points come with their moments (FIELD_MOMENTS), and the frames' points are merged into them as
+// the server merges them: a sparse sensor's voxels get and refine their normals when they would
+// in the serial target. The target differs from the serial one only in the features of voxels of
+// many points that those frames hit again, and in occupancies and labels. Soft
 // state: dropping it loses nothing, the next frame then fetches its chunk itself (the first
 // frame, after a jump).
 #include <Eigen/Core>
@@ -63,9 +66,11 @@ class MapPipeline {
   struct InFlight {
     std::future<Exchange> reply;
     FrameStats stats;
+    bool fetch = false;  // it brings a chunk
   };
-  struct Overlaid {  // a chunk's overlay, and the chunk with it
+  struct Overlaid {  // a chunk's overlay and updated voxels, and the chunk with them
     std::vector<MapVoxel> overlay;
+    VoxelUpdates updated;
     LocalMap map;
   };
   struct Target {  // the last chunk, with the voxels of the integrated frames after it
@@ -75,11 +80,14 @@ class MapPipeline {
     std::int64_t bytes = 0;  // of the chunk, until a frame reported them
     double chunk_ms = 0.0;
     std::vector<MapVoxel> overlay;
+    VoxelUpdates updated;           // chunk voxels of few points that the frames hit again
     std::future<Overlaid> pending;  // with the last frame's voxels; not valid: none
   };
 
   LocalMap fetchNow(const Eigen::Vector3d& center, FrameStats& stats);
   void startOverlay(std::shared_ptr<const FrameEstimate> frame);  // target_->pending
+  /// startOverlay when there is a target without one pending; false otherwise.
+  bool overlay(const std::shared_ptr<const FrameEstimate>& frame);
   /// In the worker: the frame's Integrate, then (when fetch_at) the chunk around fetch_at.
   Exchange exchange(const FrameEstimate& frame, const std::optional<Eigen::Vector3d>& fetch_at);
   rpc::Result<chunk_reply_t> fetchChunk(const Eigen::Vector3d& center);

@@ -1,11 +1,34 @@
 #pragma once
 // A LocalMap made directly from one cloud (no map server): voxels of voxel_size with the first
-// point, the normal and planarity of socc/voxel.hpp (the map server's rule), p_occ = 1 and the
-// majority label. Used for scan-to-scan reference registrations (tests, benchmarks, tools).
+// point, the normal and planarity of socc/voxel.hpp (the map server's rule), the points' moments,
+// p_occ = 1 and the majority label. Used for scan-to-scan reference registrations (tests,
+// benchmarks, tools) and the pipelined target's own voxels.
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "socc/labels.hpp"
 #include "socc/odom/local_map.hpp"
 #include "socc/point_cloud.hpp"
+#include "socc/voxel.hpp"
 
 namespace socc::odom {
+
+/// The points of one voxel of a cloud.
+struct CloudVoxel {
+  VoxelIndex key;
+  PointMoments moments;  // in the cloud's order: first is the point the server keeps
+  std::array<std::uint32_t, kNumClasses> labels{};
+};
+
+/// The points of cloud (sensor frame, taken at pose), in the map frame, grouped by voxel of
+/// voxel_size, in the order of each voxel's first point.
+std::vector<CloudVoxel> cloudVoxels(const LabeledCloud& cloud, const Eigen::Isometry3d& pose,
+                                    double voxel_size);
+
+/// The map voxel of a cloud's voxel (the moments kept below chunk::kMomentsBelow points).
+MapVoxel toMapVoxel(const CloudVoxel& voxel);
 
 LocalMap buildScanMap(const LabeledCloud& cloud, double voxel_size);
 
