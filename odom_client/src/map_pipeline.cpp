@@ -6,7 +6,6 @@
 #include <utility>
 
 #include "socc/odom/frame_overlay.hpp"
-#include "socc/odom/scan_map.hpp"
 #include "socc/odom/service_map_access.hpp"
 
 namespace socc::odom {
@@ -89,33 +88,25 @@ rpc::Result<chunk_reply_t> MapPipeline::fetchChunk(const Eigen::Vector3d& center
 
 void MapPipeline::integrate(FrameEstimate estimate, const FrameStats& stats,
                             const Eigen::Vector3d& ahead) {
-  // Shared by the overlay's and the Integrate's threads: nothing of the scan is copied here.
-  const auto frame = std::make_shared<const FrameEstimate>(std::move(estimate));
-  // Unless the Integrate in flight brings a chunk (the target changes then), the frame's overlay
-  // is worked out while that Integrate is still awaited.
-  const bool early = !(in_flight_ && in_flight_->fetch) && overlay(frame);
   const Clock::time_point wait = Clock::now();
   finish();  // target_ is now the chunk after the previous frame, if one came with it
   FrameStats row = stats;
   row.wait_ms = msSince(wait);
   row.total_ms += row.wait_ms;
-  if (!early && !overlay(frame))
+  // Shared by the overlay's and the Integrate's threads: nothing of the scan is copied here.
+  const auto frame = std::make_shared<const FrameEstimate>(std::move(estimate));
+  if (target_ && !target_->pending.valid())
+    startOverlay(frame);
+  else
     target_.reset();  // it lacks this frame, and no overlay stands in for it
   // Every chunk_interval-th Integrate brings a chunk back; the frames in between register
   // against the last one plus their predecessors' voxels.
   const bool fetch = config_.pipelined_map && ++integrates_ % config_.chunk_interval == 0;
   in_flight_.emplace();
   in_flight_->stats = row;
-  in_flight_->fetch = fetch;
   in_flight_->reply = std::async(std::launch::async, [this, ahead, fetch, frame]() {
     return exchange(*frame, fetch ? std::optional(ahead) : std::nullopt);
   });
-}
-
-bool MapPipeline::overlay(const std::shared_ptr<const FrameEstimate>& frame) {
-  if (!target_ || target_->pending.valid()) return false;
-  startOverlay(frame);
-  return true;
 }
 
 void MapPipeline::startOverlay(std::shared_ptr<const FrameEstimate> frame) {

@@ -66,7 +66,6 @@ class MapPipeline {
   struct InFlight {
     std::future<Exchange> reply;
     FrameStats stats;
-    bool fetch = false;  // it brings a chunk
   };
   struct Overlaid {  // a chunk's overlay and updated voxels, and the chunk with them
     std::vector<MapVoxel> overlay;
@@ -86,8 +85,6 @@ class MapPipeline {
 
   LocalMap fetchNow(const Eigen::Vector3d& center, FrameStats& stats);
   void startOverlay(std::shared_ptr<const FrameEstimate> frame);  // target_->pending
-  /// startOverlay when there is a target without one pending; false otherwise.
-  bool overlay(const std::shared_ptr<const FrameEstimate>& frame);
   /// In the worker: the frame's Integrate, then (when fetch_at) the chunk around fetch_at.
   Exchange exchange(const FrameEstimate& frame, const std::optional<Eigen::Vector3d>& fetch_at);
   rpc::Result<chunk_reply_t> fetchChunk(const Eigen::Vector3d& center);
