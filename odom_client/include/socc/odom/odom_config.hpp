@@ -72,8 +72,10 @@ struct OdomConfig {
   // ... and fetch those chunks as deltas on the last one (chunk_cache.hpp).
   bool delta_chunks = true;
   // ... a chunk with every chunk_interval-th Integrate: the frames in between register against
-  // the last chunk plus the voxels of the frames integrated since (1: a chunk every frame).
-  int chunk_interval = 2;
+  // the last chunk plus the frames integrated since, merged into it as the server merges them
+  // (1: a chunk every frame). The chunk then brings what the client cannot know: other robots'
+  // points and cleared space, at most chunk_interval frames late.
+  int chunk_interval = 4;
 
   // Registration.
   double planarity_threshold = 0.1;  // tau < this (and n >= 5) => point-to-plane
