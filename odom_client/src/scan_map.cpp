@@ -15,7 +15,7 @@ std::vector<CloudVoxel> cloudVoxels(const LabeledCloud& cloud, const Eigen::Isom
   CloudVoxel* last = nullptr;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3d p =
-        (pose * cloud.points[i].cast<double>()).cast<float>().cast<double>();  // as sent
+        (pose * cloud.points[i].cast<double>()).cast<float>().cast<double>();  // as transformed()
     if (!p.allFinite()) continue;
     const VoxelIndex key = voxelIndex(p, inv_size);
     if (last == nullptr || key != last->key) {
