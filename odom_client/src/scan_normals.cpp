@@ -1,7 +1,5 @@
 #include "socc/odom/scan_normals.hpp"
 
-#include <tbb/parallel_for.h>
-
 #include <array>
 #include <cmath>
 #include <nanoflann.hpp>
@@ -85,15 +83,6 @@ const Eigen::Vector3f& ScanNormals::at(std::size_t i) const {
     known_[i] = 1;
   }
   return normals_[i];
-}
-
-Points scanNormals(const Points& points, double radius, double planarity_threshold) {
-  const ScanNormals normals(points, radius, planarity_threshold);
-  Points out(points.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = normals.at(i);
-  });
-  return out;
 }
 
 }  // namespace socc::odom

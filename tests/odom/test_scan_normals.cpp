@@ -1,4 +1,4 @@
-// scanNormals: the surface a scan shows around each of its points, or none.
+// ScanNormals: the surface a scan shows around each of its points, or none.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,6 +6,15 @@
 #include "socc/odom/scan_normals.hpp"
 
 using namespace socc::odom;
+
+namespace {
+socc::Points scanNormals(const socc::Points& points, double radius, double planarity_threshold) {
+  const ScanNormals normals(points, radius, planarity_threshold);
+  socc::Points out;
+  for (std::size_t i = 0; i < points.size(); ++i) out.push_back(normals.at(i));
+  return out;
+}
+}  // namespace
 
 TEST(ScanNormals, RingsOnAWallGiveTheWallsNormalALoneRingGivesNone) {
   socc::Points wall;  // three rings 0.3 m apart on the plane y = 5, points 0.25 m apart

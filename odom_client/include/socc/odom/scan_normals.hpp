@@ -37,7 +37,4 @@ class ScanNormals {
   mutable std::vector<std::uint8_t> known_;
 };
 
-/// Every point's normal (ScanNormals::at).
-Points scanNormals(const Points& points, double radius, double planarity_threshold);
-
 }  // namespace socc::odom
