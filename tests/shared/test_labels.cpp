@@ -14,6 +14,8 @@ TEST(Labels, MapsSemanticKittiRawIds) {
   EXPECT_EQ(mapSemanticKittiLabel(254), kPerson);
   EXPECT_EQ(mapSemanticKittiLabel(52), kUnlabeled);  // other-structure
   EXPECT_EQ(mapSemanticKittiLabel(12345), kUnlabeled);
+  EXPECT_EQ(mapSemanticKittiLabel(259), kOtherVehicle);  // the last id of the table
+  EXPECT_EQ(mapSemanticKittiLabel(260), kUnlabeled);     // the first past it
   // Upper 16 bits are the instance id.
   EXPECT_EQ(mapSemanticKittiLabel((7u << 16) | 50u), kBuilding);
 }
