@@ -38,8 +38,9 @@ LabeledCloud semanticVoxelDownsample(const LabeledCloud& cloud, double voxel_siz
   for (int c = 0; c < kNumClasses; ++c)
     inv_size[c] = class_factor[c] > 0.0 ? 1.0 / (class_factor[c] * voxel_size) : 0.0;
 
+  // Not reserved for the cloud's size: a downsampled scan has a few thousand voxels, and a table
+  // sized for a quarter of its points misses the cache and is cleared at every call.
   tsl::robin_map<VoxelKey, Sum, VoxelKeyHash> voxels;
-  voxels.reserve(cloud.size() / 4);
   // A scan's consecutive points mostly share a voxel: its sum is reused without a lookup (valid
   // until the next insertion, which replaces it).
   std::optional<VoxelKey> last_key;
