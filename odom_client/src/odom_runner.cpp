@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "socc/odom/local_map.hpp"
+#include "socc/odom/scan_preparer.hpp"
 #include "socc/odom/service_map_access.hpp"
 #include "socc/pose_conversion.hpp"
 #include "socc/progress_bar.hpp"
@@ -62,35 +63,34 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
   Odometry odometry(config_, options_.initial_pose, options_.initial_pose_known);
   ProgressBar bar("odom_client", source.remaining(), options_.progress);
   const Clock::time_point run_start = Clock::now();
+  ScanPreparer input(source, config_, options_.skip_until_seq);
   while (!(options_.stop && options_.stop->load())) {
     const Clock::time_point frame_start = Clock::now();
-    std::optional<Scan> scan = source.next();
-    if (!scan) break;
-    if (scan->seq <= options_.skip_until_seq) continue;  // integrated before a restart
-    if (!localized_ && !relocalize(odometry, *scan)) {
+    const std::optional<PreparedInput> next = input.next();
+    if (!next) break;
+    if (next->skipped) continue;  // integrated before a restart
+    if (!next->scan) {
+      std::cerr << "odom_client: skipping " << next->name << ": " << next->problem << "\n";
+      continue;
+    }
+    const PreparedScan& scan = *next->scan;
+    if (!localized_ && !relocalize(odometry, scan)) {
       bar.tick("relocalizing");
       continue;
     }
-    if (const std::optional<FrameStats> stats = processScan(odometry, *scan, frame_start))
-      bar.tick(progressText(*stats, tracking_.state()));
+    const FrameStats stats = processScan(odometry, scan, frame_start);
+    bar.tick(progressText(stats, tracking_.state()));
   }
   pipeline_->finish();
   bar.finish();
   wall_seconds_ = std::chrono::duration<double>(Clock::now() - run_start).count();
 }
 
-std::optional<FrameStats> OdomRunner::processScan(Odometry& odometry, const Scan& scan,
-                                                  Clock::time_point start) {
+FrameStats OdomRunner::processScan(Odometry& odometry, const PreparedScan& prepared,
+                                   Clock::time_point start) {
   FrameStats stats;
-  stats.frame = scan.seq;
-  PreparedScan prepared;
-  try {
-    prepared = odometry.prepare(scan.cloud, scan.seq, scan.utime);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "odom_client: skipping " << scan.name << ": " << e.what() << "\n";
-    return std::nullopt;
-  }
-  stats.preprocess_ms = msSince(start);
+  stats.frame = prepared.seq;
+  stats.preprocess_ms = msSince(start);  // waiting for the scan, read and prepared ahead
   const LocalMap map = pipeline_->target(odometry.predictedPose(prepared).translation(), stats);
   const Clock::time_point register_start = Clock::now();
   FrameEstimate estimate = odometry.registerFrame(prepared, map);
@@ -107,21 +107,14 @@ std::optional<FrameStats> OdomRunner::processScan(Odometry& odometry, const Scan
   return stats;
 }
 
-bool OdomRunner::relocalize(Odometry& odometry, const Scan& scan) {
+bool OdomRunner::relocalize(Odometry& odometry, const PreparedScan& scan) {
   if (search_since_utime_ < 0) startRelocalizing(scan.utime);
   FrameStats stats;
   stats.frame = scan.seq;
   stats.status = "relocalizing";
   const Clock::time_point start = Clock::now();
-  PreparedScan prepared;
-  try {
-    prepared = odometry.prepare(scan.cloud, scan.seq, scan.utime);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "odom_client: skipping " << scan.name << ": " << e.what() << "\n";
-    return false;
-  }
   ServiceMapAccess map(client_, config_);
-  const Relocalization found = odom::relocalize(config_, prepared, map, hint_);
+  const Relocalization found = odom::relocalize(config_, scan, map, hint_);
   stats.register_ms = msSince(start);
   if (!found.pose) {
     stats.problem = found.problem;

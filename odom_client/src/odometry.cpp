@@ -70,23 +70,28 @@ Odometry::Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_po
       pose_(initial_pose),
       keep_first_pose_(initial_pose_known && !config.refine_initial_pose) {}
 
-PreparedScan Odometry::prepare(const LabeledCloud& raw, std::int64_t seq,
-                               std::int64_t utime) const {
+PreparedScan prepareScan(const OdomConfig& config, const LabeledCloud& raw, std::int64_t seq,
+                         std::int64_t utime) {
   if (const std::string problem = checkCloud(raw); !problem.empty())
     throw std::invalid_argument("bad scan: " + problem);
   PreparedScan out;
   out.seq = seq;
   out.utime = utime;
-  out.cloud = rangeFilter(raw, config_.min_range, config_.max_range);
-  if (!config_.use_semantics) dropLabels(out.cloud);
-  if (!config_.deskew)
+  out.cloud = rangeFilter(raw, config.min_range, config.max_range);
+  if (!config.use_semantics) dropLabels(out.cloud);
+  if (!config.deskew)
     out.cloud.times.clear();
-  else if (!out.cloud.hasTimes() && config_.azimuth_times)
+  else if (!out.cloud.hasTimes() && config.azimuth_times)
     out.cloud.times =
-        azimuthTimes(out.cloud.points, {config_.frame_period, config_.azimuth_start_deg,
-                                        config_.azimuth_clockwise, config_.scan_time_in_sweep});
+        azimuthTimes(out.cloud.points, {config.frame_period, config.azimuth_start_deg,
+                                        config.azimuth_clockwise, config.scan_time_in_sweep});
   out.mid_time = sweepMidTime(out.cloud);
   return out;
+}
+
+PreparedScan Odometry::prepare(const LabeledCloud& raw, std::int64_t seq,
+                               std::int64_t utime) const {
+  return prepareScan(config_, raw, seq, utime);
 }
 
 Eigen::Isometry3d Odometry::predictedPose(const PreparedScan& scan) const {

@@ -66,12 +66,12 @@ class OdomRunner {
   int relocalizations() const { return relocalizations_; }
 
  private:
-  /// One scan through the pipeline; its stats, or nullopt when the scan was unusable (skipped).
-  std::optional<FrameStats> processScan(Odometry& odometry, const Scan& scan,
-                                        std::chrono::steady_clock::time_point start);
+  /// One prepared scan through the pipeline; its stats.
+  FrameStats processScan(Odometry& odometry, const PreparedScan& scan,
+                         std::chrono::steady_clock::time_point start);
   /// Searches the scan's pose in the map; on success restarts odometry there. False while the
   /// robot is still unlocalized (the scan is logged, not integrated).
-  bool relocalize(Odometry& odometry, const Scan& scan);
+  bool relocalize(Odometry& odometry, const PreparedScan& scan);
   void startRelocalizing(std::int64_t utime);
   /// Judges, records and (when healthy and not lost) integrates one finished frame; ahead: see
   /// MapPipeline::integrate.

@@ -32,6 +32,12 @@ struct PreparedScan {
   double time() const { return utime * 1e-6 + mid_time; }  // [s] of the mid-sweep pose
 };
 
+/// Range filter, labels, per-point times (recorded, or from the azimuth when configured): what
+/// the scan needs before registration, from the configuration alone (no odometry state).
+/// Throws std::invalid_argument when the cloud is inconsistent (see checkCloud).
+PreparedScan prepareScan(const OdomConfig& config, const LabeledCloud& raw, std::int64_t seq,
+                         std::int64_t utime);
+
 struct FrameEstimate {
   std::int64_t seq = 0;
   std::int64_t utime = 0;
@@ -56,8 +62,7 @@ class Odometry {
   Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_pose,
            bool initial_pose_known = false);
 
-  /// Range filter, labels, per-point times (recorded, or from the azimuth when configured).
-  /// Throws std::invalid_argument when the cloud is inconsistent (see checkCloud).
+  /// prepareScan with this odometry's configuration.
   PreparedScan prepare(const LabeledCloud& raw, std::int64_t seq, std::int64_t utime) const;
 
   /// Pose predicted at the middle of scan's sweep (constant velocity).
