@@ -12,14 +12,23 @@ namespace socc::odom {
 FrameSplit splitFrame(const LocalMap& map, const LabeledCloud& cloud,
                       const Eigen::Isometry3d& pose) {
   if (map.voxelSize() <= 0.0) throw std::logic_error("splitFrame: the map has no voxel grid");
-  // One lookup per voxel of the frame, not per point.
+  // One lookup per voxel of the frame, not per point. Points in map voxels without moments
+  // (chunk::kMomentsBelow points or more: most of a dense sensor's near ones) change nothing
+  // the client can follow, so they are not summed at all.
+  std::vector<std::optional<std::size_t>> ids;  // of the kept voxels, in order; none: outside
+  const auto keep = [&](const VoxelIndex& key) {
+    const std::optional<LocalMap::Held> held = map.find(key);
+    if (held && !held->moments) return false;
+    ids.push_back(held ? std::optional(held->id) : std::nullopt);
+    return true;
+  };
+  std::vector<CloudVoxel> voxels = cloudVoxels(cloud, pose, map.voxelSize(), keep);
   FrameSplit out;
-  for (CloudVoxel& v : cloudVoxels(cloud, pose, map.voxelSize())) {
-    const std::optional<LocalMap::Held> held = map.find(v.key);
-    if (!held)
-      out.outside.push_back(std::move(v));
-    else if (held->moments)
-      out.into_known.emplace_back(held->id, v.moments);
+  for (std::size_t k = 0; k < voxels.size(); ++k) {
+    if (ids[k])
+      out.into_known.emplace_back(*ids[k], voxels[k].moments);
+    else
+      out.outside.push_back(std::move(voxels[k]));
   }
   return out;
 }
@@ -47,7 +56,6 @@ void addFrame(const LocalMap& base, std::size_t chunk_size, const LabeledCloud& 
     const auto& [id, points] = split.into_known[k];
     merged[k] = withPoints(base.voxel(id), points);
   });
-  updated.reserve(updated.size() + merged.size());
   for (std::size_t k = 0; k < merged.size(); ++k) {
     const std::size_t id = split.into_known[k].first;
     if (id < chunk_size)

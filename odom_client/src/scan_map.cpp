@@ -2,31 +2,40 @@
 
 #include <tsl/robin_map.h>
 
+#include <optional>
+
 #include "socc/chunk_features.hpp"
 
 namespace socc::odom {
 
 std::vector<CloudVoxel> cloudVoxels(const LabeledCloud& cloud, const Eigen::Isometry3d& pose,
-                                    double voxel_size) {
+                                    double voxel_size, const KeepVoxel& keep) {
+  constexpr std::uint32_t kLeftOut = ~std::uint32_t{0};
   const double inv_size = 1.0 / voxel_size;
   tsl::robin_map<VoxelIndex, std::uint32_t, VoxelIndexHash> slot_of;
   std::vector<CloudVoxel> voxels;
   // A scan's consecutive points mostly share a voxel: its slot is reused without a lookup.
-  CloudVoxel* last = nullptr;
+  std::optional<VoxelIndex> last_key;
+  std::uint32_t last = kLeftOut;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3d p =
         (pose * cloud.points[i].cast<double>()).cast<float>().cast<double>();  // as transformed()
     if (!p.allFinite()) continue;
     const VoxelIndex key = voxelIndex(p, inv_size);
-    if (last == nullptr || key != last->key) {
-      const auto [it, inserted] =
-          slot_of.try_emplace(key, static_cast<std::uint32_t>(voxels.size()));
-      if (inserted) voxels.push_back(CloudVoxel{key, {}, {}});
-      last = &voxels[it->second];
+    if (!last_key || key != *last_key) {
+      const auto [it, inserted] = slot_of.try_emplace(key, kLeftOut);
+      if (inserted && (!keep || keep(key))) {
+        it.value() = static_cast<std::uint32_t>(voxels.size());
+        voxels.push_back(CloudVoxel{key, {}, {}});
+      }
+      last_key = key;
+      last = it->second;
     }
-    last->moments.add(p);
+    if (last == kLeftOut) continue;
+    CloudVoxel& v = voxels[last];
+    v.moments.add(p);
     const std::uint8_t label = cloud.hasLabels() ? cloud.labels[i] : 0;
-    if (isValidClass(label)) ++last->labels[label];
+    if (isValidClass(label)) ++v.labels[label];
   }
   return voxels;
 }

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "socc/labels.hpp"
@@ -22,10 +23,14 @@ struct CloudVoxel {
   std::array<std::uint32_t, kNumClasses> labels{};
 };
 
+/// Asked once per voxel of a cloud, at its first point: false leaves the voxel out.
+using KeepVoxel = std::function<bool(const VoxelIndex&)>;
+
 /// The points of cloud (sensor frame, taken at pose), in the map frame, grouped by voxel of
-/// voxel_size, in the order of each voxel's first point.
+/// voxel_size, in the order of each voxel's first point; only the voxels keep accepts (all
+/// without it), whose points are then not summed.
 std::vector<CloudVoxel> cloudVoxels(const LabeledCloud& cloud, const Eigen::Isometry3d& pose,
-                                    double voxel_size);
+                                    double voxel_size, const KeepVoxel& keep = {});
 
 /// The map voxel of a cloud's voxel (the moments kept below chunk::kMomentsBelow points).
 MapVoxel toMapVoxel(const CloudVoxel& voxel);
