@@ -55,9 +55,14 @@ std::string SemanticOccupancyMap::validate(const Eigen::Isometry3d& sensor_pose,
   if (!cloud.times.empty() && cloud.times.size() != cloud.points.size())
     return "time count " + std::to_string(cloud.times.size()) + " != point count " +
            std::to_string(cloud.points.size());
+  // A rotation keeps a point's length: within max_abs_coordinate - |t| of the sensor, a point
+  // is inside without being transformed (the margin covers rounding); the rest are transformed.
+  const double safe = (c.max_abs_coordinate - t.cwiseAbs().maxCoeff()) * (1.0 - 1e-9);
+  const double safe2 = safe > 0.0 ? safe * safe : -1.0;
   for (std::size_t i = 0; i < cloud.points.size(); ++i) {
     const Eigen::Vector3f& p = cloud.points[i];
     if (!p.allFinite()) return "point " + std::to_string(i) + " is not finite";
+    if (p.cast<double>().squaredNorm() < safe2) continue;
     const Eigen::Vector3d q = sensor_pose * p.cast<double>();
     if (q.cwiseAbs().maxCoeff() > c.max_abs_coordinate)
       return "point " + std::to_string(i) + " lies beyond max_abs_coordinate (" +

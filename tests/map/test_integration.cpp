@@ -167,6 +167,18 @@ TEST_F(BadInput, AbsurdPoses) {
   expectRejected(Eigen::Isometry3d::Identity(), far_point, "point 0 lies beyond");
 }
 
+// Points are judged in the map frame: a sensor near max_abs_coordinate (100 km) rejects the
+// points its pose carries beyond it and keeps those it turns back inside.
+TEST_F(BadInput, PointsBeyondTheMapAreJudgedAfterThePose) {
+  Eigen::Isometry3d edge = Eigen::Isometry3d::Identity();
+  edge.translation() = Eigen::Vector3d(99990.0, 0.0, 0.0);
+  LabeledCloud c = test::randomCloud(10, 5.0, 6);
+  c.points[3] = Eigen::Vector3f(20.f, 0.f, 0.f);
+  expectRejected(edge, c, "point 3 lies beyond");
+  edge.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  EXPECT_EQ(map_.validate(edge, c), "");  // x 20 turned to -20: inside
+}
+
 TEST(Integration, EmptyCloudAndUnlabeledCloud) {
   SemanticOccupancyMap map{MapConfig{}};
   const IntegrationResult r = map.integrate(Eigen::Isometry3d::Identity(), LabeledCloud{});
