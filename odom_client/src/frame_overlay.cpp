@@ -64,7 +64,7 @@ void addFrame(const LocalMap& base, std::size_t chunk_size, const LabeledCloud& 
       overlay[id - chunk_size] = std::move(merged[k]);
   }
   for (const CloudVoxel& added : split.outside) {
-    MapVoxel v = toMapVoxel(added);
+    MapVoxel v = toMapVoxel(added, EigenSolver::kClosedForm);  // as the server's chunk has it
     v.occupancy = base.hitOccupancy();
     overlay.push_back(std::move(v));
   }

@@ -40,16 +40,13 @@ std::vector<CloudVoxel> cloudVoxels(const LabeledCloud& cloud, const Eigen::Isom
   return voxels;
 }
 
-MapVoxel toMapVoxel(const CloudVoxel& voxel) {
+MapVoxel toMapVoxel(const CloudVoxel& voxel, EigenSolver solver) {
   const PointMoments& m = voxel.moments;
   MapVoxel v;
   v.point = m.first;
   v.normal.setZero();
   v.occupancy = 1.f;
-  // Iterative: the start-up of a sparse sensor registers against this map, and the closed
-  // form's noise in line-like voxels swung it by metres (test_closed_loop, office/vlp32).
-  const VoxelFeatures f =
-      voxelFeatures(sampleCovariance(m.m2(), m.count), m.count, EigenSolver::kIterative);
+  const VoxelFeatures f = voxelFeatures(sampleCovariance(m.m2(), m.count), m.count, solver);
   if (f.valid) {
     v.normal = f.normal;
     v.planarity = static_cast<float>(f.planarity);
@@ -69,7 +66,9 @@ MapVoxel toMapVoxel(const CloudVoxel& voxel) {
 std::vector<MapVoxel> scanVoxels(const LabeledCloud& cloud, double voxel_size) {
   std::vector<MapVoxel> voxels;
   for (const CloudVoxel& v : cloudVoxels(cloud, Eigen::Isometry3d::Identity(), voxel_size))
-    voxels.push_back(toMapVoxel(v));
+    // Iterative: the start-up of a sparse sensor registers against this map, and the closed
+    // form's noise in line-like voxels swung it by metres (test_closed_loop, office/vlp32).
+    voxels.push_back(toMapVoxel(v, EigenSolver::kIterative));
   return voxels;
 }
 

@@ -32,8 +32,9 @@ using KeepVoxel = std::function<bool(const VoxelIndex&)>;
 std::vector<CloudVoxel> cloudVoxels(const LabeledCloud& cloud, const Eigen::Isometry3d& pose,
                                     double voxel_size, const KeepVoxel& keep = {});
 
-/// The map voxel of a cloud's voxel (the moments kept below chunk::kMomentsBelow points).
-MapVoxel toMapVoxel(const CloudVoxel& voxel);
+/// The map voxel of a cloud's voxel (the moments kept below chunk::kMomentsBelow points), its
+/// normal and planarity from solver.
+MapVoxel toMapVoxel(const CloudVoxel& voxel, EigenSolver solver);
 
 LocalMap buildScanMap(const LabeledCloud& cloud, double voxel_size);
 
