@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "socc/chunk_features.hpp"
+#include "socc/odom/recent_slots.hpp"
 
 namespace socc::odom {
 
@@ -17,19 +18,25 @@ std::vector<CloudVoxel> cloudVoxels(const LabeledCloud& cloud, const Eigen::Isom
   // A scan's consecutive points mostly share a voxel: its slot is reused without a lookup.
   std::optional<VoxelIndex> last_key;
   std::uint32_t last = kLeftOut;
+  RecentSlots<VoxelIndex, VoxelIndexHash> recent;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3d p =
         (pose * cloud.points[i].cast<double>()).cast<float>().cast<double>();  // as transformed()
     if (!p.allFinite()) continue;
     const VoxelIndex key = voxelIndex(p, inv_size);
     if (!last_key || key != *last_key) {
-      const auto [it, inserted] = slot_of.try_emplace(key, kLeftOut);
-      if (inserted && (!keep || keep(key))) {
-        it.value() = static_cast<std::uint32_t>(voxels.size());
-        voxels.push_back(CloudVoxel{key, {}, {}});
-      }
       last_key = key;
-      last = it->second;
+      if (const std::uint32_t* slot = recent.find(key)) {
+        last = *slot;
+      } else {
+        const auto [it, inserted] = slot_of.try_emplace(key, kLeftOut);
+        if (inserted && (!keep || keep(key))) {
+          it.value() = static_cast<std::uint32_t>(voxels.size());
+          voxels.push_back(CloudVoxel{key, {}, {}});
+        }
+        last = it->second;
+        recent.remember(key, last);
+      }
     }
     if (last == kLeftOut) continue;
     CloudVoxel& v = voxels[last];

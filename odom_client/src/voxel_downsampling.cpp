@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "socc/odom/recent_slots.hpp"
 #include "socc/voxel.hpp"
 
 namespace socc::odom {
@@ -27,7 +28,7 @@ struct Sum {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   double time_sum = 0.0;
   int count = 0;
-  std::size_t order = 0;  // first point's index: keeps the output deterministic
+  std::size_t first = 0;  // first point's index (its label is the voxel's)
 };
 
 }  // namespace
@@ -38,13 +39,16 @@ LabeledCloud semanticVoxelDownsample(const LabeledCloud& cloud, double voxel_siz
   for (int c = 0; c < kNumClasses; ++c)
     inv_size[c] = class_factor[c] > 0.0 ? 1.0 / (class_factor[c] * voxel_size) : 0.0;
 
-  // Not reserved for the cloud's size: a downsampled scan has a few thousand voxels, and a table
-  // sized for a quarter of its points misses the cache and is cleared at every call.
-  tsl::robin_map<VoxelKey, Sum, VoxelKeyHash> voxels;
-  // A scan's consecutive points mostly share a voxel: its sum is reused without a lookup (valid
-  // until the next insertion, which replaces it).
+  // Voxels in the order of their first points (deterministic output). Not reserved for the
+  // cloud's size: a downsampled scan has a few thousand voxels, and a table sized for a quarter
+  // of its points misses the cache and is cleared at every call.
+  tsl::robin_map<VoxelKey, std::uint32_t, VoxelKeyHash> slot_of;
+  std::vector<Sum> voxels;
+  // Consecutive points mostly share a voxel (its slot is reused without a lookup), and the
+  // recent ones are remembered (recent_slots.hpp).
   std::optional<VoxelKey> last_key;
   Sum* last = nullptr;
+  RecentSlots<VoxelKey, VoxelKeyHash> recent;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const std::uint8_t label = cloud.hasLabels() ? cloud.labels[i] : std::uint8_t{kUnlabeled};
     if (!isValidClass(label) || inv_size[label] == 0.0) continue;
@@ -52,10 +56,17 @@ LabeledCloud semanticVoxelDownsample(const LabeledCloud& cloud, double voxel_siz
     if (!p.allFinite()) continue;
     const VoxelKey key{voxelIndex(p, inv_size[label]), label};
     if (!last_key || !(key == *last_key)) {
-      auto [it, inserted] = voxels.try_emplace(key);
-      last = &it.value();
       last_key = key;
-      if (inserted) last->order = i;
+      const std::uint32_t* remembered = recent.find(key);
+      std::uint32_t slot = remembered ? *remembered : 0;
+      if (!remembered) {
+        const auto [it, inserted] =
+            slot_of.try_emplace(key, static_cast<std::uint32_t>(voxels.size()));
+        if (inserted) voxels.push_back(Sum{Eigen::Vector3d::Zero(), 0.0, 0, i});
+        slot = it->second;
+        recent.remember(key, slot);
+      }
+      last = &voxels[slot];  // valid until the next insertion, which replaces it
     }
     Sum& s = *last;
     s.sum += p;
@@ -63,19 +74,13 @@ LabeledCloud semanticVoxelDownsample(const LabeledCloud& cloud, double voxel_siz
     ++s.count;
   }
 
-  std::vector<std::pair<std::size_t, const Sum*>> ordered;
-  ordered.reserve(voxels.size());
-  for (const auto& [key, s] : voxels) ordered.push_back({s.order, &s});
-  std::sort(ordered.begin(), ordered.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
-
   LabeledCloud out;
-  out.points.reserve(ordered.size());
-  out.labels.reserve(ordered.size());
-  for (const auto& [order, s] : ordered) {
-    out.points.push_back((s->sum / s->count).cast<float>());
-    out.labels.push_back(cloud.hasLabels() ? cloud.labels[order] : std::uint8_t{kUnlabeled});
-    if (cloud.hasTimes()) out.times.push_back(static_cast<float>(s->time_sum / s->count));
+  out.points.reserve(voxels.size());
+  out.labels.reserve(voxels.size());
+  for (const Sum& s : voxels) {
+    out.points.push_back((s.sum / s.count).cast<float>());
+    out.labels.push_back(cloud.hasLabels() ? cloud.labels[s.first] : std::uint8_t{kUnlabeled});
+    if (cloud.hasTimes()) out.times.push_back(static_cast<float>(s.time_sum / s.count));
   }
   return out;
 }
