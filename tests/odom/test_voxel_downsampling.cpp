@@ -30,6 +30,30 @@ TEST(VoxelDownsampling, KeepsTheMeanPerVoxelAndClass) {
   EXPECT_TRUE(out.points[2].isApprox(Eigen::Vector3f(1.5f, 0.5f, 0.5f)));
 }
 
+// Column-major scans (all rings per azimuth step) revisit each voxel column after column, more
+// voxels than the lookup memo holds: every voxel keeps the mean of all its points, in the order
+// of their first points.
+TEST(VoxelDownsampling, RevisitedVoxelsKeepTheirMeansInFirstPointOrder) {
+  LabeledCloud c;
+  const int voxels = 600, columns = 5;
+  for (int col = 0; col < columns; ++col)
+    for (int v = 0; v < voxels; ++v) {
+      c.points.emplace_back(static_cast<float>(v % 30) + 0.1f * static_cast<float>(col) + 0.05f,
+                            static_cast<float>(v / 30) + 0.5f, 0.5f);
+      c.labels.push_back(socc::kBuilding);
+    }
+  const LabeledCloud out = semanticVoxelDownsample(
+      c, 1.0,
+      std::array<double, socc::kNumClasses>{1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
+                                            1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0});
+  ASSERT_EQ(out.size(), static_cast<std::size_t>(voxels));
+  for (int v = 0; v < voxels; ++v) {
+    const Eigen::Vector3f mean(static_cast<float>(v % 30) + 0.25f,
+                               static_cast<float>(v / 30) + 0.5f, 0.5f);
+    EXPECT_TRUE(out.points[v].isApprox(mean, 1e-6f)) << v << ": " << out.points[v].transpose();
+  }
+}
+
 TEST(VoxelDownsampling, DropsHumansAndUsesClassVoxelSizes) {
   LabeledCloud c;
   for (int i = 0; i < 100; ++i) {
