@@ -42,10 +42,7 @@ TEST(VoxelDownsampling, RevisitedVoxelsKeepTheirMeansInFirstPointOrder) {
                             static_cast<float>(v / 30) + 0.5f, 0.5f);
       c.labels.push_back(socc::kBuilding);
     }
-  const LabeledCloud out = semanticVoxelDownsample(
-      c, 1.0,
-      std::array<double, socc::kNumClasses>{1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
-                                            1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0});
+  const LabeledCloud out = semanticVoxelDownsample(c, 1.0, paperFactors());  // building: 1
   ASSERT_EQ(out.size(), static_cast<std::size_t>(voxels));
   for (int v = 0; v < voxels; ++v) {
     const Eigen::Vector3f mean(static_cast<float>(v % 30) + 0.25f,
