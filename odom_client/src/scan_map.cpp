@@ -5,7 +5,7 @@
 #include <optional>
 
 #include "socc/chunk_features.hpp"
-#include "socc/odom/recent_slots.hpp"
+#include "socc/recent_lookups.hpp"
 
 namespace socc::odom {
 
@@ -18,7 +18,7 @@ std::vector<CloudVoxel> cloudVoxels(const LabeledCloud& cloud, const Eigen::Isom
   // A scan's consecutive points mostly share a voxel: its slot is reused without a lookup.
   std::optional<VoxelIndex> last_key;
   std::uint32_t last = kLeftOut;
-  RecentSlots<VoxelIndex, VoxelIndexHash> recent;
+  RecentLookups<VoxelIndex, std::uint32_t, VoxelIndexHash> recent;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3d p =
         (pose * cloud.points[i].cast<double>()).cast<float>().cast<double>();  // as transformed()

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <optional>
 
-#include "socc/odom/recent_slots.hpp"
+#include "socc/recent_lookups.hpp"
 #include "socc/voxel.hpp"
 
 namespace socc::odom {
@@ -45,10 +45,10 @@ LabeledCloud semanticVoxelDownsample(const LabeledCloud& cloud, double voxel_siz
   tsl::robin_map<VoxelKey, std::uint32_t, VoxelKeyHash> slot_of;
   std::vector<Sum> voxels;
   // Consecutive points mostly share a voxel (its slot is reused without a lookup), and the
-  // recent ones are remembered (recent_slots.hpp).
+  // recent ones are remembered (socc/recent_lookups.hpp).
   std::optional<VoxelKey> last_key;
   Sum* last = nullptr;
-  RecentSlots<VoxelKey, VoxelKeyHash> recent;
+  RecentLookups<VoxelKey, std::uint32_t, VoxelKeyHash> recent;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const std::uint8_t label = cloud.hasLabels() ? cloud.labels[i] : std::uint8_t{kUnlabeled};
     if (!isValidClass(label) || inv_size[label] == 0.0) continue;

@@ -19,6 +19,7 @@
 #include <memory>
 #include <vector>
 
+#include "socc/recent_lookups.hpp"
 #include "socc/voxel.hpp"
 
 namespace socc::map {
@@ -150,26 +151,21 @@ class VoxelGrid {
     explicit Accessor(VoxelGrid& grid) : grid_(grid) {}
     Block& block(const BlockKey& key) {
       if (last_ != nullptr && key == last_key_) return *last_;
-      Entry& e = cache_[VoxelIndexHash{}(key) & (kCacheSize - 1)];
-      if (e.block == nullptr || e.key != key) {
-        e.block = &grid_.getOrCreate(key);
-        e.key = key;
+      if (Block* const* recent = recent_.find(key)) {
+        last_ = *recent;
+      } else {
+        last_ = &grid_.getOrCreate(key);
+        recent_.remember(key, last_);
       }
-      last_ = e.block;
       last_key_ = key;
       return *last_;
     }
 
    private:
-    static constexpr std::size_t kCacheSize = 512;
-    struct Entry {
-      BlockKey key = BlockKey::Zero();
-      Block* block = nullptr;
-    };
     VoxelGrid& grid_;
     BlockKey last_key_ = BlockKey::Zero();
     Block* last_ = nullptr;
-    std::array<Entry, kCacheSize> cache_{};
+    RecentLookups<BlockKey, Block*, VoxelIndexHash, 512> recent_;
   };
 
  private:

@@ -1,16 +1,16 @@
-// RecentSlots: a remembered key gives its slot back, an unknown one nothing, and a key hashed to
-// the same entry replaces it (the memo forgets, the table behind it answers).
+// RecentLookups: a remembered key gives its value back, an unknown one nothing, and a key hashed
+// to the same entry replaces it (the memo forgets, the table behind it answers).
 #include <gtest/gtest.h>
 
-#include "socc/odom/recent_slots.hpp"
+#include "socc/recent_lookups.hpp"
 #include "socc/voxel.hpp"
 
+using socc::RecentLookups;
 using socc::VoxelIndex;
 using socc::VoxelIndexHash;
-using socc::odom::RecentSlots;
 
-TEST(RecentSlots, RemembersUntilAKeyOfTheSameEntryReplacesIt) {
-  RecentSlots<VoxelIndex, VoxelIndexHash, 4> recent;
+TEST(RecentLookups, RemembersUntilAKeyOfTheSameEntryReplacesIt) {
+  RecentLookups<VoxelIndex, std::uint32_t, VoxelIndexHash, 4> recent;
   const VoxelIndex a(1, 2, 3);
   EXPECT_EQ(recent.find(a), nullptr);
   recent.remember(a, 7);
@@ -24,7 +24,7 @@ TEST(RecentSlots, RemembersUntilAKeyOfTheSameEntryReplacesIt) {
   EXPECT_EQ(recent.find(a), nullptr);
   ASSERT_NE(recent.find(other), nullptr);
   EXPECT_EQ(*recent.find(other), 9u);
-  // Slot 0 is a slot like any other (not "unused").
+  // 0 is a value like any other (not "unused").
   recent.remember(a, 0);
   ASSERT_NE(recent.find(a), nullptr);
   EXPECT_EQ(*recent.find(a), 0u);
