@@ -59,7 +59,7 @@ void addFrame(const LocalMap& base, std::size_t chunk_size, const LabeledCloud& 
   for (std::size_t k = 0; k < merged.size(); ++k) {
     const std::size_t id = split.into_known[k].first;
     if (id < chunk_size)
-      updated[id] = std::move(merged[k]);
+      updated.set(id, std::move(merged[k]));
     else
       overlay[id - chunk_size] = std::move(merged[k]);
   }

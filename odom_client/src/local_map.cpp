@@ -181,11 +181,15 @@ class LocalMap::Layer {
   tsl::robin_map<VoxelIndex, Key, VoxelIndexHash> keys_;  // on a voxel grid
 };
 
-// Chunk voxels replaced by updated ones: slot[id] indexes voxels, -1 where not replaced.
-struct LocalMap::Updates {
-  std::vector<std::int32_t> slot;
-  std::vector<MapVoxel> voxels;
-};
+void VoxelUpdates::set(std::size_t id, MapVoxel v) {
+  if (id >= slot_.size()) slot_.resize(id + 1, -1);
+  if (slot_[id] >= 0) {
+    voxels_[static_cast<std::size_t>(slot_[id])] = std::move(v);
+    return;
+  }
+  slot_[id] = static_cast<std::int32_t>(voxels_.size());
+  voxels_.push_back(std::move(v));
+}
 
 LocalMap::LocalMap() : LocalMap(std::vector<MapVoxel>{}) {}
 LocalMap::LocalMap(std::vector<MapVoxel> voxels)
@@ -202,7 +206,8 @@ std::size_t LocalMap::size() const {
 const MapVoxel& LocalMap::voxel(std::size_t i) const {
   const std::size_t n = base_->voxels.size();
   if (i >= n) return overlay_->voxels[i - n];
-  if (updated_ && updated_->slot[i] >= 0) return updated_->voxels[updated_->slot[i]];
+  if (updated_)
+    if (const MapVoxel* v = updated_->find(i)) return *v;
   return base_->voxels[i];
 }
 
@@ -246,15 +251,7 @@ LocalMap LocalMap::withOverlay(std::vector<MapVoxel> overlay, const VoxelUpdates
   if (!overlay.empty())
     out.overlay_ =
         std::make_shared<const Layer>(std::move(overlay), base_->voxels.size(), voxel_size_);
-  if (!updated.empty()) {
-    auto u = std::make_shared<Updates>();
-    u->slot.assign(base_->voxels.size(), -1);
-    for (const auto& [id, v] : updated) {
-      u->slot.at(id) = static_cast<std::int32_t>(u->voxels.size());
-      u->voxels.push_back(v);
-    }
-    out.updated_ = std::move(u);
-  }
+  if (!updated.empty()) out.updated_ = std::make_shared<const VoxelUpdates>(updated);
   return out;
 }
 

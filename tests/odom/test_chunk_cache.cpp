@@ -210,7 +210,7 @@ TEST(PipelinedTarget, OwnPointsMergedIntoVoxelsOfFewPointsGiveTheServersFeatures
   const FrameSplit split = splitFrame(target, next, Eigen::Isometry3d::Identity());
   VoxelUpdates updated;
   for (const auto& [id, points] : split.into_known)
-    updated[id] = withPoints(target.voxel(id), points);
+    updated.set(id, withPoints(target.voxel(id), points));
   const LocalMap merged = target.withOverlay({}, updated);
   std::size_t gained = 0, changed = 0;
   for (std::size_t i = 0; i < target.size(); ++i) {

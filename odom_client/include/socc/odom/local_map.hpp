@@ -5,8 +5,6 @@
 // A chunk may carry an overlay: voxels of the robot's own frames the chunk predates (their
 // first points are the ones the server will keep), searched in a small second tree so the
 // chunk's tree is built once (map_pipeline.hpp).
-#include <tsl/robin_map.h>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
@@ -33,8 +31,24 @@ struct MapVoxel {
   std::optional<StoredMoments> moments;
 };
 
-/// Voxels by id, e.g. a chunk's voxels after the client's own frames hit them again.
-using VoxelUpdates = tsl::robin_map<std::size_t, MapVoxel>;
+/// Replacements of a chunk's voxels by id, e.g. after the client's own frames hit them again: a
+/// slot per chunk voxel, so setting and finding one needs no hashing, and a map takes them as
+/// one copy of two arrays.
+class VoxelUpdates {
+ public:
+  bool empty() const { return voxels_.empty(); }
+  std::size_t size() const { return voxels_.size(); }
+  /// The replacement of voxel id, or nullptr.
+  const MapVoxel* find(std::size_t id) const {
+    return id < slot_.size() && slot_[id] >= 0 ? &voxels_[static_cast<std::size_t>(slot_[id])]
+                                               : nullptr;
+  }
+  void set(std::size_t id, MapVoxel v);
+
+ private:
+  std::vector<std::int32_t> slot_;  // by voxel id; -1: not replaced
+  std::vector<MapVoxel> voxels_;
+};
 
 struct Neighbor {
   std::size_t index;
@@ -92,11 +106,10 @@ class LocalMap {
 
  private:
   class Layer;
-  std::shared_ptr<const Layer> base_;     // the chunk's voxels
-  std::shared_ptr<const Layer> overlay_;  // none: no overlay
-  struct Updates;
-  std::shared_ptr<const Updates> updated_;  // none: the chunk's voxels as sent
-  double voxel_size_ = 0.0;                 // from the chunk; 0: not a chunk
+  std::shared_ptr<const Layer> base_;            // the chunk's voxels
+  std::shared_ptr<const Layer> overlay_;         // none: no overlay
+  std::shared_ptr<const VoxelUpdates> updated_;  // none: the chunk's voxels as sent
+  double voxel_size_ = 0.0;                      // from the chunk; 0: not a chunk
   double hit_occupancy_ = 0.0;
 };
 
