@@ -86,14 +86,14 @@ void decodeMoments(const chunk_reply_t& chunk, std::vector<MapVoxel>& voxels) {
   if (chunk.n_moments != with)
     malformed("n_moments (" + std::to_string(chunk.n_moments) + ") != voxels below " +
               std::to_string(chunk.moments_below) + " points (" + std::to_string(with) + ")");
-  const double scale = chunk.voxel_size / 32767.0;
   std::size_t j = 0;
   for (std::size_t i = 0; i < voxels.size(); ++i) {
     if (chunk.point_count[i] >= chunk.moments_below) continue;
     StoredMoments m;
     m.count = chunk.point_count[i];
     for (int a = 0; a < 3; ++a)
-      m.mean[a] = static_cast<float>(voxels[i].point[a] + chunk.moment_mean[a][j] * scale);
+      m.mean[a] = static_cast<float>(
+          voxels[i].point[a] + chunk::decodeMeanOffset(chunk.moment_mean[a][j], chunk.voxel_size));
     for (int k = 0; k < 6; ++k)
       m.m2[k] = static_cast<float>(
           chunk::decodeScatter(chunk.moment_m2[k][j], m.count, chunk.voxel_size));

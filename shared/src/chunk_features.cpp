@@ -62,6 +62,15 @@ double decodeScatter(std::int16_t q, std::uint32_t count, double voxel_size) {
   return q / 32767.0 * count * voxel_size * voxel_size;
 }
 
+std::int16_t encodeMeanOffset(double offset, double voxel_size) {
+  const double steps = offset * (32767.0 / voxel_size);
+  return static_cast<std::int16_t>(roundHalfAway(std::clamp(steps, -32767.0, 32767.0)));
+}
+
+double decodeMeanOffset(std::int16_t q, double voxel_size) {
+  return q * (voxel_size / 32767.0);
+}
+
 std::uint8_t encodePlanarity(double tau) {
   if (!(tau >= 0.0)) return kUnknownPlanarity;
   return static_cast<std::uint8_t>(roundHalfAway(std::min(tau * kPlanarityScale, 254.0)));

@@ -18,6 +18,21 @@ TEST(ChunkFeatures, OffsetsRoundTripWithinHalfAStep) {
   EXPECT_DOUBLE_EQ(decodeOffset(encodeOffset(4.0 + 1e-6, block), block), 4.0);
 }
 
+TEST(ChunkFeatures, MeanOffsetsAndScatterRoundTripWithinHalfAStep) {
+  const double voxel = 0.5, step = voxel / 32767.0;
+  for (const double offset : {0.0, 1e-7, -0.25, 0.1234, -0.4999, 0.5})
+    EXPECT_LE(std::abs(decodeMeanOffset(encodeMeanOffset(offset, voxel), voxel) - offset),
+              0.5 * step)
+        << offset;
+  EXPECT_DOUBLE_EQ(decodeMeanOffset(encodeMeanOffset(0.6, voxel), voxel), voxel);  // clamped
+  const std::uint32_t count = 7;
+  const double range = count * voxel * voxel;
+  for (const double value : {0.0, 0.01, -0.3, 1.5})
+    EXPECT_LE(std::abs(decodeScatter(encodeScatter(value, count, voxel), count, voxel) - value),
+              0.5 * range / 32767.0)
+        << value;
+}
+
 TEST(ChunkFeatures, NormalsRoundTripWithinAHundredthOfADegree) {
   std::mt19937 rng(1);
   std::normal_distribution<double> g;

@@ -7,7 +7,6 @@
 #include "socc/chunk_features.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/map/voxel_grid.hpp"
-#include "socc/rounding.hpp"
 
 namespace socc::service {
 namespace {
@@ -60,16 +59,13 @@ void encodeMoments(const map::ChunkVoxels& v, double voxel_size, chunk_reply_t& 
   out.n_moments = static_cast<std::int32_t>(m);
   out.moment_mean.assign(m == 0 ? 0 : 3, std::vector<std::int16_t>(m));
   out.moment_m2.assign(m == 0 ? 0 : 6, std::vector<std::int16_t>(m));
-  const double scale = 32767.0 / voxel_size;
   std::size_t j = 0;
   for (std::size_t i = 0; i < n; ++i) {
     out.point_count[i] = static_cast<std::uint8_t>(std::min<std::uint32_t>(v.point_count[i], 255));
     if (v.point_count[i] >= chunk::kMomentsBelow) continue;
-    for (int a = 0; a < 3; ++a) {
-      const double offset = (double{v.moment_mean[a][j]} - v.first_point[a][i]) * scale;
+    for (int a = 0; a < 3; ++a)
       out.moment_mean[a][j] =
-          static_cast<std::int16_t>(roundHalfAway(std::clamp(offset, -32767.0, 32767.0)));
-    }
+          chunk::encodeMeanOffset(double{v.moment_mean[a][j]} - v.first_point[a][i], voxel_size);
     for (int k = 0; k < 6; ++k)
       out.moment_m2[k][j] = chunk::encodeScatter(v.moment_m2[k][j], v.point_count[i], voxel_size);
     ++j;

@@ -31,6 +31,11 @@ inline constexpr std::uint32_t kMomentsBelow = 255;
 std::int16_t encodeScatter(double value, std::uint32_t count, double voxel_size);
 double decodeScatter(std::int16_t q, std::uint32_t count, double voxel_size);
 
+/// A component of a voxel's mean as an offset [m] from its first point (within one voxel_size,
+/// clamped), an int16 of steps voxel_size / 32767.
+std::int16_t encodeMeanOffset(double offset, double voxel_size);
+double decodeMeanOffset(std::int16_t q, double voxel_size);
+
 /// Offset [m] of a coordinate from its block's corner, in [0, block_size] (clamped).
 std::int16_t encodeOffset(double offset, double block_size);
 double decodeOffset(std::int16_t q, double block_size);
