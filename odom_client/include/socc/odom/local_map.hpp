@@ -37,7 +37,6 @@ struct MapVoxel {
 class VoxelUpdates {
  public:
   bool empty() const { return voxels_.empty(); }
-  std::size_t size() const { return voxels_.size(); }
   /// The replacement of voxel id, or nullptr.
   const MapVoxel* find(std::size_t id) const {
     return id < slot_.size() && slot_[id] >= 0 ? &voxels_[static_cast<std::size_t>(slot_[id])]
