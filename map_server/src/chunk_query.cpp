@@ -1,6 +1,9 @@
 // SemanticOccupancyMap::queryChunk: voxels of a box or sphere in the column layout of
 // ChunkVoxels. Blocks are visited in lexicographic key order and voxels in local order, so
 // answers are deterministic (identical after a snapshot round trip).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -41,42 +44,76 @@ void push3(std::array<std::vector<T>, 3>& rows, typename std::vector<T>::value_t
   rows[2].push_back(z);
 }
 
-void appendOccupied(ChunkVoxels& out, const VoxelIndex& v, const Eigen::Vector3d& centre,
-                    float log_odds, const VoxelStats* stats, std::int32_t fields) {
-  if (fields & ChunkQuery::kIndex) push3(out.index, v.x(), v.y(), v.z());
-  const VoxelStats empty;
-  const VoxelStats& s = stats != nullptr ? *stats : empty;
-  const Eigen::Vector3f centref = centre.cast<float>();
+// An occupied voxel of the answer, chosen in order (limit, block lists); its fields are written
+// afterwards, in parallel: features (an eigen-decomposition each) are most of a query's time.
+struct Chosen {
+  VoxelIndex v;
+  Eigen::Vector3d centre;
+  float log_odds;
+  const VoxelStats* stats;  // null: occupied without statistics
+  std::int32_t moment_row;  // its row of the moment columns; -1: none
+};
+
+// Sizes the columns of fields for n occupied voxels, `moments` of them with moment rows.
+void sizeColumns(ChunkVoxels& out, std::size_t n, std::size_t moments, std::int32_t fields) {
+  const auto size3 = [](auto& rows, std::size_t k) {
+    for (auto& row : rows) row.resize(k);
+  };
+  if (fields & ChunkQuery::kIndex) size3(out.index, n);
   if (fields & ChunkQuery::kFeatures) {
-    if (stats != nullptr)
-      push3(out.first_point, s.first_point[0], s.first_point[1], s.first_point[2]);
-    else  // occupied without statistics (only below the map's threshold): use the centre
-      push3(out.first_point, centref.x(), centref.y(), centref.z());
+    size3(out.first_point, n);
+    size3(out.normal, n);
+    out.planarity.resize(n);
+    out.occupancy.resize(n);
+    out.label.resize(n);
+    out.label_prob.resize(n);
+  }
+  if ((fields & ChunkQuery::kFeatures) && (fields & ChunkQuery::kMoments)) {
+    out.point_count.resize(n);
+    size3(out.moment_mean, moments);
+    size3(out.moment_m2, moments);
+  }
+  if (fields & ChunkQuery::kStats) {
+    size3(out.mean, n);
+    size3(out.covariance, n);
+    out.count.resize(n);
+    out.log_odds.resize(n);
+    size3(out.class_prob, n);
+  }
+}
+
+// Writes voxel i's fields into the sized columns.
+void writeOccupied(ChunkVoxels& out, std::size_t i, const Chosen& c, std::int32_t fields) {
+  if (fields & ChunkQuery::kIndex)
+    for (int a = 0; a < 3; ++a) out.index[a][i] = c.v[a];
+  const VoxelStats empty;
+  const VoxelStats& s = c.stats != nullptr ? *c.stats : empty;
+  const Eigen::Vector3f centref = c.centre.cast<float>();
+  if (fields & ChunkQuery::kFeatures) {
+    // Occupied without statistics (only below the map's threshold): the centre stands in.
+    for (int a = 0; a < 3; ++a) out.first_point[a][i] = c.stats ? s.first_point[a] : centref[a];
     const VoxelFeatures f = computeFeatures(s);
-    const auto q = [](double c) { return static_cast<std::int16_t>(roundHalfAway(c * 32767.0)); };
-    push3(out.normal, q(f.normal.x()), q(f.normal.y()), q(f.normal.z()));
-    out.planarity.push_back(static_cast<float>(f.planarity));
-    out.occupancy.push_back(toByte(probability(log_odds)));
-    out.label.push_back(s.label);
-    out.label_prob.push_back(s.has_semantics ? toByte(s.prob(s.label)) : 0);
-    if (fields & ChunkQuery::kMoments) out.point_count.push_back(s.count);
-    if ((fields & ChunkQuery::kMoments) && s.count < chunk::kMomentsBelow) {
-      for (int a = 0; a < 3; ++a)
-        out.moment_mean[a].push_back(stats != nullptr ? s.mean[a] : centref[a]);
-      for (int k = 0; k < 6; ++k) out.moment_m2[k].push_back(s.m2[k]);
+    const auto q = [](double x) { return static_cast<std::int16_t>(roundHalfAway(x * 32767.0)); };
+    for (int a = 0; a < 3; ++a) out.normal[a][i] = q(f.normal[a]);
+    out.planarity[i] = static_cast<float>(f.planarity);
+    out.occupancy[i] = toByte(probability(c.log_odds));
+    out.label[i] = s.label;
+    out.label_prob[i] = s.has_semantics ? toByte(s.prob(s.label)) : 0;
+    if (fields & ChunkQuery::kMoments) out.point_count[i] = s.count;
+    if (c.moment_row >= 0) {
+      const auto j = static_cast<std::size_t>(c.moment_row);
+      for (int a = 0; a < 3; ++a) out.moment_mean[a][j] = c.stats ? s.mean[a] : centref[a];
+      for (int k = 0; k < 6; ++k) out.moment_m2[k][j] = s.m2[k];
     }
   }
   if (fields & ChunkQuery::kStats) {
-    if (stats != nullptr)
-      push3(out.mean, s.mean[0], s.mean[1], s.mean[2]);
-    else
-      push3(out.mean, centref.x(), centref.y(), centref.z());
-    const Eigen::Matrix3d c = s.covariance();
-    const double upper[6] = {c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2), c(2, 2)};
-    for (int k = 0; k < 6; ++k) out.covariance[k].push_back(static_cast<float>(upper[k]));
-    out.count.push_back(static_cast<std::int32_t>(s.count));
-    out.log_odds.push_back(log_odds);
-    for (int k = 0; k < kNumClasses; ++k) out.class_prob[k].push_back(s.prob(k));
+    for (int a = 0; a < 3; ++a) out.mean[a][i] = c.stats ? s.mean[a] : centref[a];
+    const Eigen::Matrix3d cov = s.covariance();
+    const double upper[6] = {cov(0, 0), cov(0, 1), cov(0, 2), cov(1, 1), cov(1, 2), cov(2, 2)};
+    for (int k = 0; k < 6; ++k) out.covariance[k][i] = static_cast<float>(upper[k]);
+    out.count[i] = static_cast<std::int32_t>(s.count);
+    out.log_odds[i] = c.log_odds;
+    for (int k = 0; k < kNumClasses; ++k) out.class_prob[k][i] = s.prob(k);
   }
 }
 
@@ -195,6 +232,8 @@ ChunkVoxels SemanticOccupancyMap::queryChunk(const ChunkQuery& query) const {
   if (held.active()) out.delta_of_version = held.version();
   const OccupiedTest occupied_at(query.occupancy_threshold);
   std::size_t occupied = 0;
+  std::vector<Chosen> chosen;
+  std::int32_t moment_rows = 0;
   for (const BlockKey& key : m.grid.blocksIn(region.box.blockLo(), region.box.blockHi())) {
     const Block& block = *m.grid.find(key);
     if (held.held(key, block)) continue;
@@ -202,19 +241,26 @@ ChunkVoxels SemanticOccupancyMap::queryChunk(const ChunkQuery& query) const {
     const std::size_t block_start = occupied;
     for (int local = 0; local < kBlockVoxels; ++local) {
       if (!block.observed[local]) continue;
+      // Most observed voxels are free space, which only kFree asks for: tested first.
+      const float l = block.log_odds[local];
+      const bool is_occupied = occupied_at(l);
+      if (!is_occupied && !(fields & ChunkQuery::kFree)) continue;
       const VoxelIndex v = voxelOf(key, local);
       if (!inside && !region.covers(v)) continue;
       const Eigen::Vector3d c = m.grid.centre(v);
       if (!inside && !region.contains(c)) continue;
-      const float l = block.log_odds[local];
-      if (occupied_at(l)) {
+      if (is_occupied) {
         if (occupied == limit) {
           out.truncated = true;
           continue;
         }
         ++occupied;
-        appendOccupied(out, v, c, l, block.statsOf(local), fields);
-      } else if (fields & ChunkQuery::kFree) {
+        const VoxelStats* stats = block.statsOf(local);
+        const bool moment_row = (fields & ChunkQuery::kFeatures) &&
+                                (fields & ChunkQuery::kMoments) &&
+                                (stats == nullptr || stats->count < chunk::kMomentsBelow);
+        chosen.push_back({v, c, l, stats, moment_row ? moment_rows++ : -1});
+      } else {
         if (out.free_index[0].size() == limit) {
           out.truncated = true;
           continue;
@@ -228,6 +274,14 @@ ChunkVoxels SemanticOccupancyMap::queryChunk(const ChunkQuery& query) const {
       out.block_voxels.push_back(in_block);
     }
   }
+  sizeColumns(out, chosen.size(), static_cast<std::size_t>(moment_rows), fields);
+  m.arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chosen.size(), 512),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i != r.end(); ++i)
+                          writeOccupied(out, i, chosen[i], fields);
+                      });
+  });
   out.num_occupied = static_cast<std::int32_t>(occupied);
   if (out.count.empty()) out.class_prob.clear();  // class rows only with statistics
   return out;

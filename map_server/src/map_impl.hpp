@@ -163,7 +163,8 @@ struct SemanticOccupancyMap::Impl {
   std::int64_t num_observed = 0;  // kept up to date by integrate() so stats() is O(1)
   std::int64_t num_occupied = 0;
 
-  tbb::task_arena arena{2};  // the machine's budget: two cores
+  // The machine's budget: two cores. Mutable: const queries run their parallel parts in it too.
+  mutable tbb::task_arena arena{2};
 
   ScanScratch scratch;
 

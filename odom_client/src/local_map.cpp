@@ -1,5 +1,6 @@
 #include "socc/odom/local_map.hpp"
 
+#include <tbb/parallel_invoke.h>
 #include <tsl/robin_map.h>
 
 #include <algorithm>
@@ -113,13 +114,16 @@ class LocalMap::Layer {
         first_id_(first_id),
         points_(firstPoints(voxels)),
         adaptor_{&points_},
-        tree_(3, adaptor_, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {
-    if (voxel_size <= 0.0) return;
-    const double inv_size = 1.0 / voxel_size;
-    keys_.reserve(voxels.size());
-    for (std::size_t i = 0; i < voxels.size(); ++i)
-      keys_.emplace(voxelIndex(voxels[i].point, inv_size),
-                    Key{static_cast<std::uint32_t>(i), voxels[i].moments.has_value()});
+        tree_(3, adaptor_,
+              nanoflann::KDTreeSingleIndexAdaptorParams(
+                  10, nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex)) {
+    if (voxel_size <= 0.0) {
+      tree_.buildIndex();
+      return;
+    }
+    // Independent, and a chunk's are on the path of the frame that waits for it: in parallel.
+    tbb::parallel_invoke([this] { tree_.buildIndex(); },
+                         [this, voxel_size] { indexKeys(voxel_size); });
   }
   Layer(const Layer&) = delete;  // the tree refers to adaptor_
   Layer& operator=(const Layer&) = delete;
@@ -148,6 +152,13 @@ class LocalMap::Layer {
   const std::vector<MapVoxel> voxels;
 
  private:
+  void indexKeys(double voxel_size) {
+    const double inv_size = 1.0 / voxel_size;
+    keys_.reserve(voxels.size());
+    for (std::size_t i = 0; i < voxels.size(); ++i)
+      keys_.emplace(voxelIndex(voxels[i].point, inv_size),
+                    Key{static_cast<std::uint32_t>(i), voxels[i].moments.has_value()});
+  }
   // The voxels' first-inserted points, packed: the tree's build and searches read 24 bytes a
   // point instead of a whole MapVoxel's cache lines.
   static std::vector<Eigen::Vector3d> firstPoints(const std::vector<MapVoxel>& voxels) {
