@@ -9,30 +9,37 @@
 namespace socc::odom {
 namespace {
 
-// The sweep's motion is evaluated exactly at kKnots + 1 instants and interpolated linearly in
-// between: the interpolation error is second order in the knot spacing (below 1e-6 of the
-// motion per sweep), and a scan costs a few multiply-adds per point instead of an SE(3) exp.
+// Knot intervals over the sweep (SweepMotion): a scan costs a few multiply-adds per point
+// instead of an SE(3) exp.
 constexpr int kKnots = 256;
 
 }  // namespace
 
+SweepMotion::SweepMotion(const LabeledCloud& cloud, const Vector6d& twist, double reference_time) {
+  if (!cloud.hasTimes() || twist.isZero(0.0) || cloud.times.empty()) return;
+  const auto [lo, hi] = std::minmax_element(cloud.times.begin(), cloud.times.end());
+  t0_ = *lo;
+  step_ = std::max(static_cast<double>(*hi) - t0_, 1e-9) / kKnots;
+  knots_.resize(kKnots + 1);
+  for (int k = 0; k <= kKnots; ++k)
+    knots_[k] = expSe3((t0_ + k * step_ - reference_time) * twist).matrix().topRows<3>();
+}
+
+Eigen::Vector3f SweepMotion::operator()(const Eigen::Vector3f& p, float time) const {
+  const double u = (time - t0_) / step_;
+  const int k = std::clamp(static_cast<int>(u), 0, kKnots - 1);
+  const double f = u - k;
+  const Eigen::Matrix<double, 3, 4> m = (1.0 - f) * knots_[k] + f * knots_[k + 1];
+  return (m.leftCols<3>() * p.cast<double>() + m.col(3)).cast<float>();
+}
+
 LabeledCloud deskew(const LabeledCloud& cloud, const Vector6d& twist, double reference_time) {
   LabeledCloud out = cloud;
-  if (!cloud.hasTimes() || twist.isZero(0.0)) return out;
-  const auto [lo, hi] = std::minmax_element(cloud.times.begin(), cloud.times.end());
-  const double t0 = *lo;
-  const double step = std::max(static_cast<double>(*hi) - t0, 1e-9) / kKnots;
-  std::vector<Eigen::Matrix<double, 3, 4>> knots(kKnots + 1);
-  for (int k = 0; k <= kKnots; ++k)
-    knots[k] = expSe3((t0 + k * step - reference_time) * twist).matrix().topRows<3>();
+  const SweepMotion motion(cloud, twist, reference_time);
+  if (motion.identity()) return out;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cloud.size(), 4096), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      const double u = (cloud.times[i] - t0) / step;
-      const int k = std::clamp(static_cast<int>(u), 0, kKnots - 1);
-      const double f = u - k;
-      const Eigen::Matrix<double, 3, 4> m = (1.0 - f) * knots[k] + f * knots[k + 1];
-      out.points[i] = (m.leftCols<3>() * cloud.points[i].cast<double>() + m.col(3)).cast<float>();
-    }
+    for (std::size_t i = r.begin(); i != r.end(); ++i)
+      out.points[i] = motion(cloud.points[i], cloud.times[i]);
   });
   return out;
 }

@@ -200,7 +200,8 @@ Odometry::Sweep Odometry::registerSweep(const PreparedScan& scan, const LocalMap
                                         const Eigen::Isometry3d& guess, const Vector6d& twist,
                                         double sigma, const SweepTwistPrior* prior) {
   Sweep out;
-  out.cloud = downsample(deskew(scan.cloud, twist, scan.mid_time));
+  const SweepMotion motion(scan.cloud, twist, scan.mid_time);
+  out.cloud = downsample(scan.cloud, &motion);
   LabeledCloud& down = out.cloud;
   for (float& t : down.times) t -= static_cast<float>(scan.mid_time);  // the pose's instant
   // Neighbourhoods of a few downsampling cells span two or more rings of a sparse sensor.
@@ -271,9 +272,11 @@ Eigen::Isometry3d Odometry::searchFirstMotion(const PreparedScan& scan, const Lo
     if (std::abs(speed) > config_.max_linear_speed) continue;
     Vector6d twist = Vector6d::Zero();
     twist[0] = speed;
-    if (!down || !same_points)
-      down = semanticVoxelDownsample(deskew(scan.cloud, twist, scan.mid_time),
-                                     kSearchGrid * voxel_size_.size(), class_factor_);
+    if (!down || !same_points) {
+      const SweepMotion motion(scan.cloud, twist, scan.mid_time);
+      down = semanticVoxelDownsample(scan.cloud, kSearchGrid * voxel_size_.size(), class_factor_,
+                                     &motion);
+    }
     const RegistrationResult r = registerScan(*down, map, from * expSe3(twist * dt), sigma, search);
     // Each of its iterates leads into a basin explored now.
     search.join_path.insert(search.join_path.end(), r.path.begin(), r.path.end());
@@ -288,12 +291,12 @@ Eigen::Isometry3d Odometry::searchFirstMotion(const PreparedScan& scan, const Lo
   return best;
 }
 
-LabeledCloud Odometry::downsample(const LabeledCloud& cloud) {
-  LabeledCloud down = semanticVoxelDownsample(cloud, voxel_size_.size(), class_factor_);
+LabeledCloud Odometry::downsample(const LabeledCloud& cloud, const SweepMotion* motion) {
+  LabeledCloud down = semanticVoxelDownsample(cloud, voxel_size_.size(), class_factor_, motion);
   if (voxel_size_.farOff(down.size())) {
     // e.g. the first frame or a sudden change of scene: redo once with the corrected size.
     voxel_size_.update(down.size());
-    down = semanticVoxelDownsample(cloud, voxel_size_.size(), class_factor_);
+    down = semanticVoxelDownsample(cloud, voxel_size_.size(), class_factor_, motion);
   }
   return down;
 }

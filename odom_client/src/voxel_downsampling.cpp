@@ -34,7 +34,9 @@ struct Sum {
 }  // namespace
 
 LabeledCloud semanticVoxelDownsample(const LabeledCloud& cloud, double voxel_size,
-                                     const std::array<double, kNumClasses>& class_factor) {
+                                     const std::array<double, kNumClasses>& class_factor,
+                                     const SweepMotion* motion) {
+  if (motion && motion->identity()) motion = nullptr;
   std::array<double, kNumClasses> inv_size{};
   for (int c = 0; c < kNumClasses; ++c)
     inv_size[c] = class_factor[c] > 0.0 ? 1.0 / (class_factor[c] * voxel_size) : 0.0;
@@ -52,7 +54,8 @@ LabeledCloud semanticVoxelDownsample(const LabeledCloud& cloud, double voxel_siz
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const std::uint8_t label = cloud.hasLabels() ? cloud.labels[i] : std::uint8_t{kUnlabeled};
     if (!isValidClass(label) || inv_size[label] == 0.0) continue;
-    const Eigen::Vector3d p = cloud.points[i].cast<double>();
+    const Eigen::Vector3d p =
+        (motion ? (*motion)(cloud.points[i], cloud.times[i]) : cloud.points[i]).cast<double>();
     if (!p.allFinite()) continue;
     const VoxelKey key{voxelIndex(p, inv_size[label]), label};
     if (!last_key || !(key == *last_key)) {

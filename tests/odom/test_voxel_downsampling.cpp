@@ -95,3 +95,24 @@ TEST(VoxelDownsampling, AdaptiveVoxelSizeApproachesTheTargetCount) {
   bounded.update(1000000);
   EXPECT_DOUBLE_EQ(bounded.size(), 1.0);  // step limited to x2
 }
+
+TEST(VoxelDownsampling, WithAMotionItIsTheDownsampledDeskewedCloud) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> coord(-20.f, 20.f), time(0.f, 0.1f);
+  LabeledCloud c;
+  for (int i = 0; i < 5000; ++i) {
+    c.points.emplace_back(coord(rng), coord(rng), coord(rng) / 10.f);
+    c.labels.push_back(i % 3 == 0 ? socc::kCar : socc::kBuilding);
+    c.times.push_back(time(rng));
+  }
+  const socc::odom::Vector6d twist = (socc::odom::Vector6d() << 15, 1, 0, 0.05, 0, 0.8).finished();
+  const socc::odom::SweepMotion motion(c, twist, 0.05);
+  const LabeledCloud fused = semanticVoxelDownsample(c, 0.8, paperFactors(), &motion);
+  const LabeledCloud apart =
+      semanticVoxelDownsample(socc::odom::deskew(c, twist, 0.05), 0.8, paperFactors());
+  EXPECT_EQ(fused.points, apart.points);  // bit for bit
+  EXPECT_EQ(fused.labels, apart.labels);
+  EXPECT_EQ(fused.times, apart.times);
+  c.times.clear();  // no times: no motion to apply
+  EXPECT_TRUE(socc::odom::SweepMotion(c, twist, 0.05).identity());
+}

@@ -97,8 +97,9 @@ class Odometry {
   // sweep_twist_sigma_* are 0).
   std::optional<SweepTwistPrior> sweepPrior(const Vector6d& deskew_twist,
                                             const Vector6d& measured) const;
-  LabeledCloud downsample(const LabeledCloud& cloud);  // semantic, adaptive voxel size
-  bool registrable(const LocalMap& map) const;         // holds at least min_map_points
+  // Semantic, adaptive voxel size; the points deskewed by motion first, when given.
+  LabeledCloud downsample(const LabeledCloud& cloud, const SweepMotion* motion = nullptr);
+  bool registrable(const LocalMap& map) const;  // holds at least min_map_points
   Eigen::Isometry3d searchFirstMotion(const PreparedScan& scan, const LocalMap& map,
                                       const Eigen::Isometry3d& from, double dt, double sigma);
   FrameEstimate estimate(const PreparedScan& scan, const LocalMap& map, double sigma);

@@ -5,14 +5,18 @@
 #include <array>
 
 #include "socc/labels.hpp"
+#include "socc/odom/deskew.hpp"
 #include "socc/point_cloud.hpp"
 
 namespace socc::odom {
 
 /// The output has one label per point (0 when the input had none) and, when the input has
 /// times, each voxel's mean time (what a continuous-time registration needs of the sweep).
+/// With a motion, the points are deskewed by it first: the result of downsampling
+/// deskew(cloud, ...), without the deskewed copy of the whole cloud.
 LabeledCloud semanticVoxelDownsample(const LabeledCloud& cloud, double voxel_size,
-                                     const std::array<double, kNumClasses>& class_factor);
+                                     const std::array<double, kNumClasses>& class_factor,
+                                     const SweepMotion* motion = nullptr);
 
 /// Adapts v_adapt from frame to frame so that about target points survive downsampling:
 /// on a surface the count scales like 1/v^2, so v *= sqrt(count / target), with the step
