@@ -211,10 +211,13 @@ bool joins(const Eigen::Isometry3d& pose, const std::vector<Eigen::Isometry3d>& 
 
 }  // namespace
 
-Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t label,
-                                      const MapVoxel& voxel, double sigma,
-                                      const RegistrationParams& params,
-                                      const Eigen::Vector3d& scan_normal) {
+namespace {
+
+// evaluateCorrespondence with the voxel's w_occ given (OccupancyWeights in registerScan).
+Correspondence weighCorrespondence(const Eigen::Vector3d& point, std::uint8_t label,
+                                   const MapVoxel& voxel, double sigma,
+                                   const RegistrationParams& params,
+                                   const Eigen::Vector3d& scan_normal, double occupancy_weight) {
   Correspondence c;
   const bool known_geometry = voxel.planarity >= 0.f;
   c.planar = params.point_to_plane && isPlanar(voxel, params.planarity_threshold);
@@ -227,10 +230,19 @@ Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t
   const double e = c.planar ? c.normal.dot(d) : 0.0;
   c.squared_residual = c.planar ? e * e : d.squaredNorm();
   if (!known_geometry && !params.sparse_voxel_pairs) return c;  // weight 0
-  c.weight = gemanMcClureWeight(c.squared_residual, sigma / 3.0) *
-             occupancyWeight(voxel.occupancy, params.gamma) *
+  c.weight = gemanMcClureWeight(c.squared_residual, sigma / 3.0) * occupancy_weight *
              semanticWeight(label, voxel.label, voxel.label_prob, params.w_lower);
   return c;
+}
+
+}  // namespace
+
+Correspondence evaluateCorrespondence(const Eigen::Vector3d& point, std::uint8_t label,
+                                      const MapVoxel& voxel, double sigma,
+                                      const RegistrationParams& params,
+                                      const Eigen::Vector3d& scan_normal) {
+  return weighCorrespondence(point, label, voxel, sigma, params, scan_normal,
+                             occupancyWeight(voxel.occupancy, params.gamma));
 }
 
 RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
@@ -253,6 +265,7 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
   constexpr std::size_t kCycle = 6;
   std::deque<Eigen::Isometry3d> recent;
   NearestCache nearest(map, scan.size(), max_distance);
+  const OccupancyWeights occupancy_weight(params.gamma);
 
   for (int it = 0; it < params.max_iterations; ++it) {
     const Eigen::Isometry3d pose = result.pose;
@@ -273,7 +286,9 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
                 with_normals && v.planarity < 0.f
                     ? Eigen::Vector3d(pose.linear() * scan_normals->at(i).cast<double>())
                     : Eigen::Vector3d::Zero();
-            accumulate(p, v, evaluateCorrespondence(p, label, v, sigma, params, normal),
+            accumulate(p, v,
+                       weighCorrespondence(p, label, v, sigma, params, normal,
+                                           occupancy_weight(v.occupancy)),
                        twist_prior ? &s : nullptr, local);
           }
           return local;

@@ -27,6 +27,16 @@ TEST(Weights, OccupancyIsPowerGamma) {
   EXPECT_DOUBLE_EQ(occupancyWeight(0.5, 0.0), 1.0);
 }
 
+TEST(Weights, OccupancyTableIsBitForBitThePower) {
+  const OccupancyWeights table(1.5);
+  for (int b = 0; b < 256; ++b) {
+    const float p = static_cast<float>(b) / 255.f;  // a chunk's occupancy byte, decoded
+    EXPECT_EQ(table(p), occupancyWeight(p, 1.5)) << b;
+  }
+  for (const float p : {0.7f, 0.123456f, 1e-6f})  // not a byte: computed
+    EXPECT_EQ(table(p), occupancyWeight(p, 1.5));
+}
+
 TEST(Weights, SemanticMatchRule) {
   EXPECT_TRUE(labelsMatch(13, 13));
   EXPECT_TRUE(labelsMatch(0, 13));

@@ -1,6 +1,7 @@
 #pragma once
 // Correspondence weights of SOCC-ICP (paper Sec. semantic-assisted data association):
 // w = w_gm * w_occ * w_sem, each in [0, 1].
+#include <array>
 #include <cmath>
 #include <cstdint>
 
@@ -17,6 +18,27 @@ inline double gemanMcClureWeight(double squared_residual, double kernel) {
 inline double occupancyWeight(double p_occ, double gamma) {
   return std::pow(p_occ, gamma);
 }
+
+/// w_occ of many voxels at one gamma. A chunk's occupancies are bytes (p = b / 255): their
+/// weights come from a table, bit for bit occupancyWeight's, instead of a pow each; any other p
+/// (an overlay voxel's p_hit) is computed.
+class OccupancyWeights {
+ public:
+  explicit OccupancyWeights(double gamma) : gamma_(gamma) {
+    for (int b = 0; b < 256; ++b) table_[b] = occupancyWeight(static_cast<float>(b) / 255.f, gamma);
+  }
+  double operator()(float p_occ) const {
+    if (p_occ >= 0.f && p_occ <= 1.f) {
+      const auto b = static_cast<int>(p_occ * 255.f + 0.5f);
+      if (static_cast<float>(b) / 255.f == p_occ) return table_[b];
+    }
+    return occupancyWeight(p_occ, gamma_);
+  }
+
+ private:
+  double gamma_;
+  std::array<double, 256> table_{};
+};
 
 /// Labels match when equal or when either is 0 (unlabeled).
 inline bool labelsMatch(std::uint8_t point_label, std::uint8_t voxel_label) {
