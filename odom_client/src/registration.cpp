@@ -209,10 +209,6 @@ bool joins(const Eigen::Isometry3d& pose, const std::vector<Eigen::Isometry3d>& 
   return false;
 }
 
-}  // namespace
-
-namespace {
-
 // evaluateCorrespondence with the voxel's w_occ given (OccupancyWeights in registerScan).
 Correspondence weighCorrespondence(const Eigen::Vector3d& point, std::uint8_t label,
                                    const MapVoxel& voxel, double sigma,
