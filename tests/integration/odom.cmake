@@ -19,4 +19,9 @@ if(TARGET map_server AND TARGET odom_client)
   add_test(NAME integration.odom_sim COMMAND test_odom_integration
            --gtest_filter=OdomOnSimulatedDrive.*)
   set_tests_properties(integration.odom_sim PROPERTIES LABELS integration TIMEOUT 600)
+  # The benchmark script's report and its interleaved --repeat runs.
+  add_test(NAME integration.bench_odometry_script
+           COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/bench_script_test.sh ${PROJECT_SOURCE_DIR}
+                   ${CMAKE_BINARY_DIR})
+  set_tests_properties(integration.bench_odometry_script PROPERTIES LABELS integration TIMEOUT 240)
 endif()
