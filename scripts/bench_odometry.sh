@@ -53,17 +53,29 @@ for bin in map_server/map_server odom_client/odom_client eval/socc-eval tools/so
 done
 
 # Private multicast port so concurrent runs never see each other; ttl=0 keeps it on this machine.
-url="${SOCC_LCM_URL:-udpm://239.255.76.67:$((20000 + RANDOM % 40000))?ttl=0&recv_buf_size=33554432}"
+private_url() { echo "udpm://239.255.76.67:$((20000 + RANDOM % 40000))?ttl=0&recv_buf_size=33554432"; }
+url="${SOCC_LCM_URL:-$(private_url)}"
 cli=("$build/tools/socc-cli" --lcm-url "$url" --client-id bench)
 
 # One robot replaying as fast as it can: without the per-robot fairness limits (server.yaml caps
 # a robot at 40 INTEGRATEs a second), bench/config/server_unthrottled.yaml.
-"$build/map_server/map_server" --lcm-url "$url" --quiet \
-  --config "$root/bench/config/server_unthrottled.yaml" >"$out/server.log" 2>&1 &
-server=$!
-trap 'kill "$server" 2>/dev/null || true; wait "$server" 2>/dev/null || true' EXIT
-for _ in $(seq 50); do "${cli[@]}" stats >/dev/null 2>&1 && break; sleep 0.2; done
-"${cli[@]}" stats >/dev/null || { echo "bench_odometry: map_server did not answer" >&2; cat "$out/server.log" >&2; exit 1; }
+# start_server URL LOG: a map server on URL, its pid in $started; fails when it does not answer.
+start_server() {
+  "$build/map_server/map_server" --lcm-url "$1" --quiet \
+    --config "$root/bench/config/server_unthrottled.yaml" >"$2" 2>&1 &
+  started=$!
+  for _ in $(seq 50); do
+    "$build/tools/socc-cli" --lcm-url "$1" --client-id bench stats >/dev/null 2>&1 && return 0
+    sleep 0.2
+  done
+  "$build/tools/socc-cli" --lcm-url "$1" --client-id bench stats >/dev/null 2>&1
+}
+stop_server() { kill "$1" 2>/dev/null || true; wait "$1" 2>/dev/null || true; }
+answered=1
+start_server "$url" "$out/server.log" || answered=0
+server=$started run_server=""
+trap 'stop_server "$server"; [ -z "$run_server" ] || stop_server "$run_server"' EXIT
+[ "$answered" -eq 1 ] || { echo "bench_odometry: map_server did not answer" >&2; cat "$out/server.log" >&2; exit 1; }
 
 echo "bench_odometry: odom_client on $dir" >&2
 client_rc=0
@@ -102,18 +114,13 @@ for ((run = 2; run <= repeat; run++)); do
   echo "bench_odometry: run $run of $repeat" >&2
   run_out="$out/run_$run"
   mkdir -p "$run_out"
-  run_url="udpm://239.255.76.67:$((20000 + RANDOM % 40000))?ttl=0&recv_buf_size=33554432"
-  "$build/map_server/map_server" --lcm-url "$run_url" --quiet \
-    --config "$root/bench/config/server_unthrottled.yaml" >"$run_out/server.log" 2>&1 &
-  run_server=$!
-  for _ in $(seq 50); do
-    "$build/tools/socc-cli" --lcm-url "$run_url" --client-id bench stats >/dev/null 2>&1 && break
-    sleep 0.2
-  done
+  run_url="$(private_url)"
+  start_server "$run_url" "$run_out/server.log" || true  # a run without rate is left out
+  run_server=$started
   "$build/odom_client/odom_client" --kitti "$dir" --lcm-url "$run_url" --robot-id bench \
     --out-dir "$run_out" "${client_args[@]}" >"$run_out/client_summary.txt" 2>/dev/null || true
-  kill "$run_server" 2>/dev/null || true
-  wait "$run_server" 2>/dev/null || true
+  stop_server "$run_server"
+  run_server=""
   : >"$run_out/baseline.txt"
   [ -n "$baseline" ] && { bash -c "$baseline \"\$1\"" baseline "$dir" >"$run_out/baseline.txt" 2>&1 || true; }
   echo "$(rate_of "$run_out/client_summary.txt") $(fps_of "$run_out/baseline.txt")" >>"$out/rates.txt"
