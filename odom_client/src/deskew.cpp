@@ -16,7 +16,7 @@ constexpr int kKnots = 256;
 }  // namespace
 
 SweepMotion::SweepMotion(const LabeledCloud& cloud, const Vector6d& twist, double reference_time) {
-  if (!cloud.hasTimes() || twist.isZero(0.0) || cloud.times.empty()) return;
+  if (!cloud.hasTimes() || twist.isZero(0.0)) return;
   const auto [lo, hi] = std::minmax_element(cloud.times.begin(), cloud.times.end());
   t0_ = *lo;
   step_ = std::max(static_cast<double>(*hi) - t0_, 1e-9) / kKnots;

@@ -12,8 +12,8 @@ namespace socc::odom {
 
 /// The sweep's motion as a map from a point and its time to where it lies at reference_time:
 /// deskewing one point at a time, without a copy of the cloud (e.g. while downsampling it).
-/// The motion is evaluated exactly at 257 instants over the sweep's times and interpolated
-/// linearly in between (second-order error, below 1e-6 of the motion per sweep).
+/// The motion is evaluated exactly at a few hundred instants over the sweep's times and
+/// interpolated linearly in between (second-order error, below 1e-6 of the motion per sweep).
 class SweepMotion {
  public:
   SweepMotion(const LabeledCloud& cloud, const Vector6d& twist, double reference_time);
