@@ -1,17 +1,18 @@
 #!/usr/bin/env bash
 # Odometry benchmark report: starts a map_server, runs odom_client on a KITTI-layout directory,
 # evaluates against DIR/poses.txt (LiDAR frame; or --gt/--calib for KITTI camera-frame GT),
-# prints ONE markdown table (accuracy, per-stage timing, Hz, bytes/frame, server memory), and
-# writes trajectory/error plots (PNG) and top-down map images (by class, by occupancy) with
-# a legend, a scale bar and both trajectories. --baseline CMD runs another odometry on the same
-# data in the same run (`CMD DIR`, must print fps=F; e.g. a KISS-ICP runner built outside the
-# repository), side by side, with its poses scored when --baseline-poses names the KITTI pose
-# file CMD writes (LiDAR frame). Exit 1 when a target of odom_client/README.md "Performance" is
-# missed: end to end >= 1.2x the baseline's fps (35 Hz without one), frame time p99 <= 3x the
-# median, chunk traffic <= 300 KiB/frame, Integrate upload <= 1 MB/frame (--no-targets: report
-# them, exit 0; for callers that judge accuracy, e.g. demo.sh). --repeat N: N runs of socc (a
-# fresh map server each) and of the baseline, interleaved; the rates are their medians and the
-# ratio judged is the median of the N pairs' (one pair on a shared machine is noise).
+# prints ONE markdown table (accuracy, per-stage timing, CPU a frame, Hz, bytes/frame, server
+# memory), and writes trajectory/error plots (PNG) and top-down map images (by class, by
+# occupancy) with a legend, a scale bar and both trajectories. --baseline CMD runs another
+# odometry on the same data in the same run (`CMD DIR`, must print fps=F; e.g. a KISS-ICP
+# runner built outside the repository), side by side, with its poses scored when
+# --baseline-poses names the KITTI pose file CMD writes (LiDAR frame). Exit 1 when a target of
+# odom_client/README.md "Performance" is missed: end to end >= 1.2x the baseline's fps (35 Hz
+# without one), frame time p99 <= 3x the median, chunk traffic <= 300 KiB/frame, Integrate
+# upload <= 1 MB/frame (--no-targets: report them, exit 0; for callers that judge accuracy, e.g.
+# demo.sh). --repeat N: N runs of socc (a fresh map server each) and of the baseline,
+# interleaved; the rates are their medians and the ratio judged is the median of the N pairs'
+# (one pair on a shared machine is noise).
 #
 # Usage: scripts/bench_odometry.sh DIR [--build BUILD] [--out OUT] [--gt POSES] [--calib CALIB]
 #                                  [--lengths 100,200,...] [--no-semantics] [--frames N]
@@ -19,7 +20,7 @@
 #                                  [--repeat N] [--no-targets]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 [ $# -ge 1 ] || usage 2
 case "$1" in -h|--help) usage 0 ;; esac
@@ -77,10 +78,20 @@ server=$started run_server=""
 trap 'stop_server "$server"; [ -z "$run_server" ] || stop_server "$run_server"' EXIT
 [ "$answered" -eq 1 ] || { echo "bench_odometry: map_server did not answer" >&2; cat "$out/server.log" >&2; exit 1; }
 
+# CPU seconds of the run: the client's from this shell's reaped children (`times` in this
+# shell, not a subshell: its second line, user then system), the server's from /proc.
+children_cpu() { awk 'NR == 2 { split($0, f, /[ms ]+/); print f[1] * 60 + f[2] + f[3] * 60 + f[4] }' "$1"; }
+server_cpu() { awk -v hz="$(getconf CLK_TCK)" '{ print ($14 + $15) / hz }' "/proc/$server/stat"; }
+times >"$out/times_before.txt"
+server_cpu0=$(server_cpu)
+
 echo "bench_odometry: odom_client on $dir" >&2
 client_rc=0
 "$build/odom_client/odom_client" --kitti "$dir" --lcm-url "$url" --robot-id bench \
   --out-dir "$out" "${client_args[@]}" | tee "$out/client_summary.txt" >&2 || client_rc=$?
+times >"$out/times_after.txt"
+awk -v c0="$(children_cpu "$out/times_before.txt")" -v c1="$(children_cpu "$out/times_after.txt")" \
+  -v s0="$server_cpu0" -v s1="$(server_cpu)" 'BEGIN { print c1 - c0, s1 - s0 }' >"$out/cpu.txt"
 # Exit 3: the robot declared itself lost (its frames.csv says where); still scored below.
 [ "$client_rc" -eq 0 ] || [ "$client_rc" -eq 3 ] || { echo "bench_odometry: odom_client failed ($client_rc)" >&2; exit 1; }
 
@@ -167,6 +178,9 @@ base_fps = median(base_runs)
 ratio = median(pairs)
 def spread(v):
     return f", median of {len(v)} runs ({min(v):.1f}-{max(v):.1f})" if len(v) > 1 else ""
+client_cpu, server_cpu = (float(x) for x in open(f"{out}/cpu.txt").read().split())
+cpu_per_frame = (f"{1000 * client_cpu / max(len(rows), 1):.1f} / "
+                 f"{1000 * server_cpu / max(len(rows), 1):.1f} ms (process start included)")
 mem = re.search(r"memory_bytes=(\d+)", stats)
 vox = re.search(r"voxels=(\d+)", stats)
 base_ev = json.load(open(f"{out}/baseline_eval.json")) if os.path.exists(f"{out}/baseline_eval.json") else None
@@ -193,6 +207,7 @@ table = [
     ("registration target (wait + overlay)", f"{mean('fetch_ms'):.1f} ms/frame (map build {mean('map_build_ms'):.1f})", ""),
     ("register", f"{mean('register_ms'):.1f} ms/frame", ""),
     ("wait for the previous frame", f"{mean('wait_ms'):.1f} ms/frame", ""),
+    ("CPU a frame: client / server", cpu_per_frame, ""),
     ("GET_CHUNK / INTEGRATE round trip (worker)", f"{mean('chunk_ms'):.1f} / {mean('integrate_ms'):.1f} ms", ""),
     ("chunk traffic", f"{mean('bytes_received') / 1024:.0f} KiB/frame ({mean('chunk_voxels'):.0f} voxels)", ""),
     ("Integrate upload", f"{mean('bytes_sent') / 1024:.0f} KiB/frame", ""),

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # scripts/bench_odometry.sh end to end on a few socc-sim frames: real map_server and odom_client
-# processes, the report, and --repeat's interleaved runs against a stand-in baseline (it prints
+# processes, the report (with the CPU a frame), and --repeat's interleaved runs against a stand-in baseline (it prints
 # fps=50) with their medians.
 # usage: bench_script_test.sh <source dir> <build dir>
 set -euo pipefail
@@ -26,4 +26,6 @@ awk 'NF != 2 || $1 <= 0 || $2 != 50 { exit 1 }' "$work/out/rates.txt" ||
 grep -q "median of 2 runs" "$work/report.txt" || fail "the rate row does not give the median"
 grep -q "(median of 2 pairs) -> " "$work/report.txt" || fail "the ratio is not the pairs' median"
 [ -s "$work/out/run_2/frames.csv" ] || fail "the second run left no frames.csv"
+grep -Eq "CPU a frame: client / server \| [0-9.]+ / [0-9.]+ ms" "$work/report.txt" ||
+  fail "the report does not give the CPU a frame"
 echo "PASS"
