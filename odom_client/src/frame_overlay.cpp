@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <optional>
 #include <stdexcept>
 
@@ -24,6 +25,12 @@ FrameSplit splitFrame(const LocalMap& map, const LabeledCloud& cloud,
   };
   std::vector<CloudVoxel> voxels = cloudVoxels(cloud, pose, map.voxelSize(), keep);
   FrameSplit out;
+  const auto known = static_cast<std::size_t>(
+      std::count_if(ids.begin(), ids.end(), [](const auto& id) { return id.has_value(); }));
+  // Grown from empty, these vectors of large elements were copied into fresh memory at every
+  // doubling: that took as long as the grouping itself.
+  out.into_known.reserve(known);
+  out.outside.reserve(voxels.size() - known);
   for (std::size_t k = 0; k < voxels.size(); ++k) {
     if (ids[k])
       out.into_known.emplace_back(*ids[k], voxels[k].moments);
@@ -63,11 +70,14 @@ void addFrame(const LocalMap& base, std::size_t chunk_size, const LabeledCloud& 
     else
       overlay[id - chunk_size] = std::move(merged[k]);
   }
-  for (const CloudVoxel& added : split.outside) {
-    MapVoxel v = toMapVoxel(added, EigenSolver::kClosedForm);  // as the server's chunk has it
+  // The new voxels' features too (all of them in the first frame's: ten thousand and more).
+  const std::size_t first_added = overlay.size();
+  overlay.resize(first_added + split.outside.size());
+  tbb::parallel_for(std::size_t{0}, split.outside.size(), [&](std::size_t k) {
+    MapVoxel& v = overlay[first_added + k];
+    v = toMapVoxel(split.outside[k], EigenSolver::kClosedForm);  // as the server's chunk has it
     v.occupancy = base.hitOccupancy();
-    overlay.push_back(std::move(v));
-  }
+  });
 }
 
 }  // namespace socc::odom

@@ -15,6 +15,11 @@ std::vector<CloudVoxel> cloudVoxels(const LabeledCloud& cloud, const Eigen::Isom
   const double inv_size = 1.0 / voxel_size;
   tsl::robin_map<VoxelIndex, std::uint32_t, VoxelIndexHash> slot_of;
   std::vector<CloudVoxel> voxels;
+  // A LiDAR scan has a voxel for every few points. Grown from empty, both are copied into fresh
+  // memory a dozen times, a few MB the last times (page faults). The vector's reserved pages
+  // that are never written are never touched.
+  slot_of.reserve(cloud.size() / 4);
+  voxels.reserve(cloud.size() / 4);
   // A scan's consecutive points mostly share a voxel: its slot is reused without a lookup.
   std::optional<VoxelIndex> last_key;
   std::uint32_t last = kLeftOut;

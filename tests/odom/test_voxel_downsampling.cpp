@@ -51,6 +51,37 @@ TEST(VoxelDownsampling, RevisitedVoxelsKeepTheirMeansInFirstPointOrder) {
   }
 }
 
+// A scan large enough to be summed in two halves at once: voxels of both halves keep the mean of
+// all their points and times; the voxels only the second half has follow, in the order of their
+// first points.
+TEST(VoxelDownsampling, AScanSummedInHalvesIsSummedAsOne) {
+  LabeledCloud c;
+  const int voxels = 10000;
+  for (int pass = 0; pass < 2; ++pass)
+    for (int v = 0; v < voxels; ++v) {
+      c.points.emplace_back(static_cast<float>(v % 100) + 0.25f + 0.5f * static_cast<float>(pass),
+                            static_cast<float>(v / 100) + 0.5f, 0.5f);
+      c.labels.push_back(socc::kBuilding);
+      c.times.push_back(0.01f * static_cast<float>(pass));
+    }
+  for (int v = 0; v < 100; ++v) {  // in the second half only
+    c.points.emplace_back(static_cast<float>(v) + 0.5f, -0.5f, 0.5f);
+    c.labels.push_back(socc::kBuilding);
+    c.times.push_back(0.02f);
+  }
+  const LabeledCloud out = semanticVoxelDownsample(c, 1.0, paperFactors());  // building: 1
+  ASSERT_EQ(out.size(), static_cast<std::size_t>(voxels + 100));
+  for (int v = 0; v < voxels; ++v) {
+    const Eigen::Vector3f mean(static_cast<float>(v % 100) + 0.5f,
+                               static_cast<float>(v / 100) + 0.5f, 0.5f);
+    EXPECT_TRUE(out.points[v].isApprox(mean, 1e-6f)) << v << ": " << out.points[v].transpose();
+    EXPECT_FLOAT_EQ(out.times[v], 0.005f) << v;
+  }
+  for (int v = 0; v < 100; ++v)
+    EXPECT_TRUE(out.points[voxels + v].isApprox(
+        Eigen::Vector3f(static_cast<float>(v) + 0.5f, -0.5f, 0.5f), 1e-6f));
+}
+
 TEST(VoxelDownsampling, DropsHumansAndUsesClassVoxelSizes) {
   LabeledCloud c;
   for (int i = 0; i < 100; ++i) {
