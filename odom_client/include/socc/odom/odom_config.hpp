@@ -75,7 +75,7 @@ struct OdomConfig {
   // the last chunk plus the frames integrated since, merged into it as the server merges them
   // (1: a chunk every frame). The chunk then brings what the client cannot know: other robots'
   // points and cleared space, at most chunk_interval frames late.
-  int chunk_interval = 4;
+  int chunk_interval = 8;
 
   // Registration.
   double planarity_threshold = 0.1;  // tau < this (and n >= 5) => point-to-plane
