@@ -39,9 +39,10 @@ LocalMap withCloud(const LocalMap& map, const LabeledCloud& cloud) {
 // earlier one ended is in the same basin.
 constexpr double kSameBasin = 0.02;
 
-// First-motion search: its hypotheses are registered on this multiple of v_adapt (a quarter of
-// the points on surfaces): 2x halved the search on frame 1 of KITTI 00.
-constexpr double kSearchGrid = 2.0;
+// First-motion search: its hypotheses are registered on this multiple of v_adapt (a ninth of the
+// points on surfaces): 2x halved the search on frame 1 of KITTI 00, 3x halved it again; the
+// robustness matrix and the KITTI sweep give the same errors with either (docs/robustness.md).
+constexpr double kSearchGrid = 3.0;
 
 // A point this close to the map is explained by it: the map's resolution.
 constexpr double kNearMap = 0.5;  // [m]
