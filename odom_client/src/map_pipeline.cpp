@@ -132,7 +132,7 @@ MapPipeline::Exchange MapPipeline::exchange(const FrameEstimate& frame,
   const Clock::time_point start = Clock::now();
   x.integrate = client_.integrate(std::move(request));
   x.integrate_ms = msSince(start);
-  if (!fetch_at || !x.integrate.ok()) return x;
+  if (!fetch_at || !x.integrate.ok() || closing_) return x;
   const Eigen::Vector3d& ahead = *fetch_at;
   const Clock::time_point fetch = Clock::now();
   if (!config_.delta_chunks) cache_.reset();
@@ -147,6 +147,11 @@ MapPipeline::Exchange MapPipeline::exchange(const FrameEstimate& frame,
   x.chunk_bytes = chunk.bytes_received;
   x.chunk_ms = msSince(fetch);
   return x;
+}
+
+void MapPipeline::close() {
+  closing_ = true;
+  finish();
 }
 
 std::int64_t MapPipeline::finish() {

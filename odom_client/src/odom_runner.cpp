@@ -81,7 +81,7 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
     const FrameStats stats = processScan(odometry, scan, frame_start);
     bar.tick(progressText(stats, tracking_.state()));
   }
-  pipeline_->finish();
+  pipeline_->close();
   bar.finish();
   wall_seconds_ = std::chrono::duration<double>(Clock::now() - run_start).count();
 }

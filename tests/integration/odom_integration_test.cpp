@@ -3,11 +3,14 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
+#include <mutex>
 #include <random>
 #include <sstream>
 #include <thread>
@@ -108,6 +111,43 @@ TEST_F(OdomEndToEnd, SixteenKittiFramesWriteEveryOutput) {
   ASSERT_TRUE(stats.ok());
   ASSERT_EQ(stats.reply->stats.num_robots, 1);
   EXPECT_EQ(stats.reply->stats.robots[0].last_seq, 15);
+}
+
+// At the end of a run no frame registers against another chunk: the last Integrate, though one
+// that brings a chunk (16 frames, a chunk with every fourth), is the run's last request.
+TEST_F(OdomEndToEnd, TheRunEndsWithItsLastIntegrateNotWithAChunk) {
+  const fs::path config = work_ / "every_fourth.yaml";
+  std::ofstream(config) << "chunk_interval: 4\n";
+  std::vector<std::string> requests;  // the services asked, in order (only the robot asks these)
+  std::mutex mutex;
+  lcm::LCM lcm(url_);
+  ASSERT_TRUE(lcm.good());
+  struct Recorder {
+    std::vector<std::string>* requests;
+    std::mutex* mutex;
+    void on(const lcm::ReceiveBuffer*, const std::string& channel) {
+      const std::lock_guard<std::mutex> lock(*mutex);
+      requests->push_back(channel);
+    }
+  } recorder{&requests, &mutex};
+  const std::string integrate = socc::channels::request(socc::channels::kIntegrate);
+  const std::string chunk = socc::channels::request(socc::channels::kGetChunk);
+  lcm.subscribe(integrate, &Recorder::on, &recorder);
+  lcm.subscribe(chunk, &Recorder::on, &recorder);
+  std::atomic<bool> stop{false};
+  std::thread listener([&] {
+    while (!stop) lcm.handleTimeout(20);
+  });
+  const int rc = runClient("robot1", work_ / "run", {"--config", config.string()});
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the last datagrams
+  stop = true;
+  listener.join();
+  ASSERT_EQ(rc, 0);
+  const std::lock_guard<std::mutex> lock(mutex);
+  ASSERT_FALSE(requests.empty());
+  EXPECT_EQ(requests.back(), integrate);
+  // The chunks in between were fetched (the first frame's, then with every fourth Integrate).
+  EXPECT_GE(std::count(requests.begin(), requests.end(), chunk), 4);
 }
 
 TEST_F(OdomEndToEnd, LiveScansOverLcm) {

@@ -15,6 +15,7 @@
 // state: dropping it loses nothing, the next frame then fetches its chunk itself (the first
 // frame, after a jump).
 #include <Eigen/Core>
+#include <atomic>
 #include <cstdint>
 #include <future>
 #include <memory>
@@ -49,6 +50,10 @@ class MapPipeline {
   /// Waits for the Integrate in flight and logs its frame; returns the map version it produced
   /// (-1 when none was in flight). Throws std::runtime_error when it failed.
   std::int64_t finish();
+
+  /// finish() at the end of the run: a chunk the worker has not asked for yet is not fetched
+  /// (no frame would register against it).
+  void close();
 
   /// Chunks fetched twice because the first one predated the previous frame's Integrate.
   std::int64_t refetchedChunks() const { return refetched_chunks_; }
@@ -94,6 +99,7 @@ class MapPipeline {
   const OdomConfig& config_;
   FrameLog& log_;
   std::optional<InFlight> in_flight_;
+  std::atomic<bool> closing_{false};  // set by close(), read by the worker
   std::optional<Target> target_;
   std::int64_t integrates_ = 0;
   ChunkCache cache_;  // the worker's (delta_chunks)
