@@ -6,9 +6,8 @@
 // k (query, encode, send, decode, search tree). Pipelined, frame k registers against the last
 // chunk the worker fetched plus the own voxels of the frames integrated since (frame k-1 back to
 // at most chunk_interval frames) that the chunk lacks (with the first points the server keeps for
-// them), while the
-// worker sends frame k-1's Integrate and, with every chunk_interval-th one, fetches the chunk
-// after it and builds its tree. The server and the client work at the same time. Voxels of few
+// them), while the worker sends frame k-1's Integrate and, with every chunk_interval-th one,
+// fetches the chunk after it and builds its tree. The server and the client work at the same time. Voxels of few
 // points come with their moments (FIELD_MOMENTS), and the frames' points are merged into them as
 // the server merges them: a sparse sensor's voxels get and refine their normals when they would
 // in the serial target. The target differs from the serial one only in the features of voxels of
