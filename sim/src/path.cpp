@@ -21,6 +21,15 @@ std::size_t samplesFor(double length) {
   return std::max<std::size_t>(2, static_cast<std::size_t>(std::ceil(length / kSpacing)));
 }
 
+PathPoint between(const PathPoint& a, const PathPoint& b, double b_s, double s) {
+  const double w = b_s > a.s ? (s - a.s) / (b_s - a.s) : 0.0;
+  PathPoint p;
+  p.position = (1 - w) * a.position + w * b.position;
+  p.heading = a.heading + w * std::remainder(b.heading - a.heading, 2 * M_PI);
+  p.s = s;
+  return p;
+}
+
 }  // namespace
 
 Eigen::Vector3d PathPoint::offset(double lateral) const {
@@ -35,34 +44,34 @@ Path::Path(const std::vector<Eigen::Vector3d>& points, bool closed) : closed_(cl
     points_.push_back({points[i], 0.0, s});
   }
   if (!(s > 0.0)) throw std::invalid_argument("a path must have a non-zero length");
-  for (std::size_t i = 0; i < points_.size(); ++i) {
-    const std::size_t a = i == 0 ? 0 : i - 1;
-    const std::size_t b = std::min(i + 1, points_.size() - 1);
+  loop_length_ = closed ? s + (points.front() - points.back()).head<2>().norm() : s;
+  // Tangents by central differences; a closed path's ends take their neighbours across the
+  // seam, so that heading and position run on smoothly from one lap into the next.
+  const std::size_t n = points_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    std::size_t a = i == 0 ? 0 : i - 1;
+    std::size_t b = std::min(i + 1, n - 1);
+    if (closed && i == 0) a = n - 1;
+    if (closed && i == n - 1) b = 0;
     const Eigen::Vector3d d = points_[b].position - points_[a].position;
     points_[i].heading = std::atan2(d.y(), d.x());
   }
 }
 
 PathPoint Path::at(double s) const {
-  const double len = length();
   if (closed_) {
-    s = std::fmod(s, len);
-    if (s < 0) s += len;
+    s = std::fmod(s, loop_length_);
+    if (s < 0) s += loop_length_;
+    // On the closing segment: from the last point back to the first.
+    if (s >= points_.back().s) return between(points_.back(), points_.front(), loop_length_, s);
   } else {
-    s = std::clamp(s, 0.0, len);
+    s = std::clamp(s, 0.0, length());
   }
   const auto it = std::upper_bound(points_.begin(), points_.end(), s,
                                    [](double v, const PathPoint& p) { return v < p.s; });
   if (it == points_.end()) return points_.back();
   if (it == points_.begin()) return points_.front();
-  const PathPoint& a = *(it - 1);
-  const PathPoint& b = *it;
-  const double w = b.s > a.s ? (s - a.s) / (b.s - a.s) : 0.0;
-  PathPoint p;
-  p.position = (1 - w) * a.position + w * b.position;
-  p.heading = a.heading + w * std::remainder(b.heading - a.heading, 2 * M_PI);
-  p.s = s;
-  return p;
+  return between(*(it - 1), *it, it->s, s);
 }
 
 Path straightPath(double length, double z) {

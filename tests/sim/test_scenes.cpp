@@ -1,8 +1,10 @@
 // Generated scenes: the street has the expected structure, corridors constrain little.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
+#include <string>
 
 #include "socc/sim/scan_simulator.hpp"
 #include "socc/sim/semantic_ids.hpp"
@@ -79,6 +81,36 @@ TEST(Scenes, RoutesAndBadOptions) {
   EXPECT_THROW(buildScene(options(SceneType::kStreet, 0)), std::invalid_argument);
   EXPECT_THROW(parseSceneType("forest"), std::invalid_argument);
   EXPECT_THROW(lidarPreset("hdl128"), std::invalid_argument);
+}
+
+// A closed route runs on smoothly from one lap into the next (issue 27: the indoor circle's
+// trajectory jumped 0.33 m and 10 deg where its first lap ended).
+TEST(Scenes, ClosedRoutesHaveNoSeam) {
+  for (const SceneType type : {SceneType::kIndoor, SceneType::kStreet}) {
+    for (const char* route : {"circle", "figure8"}) {
+      SceneOptions o = options(type, 3);
+      o.route = route;
+      o.frames = type == SceneType::kIndoor ? 600 : 800;  // more than one lap
+      const Scene scene = buildScene(o);
+      const double speed = type == SceneType::kIndoor ? 0.8 : 9.0;
+      double max_turn_change = 0.0;
+      double previous_turn = -1.0;
+      for (std::size_t k = 0; k + 1 < o.frames; ++k) {
+        const Eigen::Isometry3d step =
+            scene.trajectory.poseAt(0.1 * static_cast<double>(k)).inverse() *
+            scene.trajectory.poseAt(0.1 * static_cast<double>(k + 1));
+        ASSERT_NEAR(step.translation().norm(), 0.1 * speed, 0.01 * speed)
+            << route << " frame " << k;
+        const double turn = Eigen::AngleAxisd(step.linear()).angle();
+        if (previous_turn >= 0.0)
+          max_turn_change = std::max(max_turn_change, std::abs(turn - previous_turn));
+        previous_turn = turn;
+      }
+      // Along a circle the turn per frame is constant (a figure-eight's flips where the lobes
+      // meet).
+      if (std::string(route) == "circle") EXPECT_LT(max_turn_change, 0.002) << route;
+    }
+  }
 }
 
 TEST(Scenes, FollowsGivenPoses) {

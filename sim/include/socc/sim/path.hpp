@@ -20,17 +20,21 @@ struct PathPoint {
 class Path {
  public:
   /// points: at least 2, spaced finely enough to be smooth. closed: the route loops back to its
-  /// start (arc lengths then wrap).
+  /// start (the last point joins the first; arc lengths then wrap after loopLength()).
   Path(const std::vector<Eigen::Vector3d>& points, bool closed);
 
   PathPoint at(double s) const;  // interpolated; wraps when closed, clamps otherwise
+  /// Arc length from the first to the last point (what the worlds are built along).
   double length() const { return points_.back().s; }
+  /// Arc length after which at() repeats: length() plus, when closed, the closing segment.
+  double loopLength() const { return loop_length_; }
   bool closed() const { return closed_; }
   const std::vector<PathPoint>& points() const { return points_; }
 
  private:
   std::vector<PathPoint> points_;
   bool closed_;
+  double loop_length_ = 0.0;
 };
 
 /// Along +x from x = 0, `length` metres, at height z.
