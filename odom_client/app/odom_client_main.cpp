@@ -36,6 +36,7 @@ struct Args {
   std::string scan_lcm_url;  // --live: where scans arrive; empty = lcm_url
   bool live = false, no_semantics = false, resume = false, quiet = false, relocalize = false;
   double hint_radius = 0.0, hint_yaw_tolerance_deg = 180.0;
+  double frame_period = 0.0;  // --frame-period; 0: the config's frame_period
   std::int64_t first = 0, last = -1;
   double idle_timeout_s = 5.0;
 };
@@ -82,6 +83,11 @@ void addOptions(CLI::App& app, Args& a) {
                  "--pose-hint: accepted heading difference [deg]; 180 = any")
       ->capture_default_str()
       ->needs(reloc_opt);
+  app.add_option("--frame-period", a.frame_period,
+                 "seconds between scans of an input without time stamps (a KITTI directory "
+                 "without times.txt, PCD/PLY files without stamps in their names); overrides "
+                 "frame_period of --config")
+      ->check(CLI::PositiveNumber);
   app.add_option("--first-frame", a.first, "first frame index of a directory input")
       ->capture_default_str();
   app.add_option("--last-frame", a.last, "last frame index (inclusive); -1 = all")
@@ -176,7 +182,8 @@ void resumeFromServer(socc::rpc::MapClient& client, Args& a, const OdomConfig& c
 }
 
 std::unique_ptr<ScanSource> openSource(const Args& a, const OdomConfig& config) {
-  if (!a.input.empty()) return readAhead(openKittiDirectory(a.input, {a.first, a.last}));
+  if (!a.input.empty())
+    return readAhead(openKittiDirectory(a.input, {a.first, a.last}, config.frame_period));
   if (!a.pcd_dir.empty())
     return readAhead(openPointCloudDirectory(a.pcd_dir, {a.first, a.last}, config.frame_period));
   auto source = openLcmScans(a.scan_lcm_url.empty() ? a.lcm_url : a.scan_lcm_url, a.robot_id,
@@ -239,6 +246,7 @@ int main(int argc, char** argv) {
     checkArgs(args);
     OdomConfig config = args.config_file.empty() ? OdomConfig{} : loadOdomConfig(args.config_file);
     if (args.no_semantics) config.use_semantics = false;
+    if (args.frame_period > 0.0) config.frame_period = args.frame_period;
     if (!args.out_dir.empty()) fs::create_directories(args.out_dir);
     socc::rpc::MapClient client(clientOptions(args, config));
 
@@ -258,6 +266,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     const std::unique_ptr<ScanSource> source = openSource(args, config);
+    std::cerr << "odom_client: scan times: " << source->timing() << "\n";
     return runOdometry(args, config, client, options, *source);
   } catch (const std::exception& e) {
     std::cerr << "odom_client: error: " << e.what() << "\n";

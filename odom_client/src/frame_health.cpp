@@ -48,19 +48,27 @@ void judgeMotion(FrameHealth& h, const Vector6d& twist, const Vector6d* previous
                  const OdomConfig& limits) {
   h.linear_speed = twist.head<3>().norm();
   h.angular_speed = twist.tail<3>().norm();
+  std::string& surprise = h.surprise;
+  const auto note = [&surprise](const std::string& what) {
+    if (surprise.empty()) surprise = what;
+  };
   if (h.linear_speed > limits.max_linear_speed)
-    fail(h, format("speed [m/s]", h.linear_speed, ">", limits.max_linear_speed));
+    note(format("speed [m/s]", h.linear_speed, ">", limits.max_linear_speed));
   if (h.angular_speed > limits.max_angular_speed * kDeg)
-    fail(h, format("turn rate [deg/s]", h.angular_speed / kDeg, ">", limits.max_angular_speed));
-  if (previous_twist == nullptr || !(dt > 0.0)) return;
-  h.linear_acceleration = (twist.head<3>() - previous_twist->head<3>()).norm() / dt;
-  h.angular_acceleration = (twist.tail<3>() - previous_twist->tail<3>()).norm() / dt;
-  if (h.linear_acceleration > limits.max_linear_acceleration)
-    fail(h, format("acceleration [m/s^2]", h.linear_acceleration, ">",
-                   limits.max_linear_acceleration));
-  if (h.angular_acceleration > limits.max_angular_acceleration * kDeg)
-    fail(h, format("angular acceleration [deg/s^2]", h.angular_acceleration / kDeg, ">",
-                   limits.max_angular_acceleration));
+    note(format("turn rate [deg/s]", h.angular_speed / kDeg, ">", limits.max_angular_speed));
+  if (previous_twist != nullptr && dt > 0.0) {
+    h.linear_acceleration = (twist.head<3>() - previous_twist->head<3>()).norm() / dt;
+    h.angular_acceleration = (twist.tail<3>() - previous_twist->tail<3>()).norm() / dt;
+    if (h.linear_acceleration > limits.max_linear_acceleration)
+      note(format("acceleration [m/s^2]", h.linear_acceleration, ">",
+                  limits.max_linear_acceleration));
+    if (h.angular_acceleration > limits.max_angular_acceleration * kDeg)
+      note(format("angular acceleration [deg/s^2]", h.angular_acceleration / kDeg, ">",
+                  limits.max_angular_acceleration));
+  }
+  // A degenerate registration slides along its weakest direction unchecked: there the motion
+  // model is the only evidence, and the estimate contradicts it.
+  if (h.degenerate && !h.surprise.empty()) fail(h, "degenerate and " + h.surprise);
 }
 
 }  // namespace socc::odom

@@ -15,7 +15,7 @@ FrameLog::FrameLog(const std::filesystem::path& csv_file) {
           "corr_non_planar,alpha,iterations,chunk_voxels,bytes_received,bytes_sent,sigma,points,"
           "downsampled_points,deskew_passes,status,inlier_fraction,residual_ratio,weakest_"
           "constraint,"
-          "speed,integrated,problem\n";
+          "speed,integrated,problem,surprise\n";
 }
 
 void FrameLog::add(const FrameStats& s) {
@@ -48,7 +48,7 @@ void FrameLog::add(const FrameStats& s) {
        << std::setprecision(4) << s.sigma << ',' << s.points << ',' << s.downsampled_points << ','
        << s.deskew_passes << ',' << s.status << ',' << s.inlier_fraction << ',' << s.residual_ratio
        << ',' << s.weakest_constraint << ',' << s.speed << ',' << (s.integrated ? 1 : 0) << ",\""
-       << s.problem << "\"\n";
+       << s.problem << "\",\"" << s.surprise << "\"\n";
   csv_.flush();  // a killed client still leaves a complete log
 }
 

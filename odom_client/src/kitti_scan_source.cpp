@@ -1,4 +1,5 @@
 // KITTI-layout directory scan source.
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -12,8 +13,8 @@ namespace {
 
 class KittiDirectorySource final : public ScanSource {
  public:
-  KittiDirectorySource(const fs::path& root, FrameRange range)
-      : sequence_(listKittiSequence(root)) {
+  KittiDirectorySource(const fs::path& root, FrameRange range, double frame_period)
+      : sequence_(listKittiSequence(root)), frame_period_(frame_period) {
     if (sequence_.scans.empty())
       throw std::runtime_error(root.string() + ": no velodyne/*.bin scans");
     const fs::path times = root / "times.txt";
@@ -56,15 +57,22 @@ class KittiDirectorySource final : public ScanSource {
                                  std::to_string(scan.cloud.times.size()) + " times for " +
                                  std::to_string(scan.cloud.size()) + " points");
     }
-    scan.utime = times_.empty() ? static_cast<std::int64_t>(i) * 100000
+    scan.utime = times_.empty() ? std::llround(static_cast<double>(i) * frame_period_ * 1e6)
                                 : static_cast<std::int64_t>(times_[i] * 1e6);
     return scan;
   }
 
   std::size_t remaining() const override { return static_cast<std::size_t>(end_ - next_); }
 
+  std::string timing() const override {
+    if (!times_.empty()) return "times.txt";
+    return "none (no times.txt): assuming " + std::to_string(frame_period_) +
+           " s between scans (frame_period; set it with --frame-period)";
+  }
+
  private:
   KittiSequence sequence_;
+  double frame_period_;
   std::vector<double> times_;
   std::int64_t next_ = 0;
   std::int64_t end_ = 0;
@@ -72,8 +80,9 @@ class KittiDirectorySource final : public ScanSource {
 
 }  // namespace
 
-std::unique_ptr<ScanSource> openKittiDirectory(const fs::path& root, FrameRange range) {
-  return std::make_unique<KittiDirectorySource>(root, range);
+std::unique_ptr<ScanSource> openKittiDirectory(const fs::path& root, FrameRange range,
+                                               double frame_period) {
+  return std::make_unique<KittiDirectorySource>(root, range, frame_period);
 }
 
 }  // namespace socc::odom

@@ -159,6 +159,13 @@ std::int64_t MapPipeline::finish() {
   Exchange x = in_flight_->reply.get();
   FrameStats stats = in_flight_->stats;
   in_flight_.reset();
+  if (!x.integrate.ok() && x.integrate.error.status == reply_header_t::FAILED_PRECONDITION) {
+    stats.status = "refused";
+    stats.integrated = false;
+    stats.problem = x.integrate.error.message;
+    log_.add(stats);
+    throw IntegrateRefused(x.integrate.error.message);
+  }
   if (!x.integrate.ok())
     throw std::runtime_error(callError("INTEGRATE", x.integrate.error, x.integrate.attempts));
   stats.integrate_ms = x.integrate_ms;

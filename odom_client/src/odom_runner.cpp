@@ -1,6 +1,7 @@
 #include "socc/odom/odom_runner.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -41,6 +42,7 @@ void addHealth(const FrameEstimate& e, FrameStats& stats) {
   stats.downsampled_points = static_cast<std::int64_t>(e.registered_points);
   stats.deskew_passes = e.deskew_passes;
   stats.problem = e.health.problem;
+  stats.surprise = e.health.surprise;
   stats.inlier_fraction = e.health.inlier_fraction;
   stats.residual_ratio = e.health.residual_ratio;
   stats.weakest_constraint = e.health.weakest_constraint;
@@ -75,13 +77,22 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
     }
     const PreparedScan& scan = *next->scan;
     if (!localized_ && !relocalize(odometry, scan)) {
+      if (gave_up_) break;
       bar.tick("relocalizing");
       continue;
     }
-    const FrameStats stats = processScan(odometry, scan, frame_start);
-    bar.tick(progressText(stats, tracking_.state()));
+    try {
+      const FrameStats stats = processScan(odometry, scan, frame_start);
+      bar.tick(progressText(stats, tracking_.state()));
+    } catch (const IntegrateRefused& e) {
+      refused(scan, e.what());
+    }
   }
   pipeline_->close();
+  if (recovering_ && !localized_ && !gave_up_)  // the input ended during the search
+    sendStatus(robot_status_request_t::LOST, "the input ended before relocalization succeeded",
+               trajectory_.seqs.empty() ? 0 : trajectory_.seqs.back(),
+               trajectory_.stamps.empty() ? 0 : std::llround(trajectory_.stamps.back() * 1e6));
   bar.finish();
   wall_seconds_ = std::chrono::duration<double>(Clock::now() - run_start).count();
 }
@@ -97,7 +108,7 @@ FrameStats OdomRunner::processScan(Odometry& odometry, const PreparedScan& prepa
   stats.register_ms = msSince(register_start);
   stats.total_ms = msSince(start);
   // The chunk fetched after this frame serves the frame after the next.
-  const Eigen::Vector3d ahead = odometry.predictedPosition(2.0 * config_.frame_period);
+  const Eigen::Vector3d ahead = odometry.predictedPosition(2.0 * odometry.framePeriod());
   if (std::optional<FrameEstimate> first = odometry.takeReleasedFrame()) {
     FrameStats first_stats;  // its time was spent when it arrived
     first_stats.frame = first->seq;
@@ -109,6 +120,13 @@ FrameStats OdomRunner::processScan(Odometry& odometry, const PreparedScan& prepa
 
 bool OdomRunner::relocalize(Odometry& odometry, const PreparedScan& scan) {
   if (search_since_utime_ < 0) startRelocalizing(scan.utime);
+  const double searched = (scan.utime - search_since_utime_) * 1e-6;
+  // A recovery searches near the last good pose first (the robot cannot be far from it unless
+  // it was carried off), then anywhere.
+  if (recovering_ && hint_ && searched > 0.5 * config_.relocalize_timeout) {
+    std::cerr << "odom_client: not found near the last good pose: searching the whole map\n";
+    hint_.reset();
+  }
   FrameStats stats;
   stats.frame = scan.seq;
   stats.status = "relocalizing";
@@ -119,11 +137,12 @@ bool OdomRunner::relocalize(Odometry& odometry, const PreparedScan& scan) {
   if (!found.pose) {
     stats.problem = found.problem;
     log_->add(stats);
-    const double searched = (scan.utime - search_since_utime_) * 1e-6;
-    if (searched > config_.relocalize_timeout)
-      throw RelocalizationFailed(
-          "not localized in the map after " + std::to_string(searched) +
-          " s of scans (relocalize_timeout); last attempt: " + found.problem);
+    if (recovering_) {  // one row per scan in the trajectory, as for the lost frames before
+      trajectory_.seqs.push_back(scan.seq);
+      trajectory_.stamps.push_back(scan.utime * 1e-6);
+      trajectory_.poses.push_back(odometry.predictedPose(scan));
+    }
+    if (searched > config_.relocalize_timeout) giveUp(scan, searched, found.problem);
     return false;
   }
   std::cerr << "odom_client: localized in the map at frame " << scan.seq << " (explains "
@@ -136,6 +155,7 @@ bool OdomRunner::relocalize(Odometry& odometry, const PreparedScan& scan) {
   tracking_ = TrackingMonitor(config_.max_unhealthy_frames);
   if (was_lost) sendStatus(robot_status_request_t::TRACKING, "relocalized", scan.seq, scan.utime);
   localized_ = true;
+  recovering_ = false;
   search_since_utime_ = -1;
   hint_.reset();
   ++relocalizations_;
@@ -147,6 +167,42 @@ void OdomRunner::startRelocalizing(std::int64_t utime) {
   std::cerr << "odom_client: searching the robot's pose in the map (relocalization)\n";
 }
 
+void OdomRunner::refused(const PreparedScan& scan, const std::string& why) {
+  std::cerr << "odom_client: the server refused an INTEGRATE (" << why
+            << "): the robot lost track\n";
+  // The refused frame's voxels are in the pipeline's overlay: it starts afresh.
+  pipeline_.emplace(client_, config_, *log_);
+  tracking_.lose();
+  FrameEstimate frame;
+  frame.seq = scan.seq;
+  frame.utime = scan.utime;
+  frame.health.problem = "INTEGRATE refused: " + why;
+  reportTracking(TrackingState::kLost, frame);
+  if (localized_) startRecovery(frame);
+}
+
+void OdomRunner::startRecovery(const FrameEstimate& frame) {
+  localized_ = false;  // searched from the next scan on
+  recovering_ = true;
+  if (last_good_) {
+    PoseHint near;
+    near.position = last_good_->translation();
+    near.radius = config_.relocalize_hint_radius;
+    hint_ = near;
+  }
+  // RELOCALIZING keeps the server refusing its INTEGRATEs until it reports TRACKING again.
+  sendStatus(robot_status_request_t::RELOCALIZING, "searching the map", frame.seq, frame.utime);
+}
+
+void OdomRunner::giveUp(const PreparedScan& scan, double searched, const std::string& problem) {
+  const std::string why = "not localized in the map after " + std::to_string(searched) +
+                          " s of scans (relocalize_timeout); last attempt: " + problem;
+  if (!recovering_) throw RelocalizationFailed(why);
+  std::cerr << "odom_client: " << why << ": the run ends LOST\n";
+  sendStatus(robot_status_request_t::LOST, why.substr(0, 200), scan.seq, scan.utime);
+  gave_up_ = true;
+}
+
 void OdomRunner::submit(FrameEstimate estimate, FrameStats stats, const Eigen::Vector3d& ahead) {
   const TrackingState before = tracking_.state();
   const TrackingState state = tracking_.update(estimate.health.healthy());
@@ -155,18 +211,16 @@ void OdomRunner::submit(FrameEstimate estimate, FrameStats stats, const Eigen::V
   if (!estimate.health.healthy())
     std::cerr << "odom_client: frame " << estimate.seq << " unhealthy (" << estimate.health.problem
               << "): not integrated\n";
+  else if (!estimate.health.surprise.empty())
+    std::cerr << "odom_client: frame " << estimate.seq << ": kinematic surprise ("
+              << estimate.health.surprise << ") with good registration evidence: integrated\n";
   if (state != before) {
     pipeline_->finish();  // the server applies requests in order: the report follows the Integrate
     std::cerr << "odom_client: tracking state " << trackingStateName(state) << " at frame "
               << estimate.seq << "\n";
     reportTracking(state, estimate);
   }
-  if (state == TrackingState::kLost && options_.relocalize && localized_) {
-    localized_ = false;  // searched again from the next scan on
-    // RELOCALIZING keeps the server refusing its INTEGRATEs until it reports TRACKING again.
-    sendStatus(robot_status_request_t::RELOCALIZING, "searching the map", estimate.seq,
-               estimate.utime);
-  }
+  if (state == TrackingState::kLost && localized_) startRecovery(estimate);
   trajectory_.seqs.push_back(estimate.seq);
   trajectory_.stamps.push_back(estimate.utime * 1e-6);
   trajectory_.poses.push_back(estimate.pose);
@@ -176,6 +230,7 @@ void OdomRunner::submit(FrameEstimate estimate, FrameStats stats, const Eigen::V
     return;
   }
   stats.integrated = true;
+  last_good_ = estimate.pose;
   pipeline_->integrate(std::move(estimate), stats, ahead);
 }
 

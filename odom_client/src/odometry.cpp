@@ -47,6 +47,9 @@ constexpr double kSearchGrid = 3.0;
 // A point this close to the map is explained by it: the map's resolution.
 constexpr double kNearMap = 0.5;  // [m]
 
+// A scan this many frame periods after the last one follows a gap (dropped scans, a pause).
+constexpr double kGapPeriods = 1.5;
+
 }  // namespace
 
 struct Odometry::Sweep {
@@ -72,6 +75,7 @@ Odometry::Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_po
       threshold_(config.initial_threshold, config.min_motion, config.max_range),
       voxel_size_(config.initial_voxel_size, config.min_voxel_size, config.max_voxel_size,
                   config.target_points),
+      period_(config.frame_period),
       pose_(initial_pose),
       keep_first_pose_(initial_pose_known && !config.refine_initial_pose) {}
 
@@ -127,14 +131,7 @@ FrameEstimate Odometry::registerFrame(const PreparedScan& scan, const LocalMap& 
   const Eigen::Isometry3d prediction = predictedPose(scan);
   if (keep || !registrable(map)) return unregistered(scan, prediction);
 
-  FrameEstimate out = estimate(scan, map, threshold_.sigma());
-  if (!out.health.healthy()) {
-    // A wider threshold from the constant-velocity prediction catches a motion the model missed.
-    FrameEstimate retry =
-        estimate(scan, map, std::max(2.0 * threshold_.sigma(), config_.initial_threshold));
-    retry.retried = true;
-    if (retry.health.healthy()) out = std::move(retry);
-  }
+  FrameEstimate out = estimateWithRetries(scan, map);
   if (!out.health.healthy()) {
     // Not trusted: the state follows the prediction (the estimate stays for the log).
     FrameEstimate kept = unregistered(scan, prediction);
@@ -144,20 +141,42 @@ FrameEstimate Odometry::registerFrame(const PreparedScan& scan, const LocalMap& 
     return kept;
   }
   const Eigen::Isometry3d mid = out.registration.pose;
-  if (has_motion_model_) threshold_.update(prediction.inverse() * mid);
+  // The threshold follows the model's error over one period; after a gap its error is larger
+  // by what the gap, not the model, did.
+  const bool on_time = time_ >= 0.0 && period_.periods(scan.time() - time_) < kGapPeriods;
+  if (has_motion_model_ && on_time) threshold_.update(prediction.inverse() * mid);
   advance(scan, out, mid);
   return out;
+}
+
+FrameEstimate Odometry::estimateWithRetries(const PreparedScan& scan, const LocalMap& map) {
+  // After a gap (dropped scans, a paused recording) the prediction spans several periods: its
+  // error grows with them, and so does the threshold that has to catch it.
+  const double periods = time_ >= 0.0 ? period_.periods(scan.time() - time_) : 1.0;
+  const double sigma = threshold_.sigma();
+  const double wide = std::max(2.0 * sigma, config_.initial_threshold);
+  FrameEstimate out = estimate(scan, map, std::min(sigma * periods, wide), twist_);
+  if (out.health.healthy()) return out;
+  // A wider threshold from the constant-velocity prediction catches a motion the model missed.
+  FrameEstimate retry = estimate(scan, map, wide, twist_);
+  retry.retried = true;
+  if (retry.health.healthy() || periods < kGapPeriods) return retry.health.healthy() ? retry : out;
+  // A pause: the robot may have stood still while the recording did.
+  FrameEstimate still = estimate(scan, map, wide, Vector6d::Zero());
+  still.retried = true;
+  return still.health.healthy() ? still : out;
 }
 
 bool Odometry::registrable(const LocalMap& map) const {
   return map.size() >= static_cast<std::size_t>(std::max(config_.min_map_points, 1));
 }
 
-FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, double sigma) {
+FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, double sigma,
+                                 const Vector6d& model_twist) {
   FrameEstimate out;
   out.sigma = sigma;
-  Eigen::Isometry3d mid = predictedPose(scan);
-  Vector6d twist = twist_;
+  Eigen::Isometry3d mid = time_ < 0.0 ? pose_ : pose_ * expSe3(model_twist * (scan.time() - time_));
+  Vector6d twist = model_twist;
   const bool anchored = time_ >= 0.0 && scan.time() > time_;
   if (anchored && !twist_known_) {
     mid = searchFirstMotion(scan, map, pose_, scan.time() - time_, sigma);
@@ -342,6 +361,7 @@ FrameEstimate Odometry::bootstrap(const PreparedScan& scan, const LocalMap& map)
   judgeMotion(e1.health, twist, nullptr, dt, config_);
   e0.health = e1.health;  // the first scan is deskewed with this frame's motion
   released_ = std::move(e0);
+  period_.add(dt);
   pose_ = mid1;
   time_ = scan.time();
   twist_ = twist;
@@ -384,6 +404,7 @@ void Odometry::advance(const PreparedScan& scan, const FrameEstimate& out,
     twist_ = twistTo(mid, scan.time());
     twist_known_ = true;
   }
+  if (time_ >= 0.0) period_.add(scan.time() - time_);
   pose_ = orthonormalized(mid);
   time_ = scan.time();
   has_motion_model_ = true;

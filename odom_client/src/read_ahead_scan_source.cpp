@@ -1,4 +1,5 @@
 #include <future>
+#include <string>
 #include <utility>
 
 #include "socc/odom/scan_source.hpp"
@@ -10,7 +11,7 @@ namespace {
 class ReadAheadScanSource : public ScanSource {
  public:
   explicit ReadAheadScanSource(std::unique_ptr<ScanSource> source)
-      : source_(std::move(source)), remaining_(source_->remaining()) {
+      : source_(std::move(source)), remaining_(source_->remaining()), timing_(source_->timing()) {
     readNext();
   }
   ~ReadAheadScanSource() override {
@@ -25,6 +26,7 @@ class ReadAheadScanSource : public ScanSource {
     return scan;
   }
   std::size_t remaining() const override { return remaining_; }
+  std::string timing() const override { return timing_; }
 
  private:
   void readNext() {
@@ -33,6 +35,7 @@ class ReadAheadScanSource : public ScanSource {
 
   std::unique_ptr<ScanSource> source_;
   std::size_t remaining_;  // source_'s count is the worker's to change
+  std::string timing_;
   std::future<std::optional<Scan>> pending_;
 };
 

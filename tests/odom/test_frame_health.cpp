@@ -3,7 +3,9 @@
 #include <cmath>
 
 #include "socc/odom/deskew.hpp"
+#include "socc/odom/file_name_stamps.hpp"
 #include "socc/odom/frame_health.hpp"
+#include "socc/odom/frame_period.hpp"
 #include "socc/odom/point_times.hpp"
 #include "socc/odom/tracking_state.hpp"
 
@@ -43,28 +45,77 @@ TEST(FrameHealth, JudgesInliersResidualAndDegeneracy) {
   EXPECT_NEAR(std::abs(h.weakest_direction.x()), 1.0, 1e-9);  // along the corridor
 }
 
-TEST(FrameHealth, JudgesSpeedAndAcceleration) {
+// Issue 27: a kinematic limit exceeded is reported, never unhealthy alone (the frame period may be
+// a guess, the robot may move as no limit foresaw); with a degenerate registration it is.
+TEST(FrameHealth, KinematicSurprisesAreReportedNotUnhealthy) {
   const OdomConfig cfg;  // 40 m/s, 360 deg/s, 20 m/s^2, 720 deg/s^2
   const Vector6d cruise = (Vector6d() << 10, 0, 0, 0, 0, 0.2).finished();
   FrameHealth h;
   judgeMotion(h, cruise, &cruise, 0.1, cfg);
   EXPECT_TRUE(h.healthy()) << h.problem;
+  EXPECT_TRUE(h.surprise.empty()) << h.surprise;
   EXPECT_DOUBLE_EQ(h.linear_speed, 10.0);
 
+  const auto surprise = [&cfg, &cruise](const Vector6d& twist, const Vector6d* previous) {
+    FrameHealth good;
+    judgeMotion(good, twist, previous, 0.1, cfg);
+    EXPECT_TRUE(good.healthy()) << good.problem;
+    return good.surprise;
+  };
+  EXPECT_NE(surprise((Vector6d() << 60, 0, 0, 0, 0, 0).finished(), nullptr).find("speed"),
+            std::string::npos);
+  EXPECT_NE(surprise((Vector6d() << 0, 0, 0, 0, 0, 8.0).finished(), nullptr).find("turn rate"),
+            std::string::npos);
+  // Walking at 2 Hz taken for 10 Hz: 0.7 m then 0.3 m steps look like 40 m/s^2.
+  const Vector6d slow = (Vector6d() << 3, 0, 0, 0, 0, 0).finished();
+  EXPECT_NE(surprise((Vector6d() << 7, 0, 0, 0, 0, 0).finished(), &slow).find("acceleration"),
+            std::string::npos);
+  EXPECT_NE(surprise((Vector6d() << 10, 0, 0, 0, 0, 2.0).finished(), &cruise)
+                .find("angular acceleration"),
+            std::string::npos);
+
+  // Degenerate: the registration cannot vouch for the weak direction, the motion model can.
   h = {};
-  judgeMotion(h, (Vector6d() << 60, 0, 0, 0, 0, 0).finished(), nullptr, 0.1, cfg);
-  EXPECT_NE(h.problem.find("speed"), std::string::npos) << h.problem;
-  h = {};
-  judgeMotion(h, (Vector6d() << 0, 0, 0, 0, 0, 8.0).finished(), nullptr, 0.1, cfg);
-  EXPECT_NE(h.problem.find("turn rate"), std::string::npos) << h.problem;
-  // The oscillation of an unstable deskew loop: 0.44 m then 1.05 m steps at 10 Hz.
-  h = {};
-  const Vector6d slow = (Vector6d() << 4.4, 0, 0, 0, 0, 0).finished();
+  h.degenerate = true;
   judgeMotion(h, (Vector6d() << 10.5, 0, 0, 0, 0, 0).finished(), &slow, 0.1, cfg);
-  EXPECT_NE(h.problem.find("acceleration"), std::string::npos) << h.problem;
+  EXPECT_NE(h.problem.find("degenerate and acceleration"), std::string::npos) << h.problem;
   h = {};
-  judgeMotion(h, (Vector6d() << 10, 0, 0, 0, 0, 2.0).finished(), &cruise, 0.1, cfg);
-  EXPECT_NE(h.problem.find("angular acceleration"), std::string::npos) << h.problem;
+  h.degenerate = true;
+  judgeMotion(h, cruise, &cruise, 0.1, cfg);
+  EXPECT_TRUE(h.healthy()) << h.problem;
+}
+
+TEST(FramePeriod, MedianOfTheStampsGapsStayGaps) {
+  FramePeriod p(0.1);
+  EXPECT_DOUBLE_EQ(p.period(), 0.1);  // assumed until the stamps say otherwise
+  p.add(0.5);
+  EXPECT_DOUBLE_EQ(p.period(), 0.5);  // a 2 Hz recording
+  p.add(0.5);
+  p.add(3.0);  // five scans dropped
+  p.add(0.0);  // a repeated stamp: ignored
+  EXPECT_DOUBLE_EQ(p.period(), 0.5);
+  EXPECT_DOUBLE_EQ(p.periods(3.0), 6.0);
+  EXPECT_DOUBLE_EQ(p.periods(0.2), 1.0);
+  FramePeriod gap_first(0.1);
+  gap_first.add(0.6);
+  gap_first.add(0.1);
+  EXPECT_DOUBLE_EQ(gap_first.period(), 0.1);  // of a period and a gap: the period
+}
+
+TEST(FileNameStamps, SecondsAndEpochIntegersAreStampsFrameNumbersAreNot) {
+  EXPECT_EQ(fileNameStamp("1317354748.213624.pcd"), 1317354748213624);
+  EXPECT_EQ(fileNameStamp("1317354748.pcd"), 1317354748000000);
+  EXPECT_EQ(fileNameStamp("1317354748213.pcd"), 1317354748213000);        // ms
+  EXPECT_EQ(fileNameStamp("1317354748213624.ply"), 1317354748213624);     // us
+  EXPECT_EQ(fileNameStamp("1317354748213624512.pcd"), 1317354748213625);  // ns
+  EXPECT_FALSE(fileNameStamp("000123.pcd"));
+  EXPECT_FALSE(fileNameStamp("scan_1317354748.pcd"));
+  EXPECT_FALSE(fileNameStamp("12.5.pcd"));
+  EXPECT_FALSE(fileNameStamp("1317354748.2x.pcd"));
+  EXPECT_EQ(fileNameStamps({"1317354748.0.pcd", "1317354748.5.pcd"}),
+            (std::vector<std::int64_t>{1317354748000000, 1317354748500000}));
+  EXPECT_TRUE(fileNameStamps({"1317354748.5.pcd", "1317354748.0.pcd"}).empty());  // not rising
+  EXPECT_TRUE(fileNameStamps({"1317354748.0.pcd", "000001.pcd"}).empty());
 }
 
 TEST(TrackingMonitor, LostAfterTheConfiguredRunOfUnhealthyFramesAndStaysLost) {

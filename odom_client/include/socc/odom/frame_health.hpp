@@ -1,7 +1,11 @@
 #pragma once
 // Per-frame health of a registration: is the estimate trustworthy enough to enter the shared
-// map? Judged from the registration itself (inlier fraction, residual against sigma, how well
-// each direction is constrained) and from the motion it implies (speed, acceleration).
+// map? Judged from the registration's own evidence (inlier fraction, residual against sigma, how
+// well each direction is constrained). The motion it implies (speed, acceleration over the scans'
+// time stamps) is only reported: a robot may move in ways no limit foresaw, and where the input
+// has no time stamps the frame period is assumed, so a kinematic limit alone is no evidence that
+// the registration is wrong. Only where the registration is weak (degenerate) does a kinematic
+// surprise make the frame unhealthy: there the motion model is the only evidence left.
 #include <string>
 
 #include "socc/odom/odom_config.hpp"
@@ -23,6 +27,7 @@ struct FrameHealth {
   double linear_acceleration = 0.0;   // [m/s^2]
   double angular_acceleration = 0.0;  // [rad/s^2]
   bool degenerate = false;  // a direction is barely constrained (flagged; not unhealthy alone)
+  std::string surprise;     // a kinematic limit the motion exceeds (reported); empty when none
   std::string problem;      // why the frame is unhealthy; empty when healthy
 
   bool healthy() const { return problem.empty(); }
@@ -34,6 +39,7 @@ FrameHealth judgeRegistration(const RegistrationResult& r, std::size_t points, d
 
 /// Adds the motion check: twist [per second] is the estimated motion since the previous frame,
 /// dt [s] apart; previous_twist the one before (nullptr: unknown, acceleration not judged).
+/// A limit exceeded is a surprise (reported), unhealthy only when the frame is degenerate.
 void judgeMotion(FrameHealth& health, const Vector6d& twist, const Vector6d* previous_twist,
                  double dt, const OdomConfig& limits);
 

@@ -38,9 +38,11 @@ struct FrameStats {
   std::int64_t downsampled_points = 0;  // registered points
   int deskew_passes = 0;
   // Health (odom_client/README.md "Health"): status is "ok", "degenerate", "retried",
-  // "unhealthy" (not integrated) or "lost" (not integrated; the robot gave up).
+  // "unhealthy" (not integrated), "lost" (not integrated; the robot lost track), "relocalizing"
+  // (searching its pose in the map) or "refused" (the server refused it as implausible).
   std::string status = "ok";
-  std::string problem;  // why the frame is unhealthy
+  std::string problem;   // why the frame is unhealthy
+  std::string surprise;  // a kinematic limit exceeded (FrameHealth::surprise; reported only)
   double inlier_fraction = 0.0;
   double residual_ratio = 0.0;
   double weakest_constraint = 0.0;  // FrameHealth::weakest_constraint

@@ -7,13 +7,13 @@
 // chunk the worker fetched plus the own voxels of the frames integrated since (frame k-1 back to
 // at most chunk_interval frames) that the chunk lacks (with the first points the server keeps for
 // them), while the worker sends frame k-1's Integrate and, with every chunk_interval-th one,
-// fetches the chunk after it and builds its tree. The server and the client work at the same time. Voxels of few
-// points come with their moments (FIELD_MOMENTS), and the frames' points are merged into them as
-// the server merges them: a sparse sensor's voxels get and refine their normals when they would
-// in the serial target. The target differs from the serial one only in the features of voxels of
-// many points that those frames hit again, and in occupancies and labels. Soft
-// state: dropping it loses nothing, the next frame then fetches its chunk itself (the first
-// frame, after a jump).
+// fetches the chunk after it and builds its tree. The server and the client work at the same time.
+// Voxels of few points come with their moments (FIELD_MOMENTS), and the frames' points are merged
+// into them as the server merges them: a sparse sensor's voxels get and refine their normals when
+// they would in the serial target. The target differs from the serial one only in the features of
+// voxels of many points that those frames hit again, and in occupancies and labels. Soft state:
+// dropping it loses nothing, the next frame then fetches its chunk itself (the first frame, after a
+// jump).
 #include <Eigen/Core>
 #include <atomic>
 #include <cstdint>
@@ -30,6 +30,14 @@
 #include "socc/rpc/map_client.hpp"
 
 namespace socc::odom {
+
+/// The server refused a frame's Integrate as implausible (FAILED_PRECONDITION: a pose no robot
+/// can reach from its last accepted one in the time between the scans, plausibility.hpp): the
+/// robot has lost track although its registration looked good.
+class IntegrateRefused : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 class MapPipeline {
  public:
@@ -48,7 +56,9 @@ class MapPipeline {
   void integrate(FrameEstimate estimate, const FrameStats& stats, const Eigen::Vector3d& ahead);
 
   /// Waits for the Integrate in flight and logs its frame; returns the map version it produced
-  /// (-1 when none was in flight). Throws std::runtime_error when it failed.
+  /// (-1 when none was in flight). Throws IntegrateRefused when the server refused it as
+  /// implausible, std::runtime_error when it failed otherwise (target() and integrate() call
+  /// it too).
   std::int64_t finish();
 
   /// finish() at the end of the run: a chunk the worker has not asked for yet is not fetched

@@ -3,7 +3,10 @@
 //   prepare -> registration target (map_pipeline.hpp) -> register (deskew iterated, health
 //   judged) -> Integrate (in a worker thread, which then fetches the next chunk).
 // Only healthy frames are integrated; after max_unhealthy_frames in a row the robot is lost and
-// integrates nothing more (the shared map is never fed a pose the robot does not trust).
+// integrates nothing (the shared map is never fed a pose the robot does not trust) until it has
+// found itself in the map again: it relocalizes (relocalization.hpp) near its last good pose
+// first, anywhere after half of relocalize_timeout, and resumes there; a search that outlasts
+// relocalize_timeout ends the run LOST.
 // Stateless between frames apart from the odometry state: no map is kept beyond one chunk and
 // the voxels of the last frame.
 #include <Eigen/Geometry>
@@ -31,8 +34,8 @@ struct RunOptions {
   Eigen::Isometry3d initial_pose = Eigen::Isometry3d::Identity();  // map frame, first scan
   bool initial_pose_known = false;   // given by the user (--initial-pose): see Odometry
   std::int64_t skip_until_seq = -1;  // scans with seq <= this were integrated before (--resume)
-  // --relocalize: the first pose is searched in the map (relocalization.hpp), narrowed by hint;
-  // a robot that gets lost searches again instead of giving up.
+  // --relocalize: the first pose is searched in the map (relocalization.hpp), narrowed by hint.
+  // (A robot that gets lost searches again in any case.)
   bool relocalize = false;
   std::optional<PoseHint> hint;
   bool progress = true;
@@ -73,6 +76,13 @@ class OdomRunner {
   /// robot is still unlocalized (the scan is logged, not integrated).
   bool relocalize(Odometry& odometry, const PreparedScan& scan);
   void startRelocalizing(std::int64_t utime);
+  /// The server refused a frame as implausible: lost, recovery from the next scan.
+  void refused(const PreparedScan& scan, const std::string& why);
+  /// A lost robot starts searching from the next scan, near its last good pose first.
+  void startRecovery(const FrameEstimate& frame);
+  /// The search outlasted relocalize_timeout: a first search throws RelocalizationFailed, a
+  /// recovery ends the run LOST.
+  void giveUp(const PreparedScan& scan, double searched, const std::string& problem);
   /// Judges, records and (when healthy and not lost) integrates one finished frame; ahead: see
   /// MapPipeline::integrate.
   void submit(FrameEstimate estimate, FrameStats stats, const Eigen::Vector3d& ahead);
@@ -89,8 +99,11 @@ class OdomRunner {
   Trajectory trajectory_;
   double wall_seconds_ = 0.0;
   bool localized_ = true;
-  std::int64_t search_since_utime_ = -1;  // scan time the current search began; -1: not yet
-  std::optional<PoseHint> hint_;          // for the next search only
+  bool recovering_ = false;  // the current search follows LOST (else: --relocalize's first)
+  bool gave_up_ = false;     // a recovery outlasted relocalize_timeout: the run ends LOST
+  std::int64_t search_since_utime_ = -1;        // scan time the current search began; -1: not yet
+  std::optional<PoseHint> hint_;                // for the next search only
+  std::optional<Eigen::Isometry3d> last_good_;  // pose of the last integrated frame
   int relocalizations_ = 0;
 };
 

@@ -15,6 +15,7 @@
 
 #include "socc/odom/adaptive_threshold.hpp"
 #include "socc/odom/frame_health.hpp"
+#include "socc/odom/frame_period.hpp"
 #include "socc/odom/local_map.hpp"
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/registration.hpp"
@@ -86,6 +87,8 @@ class Odometry {
   void reset(const Eigen::Isometry3d& pose);
 
   double sigma() const { return threshold_.sigma(); }
+  /// [s] the time between scans as their stamps show it (frame_period.hpp).
+  double framePeriod() const { return period_.period(); }
   /// Body twist per second of the constant-velocity model (translation first).
   const Vector6d& twist() const { return twist_; }
 
@@ -102,7 +105,13 @@ class Odometry {
   bool registrable(const LocalMap& map) const;  // holds at least min_map_points
   Eigen::Isometry3d searchFirstMotion(const PreparedScan& scan, const LocalMap& map,
                                       const Eigen::Isometry3d& from, double dt, double sigma);
-  FrameEstimate estimate(const PreparedScan& scan, const LocalMap& map, double sigma);
+  // Registers from the constant-velocity prediction with model_twist (twist_, or zero: the robot
+  // stood still).
+  FrameEstimate estimate(const PreparedScan& scan, const LocalMap& map, double sigma,
+                         const Vector6d& model_twist);
+  // The registration of a scan with the model's fallbacks: a wider threshold, and after a time
+  // gap the robot standing still.
+  FrameEstimate estimateWithRetries(const PreparedScan& scan, const LocalMap& map);
   FrameEstimate bootstrap(const PreparedScan& scan, const LocalMap& map);
   FrameEstimate unregistered(const PreparedScan& scan, const Eigen::Isometry3d& mid_pose);
   void finish(const PreparedScan& scan, const Eigen::Isometry3d& mid_pose, const Vector6d& twist,
@@ -116,6 +125,7 @@ class Odometry {
   RegistrationParams params_;
   AdaptiveThreshold threshold_;
   AdaptiveVoxelSize voxel_size_;
+  FramePeriod period_;
   Eigen::Isometry3d pose_;  // map_T_sensor at time_ (middle of the last sweep)
   double time_ = -1.0;      // [s]; negative: no frame yet (pose_ is the initial pose)
   Vector6d twist_ = Vector6d::Zero();

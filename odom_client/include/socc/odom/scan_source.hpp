@@ -27,6 +27,9 @@ class ScanSource {
   virtual std::optional<Scan> next() = 0;
   /// Scans left, when known (0 = unknown, live input).
   virtual std::size_t remaining() const = 0;
+  /// Where the scans' time stamps come from, or what was assumed in their place (printed at
+  /// start-up: speeds and accelerations in frames.csv follow from it).
+  virtual std::string timing() const { return "the scans' own time stamps"; }
 };
 
 struct FrameRange {
@@ -35,10 +38,14 @@ struct FrameRange {
 };
 
 /// velodyne/*.bin, optional labels/*.label (raw SemanticKITTI ids, mapped), optional times.txt
-/// (scan times [s]) and point_times/NNNNNN.bin (float32 per-point times [s]).
-std::unique_ptr<ScanSource> openKittiDirectory(const std::filesystem::path& root, FrameRange range);
+/// (scan times [s]; without it frame k is at k * frame_period) and point_times/NNNNNN.bin
+/// (float32 per-point times [s]).
+std::unique_ptr<ScanSource> openKittiDirectory(const std::filesystem::path& root, FrameRange range,
+                                               double frame_period = 0.1);
 
 /// Sorted *.pcd / *.ply files of a directory; the frame index is the position in that order.
+/// Scan times from the file names when every name holds one (file_name_stamps.hpp), else frame
+/// k at k * frame_period.
 std::unique_ptr<ScanSource> openPointCloudDirectory(const std::filesystem::path& dir,
                                                     FrameRange range, double frame_period);
 

@@ -20,6 +20,8 @@ class TrackingMonitor {
 
   /// Feeds one frame's verdict and returns the new state.
   TrackingState update(bool healthy);
+  /// Lost on other evidence (the server refused a frame as implausible).
+  void lose() { state_ = TrackingState::kLost; }
   TrackingState state() const { return state_; }
   int unhealthyInARow() const { return in_a_row_; }
 
