@@ -9,13 +9,17 @@
 # most frames.
 #
 # Usage: scripts/bench_robustness.sh [--build BUILD] [--out OUT] [--frames N] [--config ODOM_YAML]
-#        [--kitti-sweep] [--keep-sequences]   (--kitti-sweep: instead of the matrix, two segments
-#        of every KITTI GT trajectory 00-10 but 03, sensors rotating HDL-64 / VLP-32 / VLP-16, with
-#        distortion. The simulated sequences, ~0.8 GB per HDL-64 case, are deleted once evaluated
-#        unless --keep-sequences.)
+#        [--kitti-sweep | --kitti-starts [SEQS]] [--keep-sequences]   (--kitti-sweep: instead of
+#        the matrix, two segments of every KITTI GT trajectory 00-10 but 03, sensors rotating
+#        HDL-64 / VLP-32 / VLP-16, with distortion. --kitti-starts: the first --frames (default
+#        300) frames of every KITTI GT trajectory (or the comma-separated SEQS) with HDL-64 and with
+#        VLP-32, with distortion only: slow, turning starts from standstill; a case fails on any
+#        unhealthy or lost frame (issue 27). The simulated sequences, ~0.8 GB per HDL-64 case, are
+#        deleted once evaluated unless --keep-sequences.)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build="$root/build"; out="$root/out/robustness"; frames=150; odom_args=(); sweep=0; keep=0
+build="$root/build"; out="$root/out/robustness"; frames=""; odom_args=(); sweep=0; keep=0
+starts=0; start_seqs="00,01,02,04,05,06,07,08,09,10"
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
@@ -23,13 +27,17 @@ while [ $# -gt 0 ]; do
     --frames) frames="$2"; shift 2 ;;
     --config) odom_args+=(--config "$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"); shift 2 ;;
     --kitti-sweep) sweep=1; shift ;;
+    --kitti-starts)
+      starts=1; shift
+      if [[ ${1:-} =~ ^[0-9,]+$ ]]; then start_seqs=$1; shift; fi ;;
     --keep-sequences) keep=1; shift ;;
-    -h|--help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench_robustness: unknown argument $1" >&2; exit 2 ;;
   esac
 done
-gt="$root/../shared/data/kitti_gt"
+gt="${SOCC_KITTI_GT:-$root/../shared/data/kitti_gt}"  # env: another checkout layout
 mkdir -p "$out"
+[[ -n $frames ]] || frames=$(((starts)) && echo 300 || echo 150)
 
 # name | target ratio | socc-sim arguments ("kitti SEQ START" = that KITTI GT segment's shape)
 cases=(
@@ -61,6 +69,18 @@ if ((sweep)); then  # two segments of each KITTI GT shape (03 has no calib here)
   done
 fi
 
+variants=(distorted clean)
+if ((starts)); then  # every trajectory's start, HDL-64 and VLP-32, distorted only
+  cases=()
+  variants=(distorted)
+  IFS=',' read -r -a seqs <<<"$start_seqs"
+  for seq in "${seqs[@]}"; do
+    for sensor in hdl64 vlp32; do
+      cases+=("start$seq-$sensor|starts|kitti $seq 0 --sensor $sensor")
+    done
+  done
+fi
+
 simulate() {  # dir distortion(0|1) args... -> sequence in dir
   local dir="$1" distortion=(); shift
   [ "$1" = 1 ] && distortion=(--distortion)
@@ -85,7 +105,7 @@ for c in "${cases[@]}"; do
   IFS='|' read -r name target spec <<<"$c"
   read -r -a args <<<"$spec"
   echo "bench_robustness: $name" >&2
-  for variant in distorted clean; do
+  for variant in "${variants[@]}"; do
     simulate "$out/$name/$variant/seq" "$([ $variant = distorted ] && echo 1 || echo 0)" "${args[@]}"
     "$root/scripts/bench_odometry.sh" "$out/$name/$variant/seq" --build "$build" \
       --out "$out/$name/$variant" --no-targets "${odom_args[@]}" >"$out/$name/$variant.txt" 2>"$out/$name/$variant.log" || true
@@ -93,7 +113,9 @@ for c in "${cases[@]}"; do
   done
   row="$(python3 - "$out/$name" "$name" "$target" <<'PY'
 import csv, json, os, re, sys
-out, name, target = sys.argv[1], sys.argv[2], float(sys.argv[3])
+out, name, target = sys.argv[1], sys.argv[2], sys.argv[3]
+starts = target == "starts"  # --kitti-starts: no clean run; no unhealthy or lost frame at all
+target = 0.0 if starts else float(target)
 def load(variant):
     d = f"{out}/{variant}"
     if not os.path.exists(f"{d}/eval.json"):
@@ -107,14 +129,22 @@ def load(variant):
     hz = re.search(r"rate: ([0-9.]+) Hz", open(f"{d}/client_summary.txt").read())
     ev["hz"] = hz.group(1) if hz else "n/a"
     return ev
-dist, clean = load("distorted"), load("clean")
-if dist is None or clean is None:
+dist, clean = load("distorted"), None if starts else load("clean")
+if dist is None or (clean is None and not starts):
     print(f"| {name} | no result (see {out}/*.log) | | | | | | | | FAIL |"); sys.exit()
 rows = dist["rows"]
 count = lambda s: sum(r["status"] == s for r in rows)
 ate, rpe = dist["ate_m"], dist["rpe_trans_m"]["max"]
 degenerate, lost = count("degenerate"), count("lost")
-ratio = dist["err"] / max(clean["err"], 1e-9)
+unhealthy = count("unhealthy") + count("relocalizing")
+ratio = 0.0 if starts else dist["err"] / max(clean["err"], 1e-9)
+if starts:
+    ok = dist["err"] <= 3.0 and ate["max"] <= 3.0 and lost == 0 and unhealthy == 0
+    surprises = sum(bool(r.get("surprise")) for r in rows)
+    print(f"| {name} | {dist['gt_length_m']:.0f} m | {dist['err']:.3f} % | "
+          f"{ate['rmse']:.3f} / {ate['max']:.3f} m | {rpe:.3f} m | {degenerate} / {unhealthy} / "
+          f"{lost} | {surprises} | {dist['hz']} | {'PASS' if ok else 'FAIL'} |")
+    sys.exit()
 if target == 0:  # the featureless corridor: flagged, not judged on drift
     ok = degenerate >= 0.5 * len(rows)
 else:
@@ -130,12 +160,22 @@ PY
   [[ "$row" == *"| FAIL |" ]] && failed=$((failed + 1))
 done
 
+if ((starts)); then
+  echo "## KITTI starts, ${#cases[@]} cases x the first $frames frames, distorted, seed 11"
+  echo
+  echo "Error: KITTI t_err, or ATE max / path length below 100 m. A case fails on any unhealthy,"
+  echo "relocalizing or lost frame; kinematic surprises are reported only."
+  echo
+  echo "| case | path | error | ATE RMSE / max | max RPE (1 frame) | degenerate / unhealthy / lost frames | kinematic surprises | Hz | |"
+  echo "|---|---|---|---|---|---|---|---|---|"
+else
 echo "## odometry robustness, ${#cases[@]} cases x $frames frames, seed 11 unless named"
 echo
 echo "Error: KITTI t_err, or ATE max / path length below 100 m. Frames and Hz of the distorted run."
 echo
 echo "| case | path | error, distorted | error, clean | ratio (target) | ATE RMSE / max | max RPE (1 frame) | degenerate / unhealthy+retried / lost frames | Hz | |"
 echo "|---|---|---|---|---|---|---|---|---|---|"
+fi
 printf '%s\n' "${rows[@]}"
 echo
 echo "$failed of ${#cases[@]} cases failed"

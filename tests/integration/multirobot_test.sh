@@ -3,7 +3,7 @@
 # socc-cli processes and lcm-logplayer over UDP multicast on loopback (random group, port
 # 50000-59999).
 #
-# Usage: multirobot_test.sh logplayer|robots|client_restart|server_restart|lost|relocalize --server BIN --client BIN --cli BIN
+# Usage: multirobot_test.sh logplayer|robots|client_restart|server_restart|lost|relocalize|health --server BIN --client BIN --cli BIN
 #                           [--to-lcmlog BIN] [--sim BIN] [--data DIR]
 #   logplayer: socc-to-lcmlog converts frames 0-7 of DATA/kitti_00_first16 to a log,
 #              odom_client --live consumes it from lcm-logplayer; its poses must equal an offline
@@ -26,11 +26,19 @@
 #              (chunk digest) as an undisturbed reference run; the poses equal the reference
 #              run's (max element difference 1e-6) and the server's pose history of the robot;
 #              the restarted server stops cleanly (exit 0).
-#   lost:      odom_client on a socc-sim street with motion distortion whose scans from frame 10 on
-#              come from another world (a kidnapped robot / wrong sensor stream): its frames turn
-#              unhealthy, it declares itself lost, exits 3, the server lists it as LOST, and the
-#              map equals (chunk digest) a run on frames 0-9 alone: nothing of the lost robot
-#              reached the shared map.
+#   lost:      odom_client (no --relocalize) on a socc-sim street with motion distortion whose
+#              scans from frame 10 on come from another world (a kidnapped robot / wrong sensor
+#              stream): its frames turn unhealthy, it declares itself lost, searches the map in
+#              vain (relocalize_timeout 1 s), exits 3, the server lists it as LOST, and the map
+#              equals (chunk digest) a run on frames 0-9 alone: nothing of the lost robot reached
+#              the shared map. A robot kidnapped for 5 scans and put down 15 frames further on
+#              recovers by itself: exit 0, its poses after the recovery within 0.1 m / 1 deg
+#              (median) of the GT.
+#   health:    issue 27's healthy robots: a 2 Hz folder of PCD files (every 5th socc-sim frame,
+#              no time stamps) tracks without an unhealthy frame, also with stamps in the file
+#              names (used: 0.5 s apart); an indoor VLP-16 lap with distortion tracks across the
+#              lap's end; a recording with dropped scans (times.txt gaps of 0.5 s and 0.3 s)
+#              tracks through the gaps; each within 1 % of its path (ATE max) of the GT.
 #   relocalize: robot A maps frames 0-39 of a socc-sim street from its known start. Robot B
 #              starts at frame 20 with --relocalize and no pose: its poses must land in A's map
 #              frame (median error <= 0.1 m and 1 deg against A's poses of the same frames).
@@ -44,7 +52,7 @@ usage() { sed -n '2,40p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 case "${1:-}" in
   -h|--help) usage 0 ;;
-  logplayer|robots|client_restart|server_restart|lost|relocalize) mode=$1; shift ;;
+  logplayer|robots|client_restart|server_restart|lost|relocalize|health) mode=$1; shift ;;
   *) usage 2 ;;
 esac
 server_bin="" client_bin="" cli_bin="" to_lcmlog_bin="" sim_bin="" data=""
@@ -390,15 +398,14 @@ server_restart() {
 
 lost() {
   [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
-  local sim=("$sim_bin" --frames 20 --sensor vlp32 --distortion --quiet)
+  local sim=("$sim_bin" --frames 40 --sensor vlp32 --distortion --quiet)
   "${sim[@]}" --out "$work/here" --seed 7 >/dev/null || fail "socc-sim failed"
   "${sim[@]}" --out "$work/elsewhere" --scene indoor --seed 8 >/dev/null || fail "socc-sim failed"
-  local f  # frames 10-19 of the sequence are scans of the other world
-  for f in $(seq -f %06g 10 19); do
-    cp "$work/elsewhere/velodyne/$f.bin" "$work/here/velodyne/$f.bin"
-    cp "$work/elsewhere/labels/$f.label" "$work/here/labels/$f.label"
-    cp "$work/elsewhere/point_times/$f.bin" "$work/here/point_times/$f.bin"
-  done
+  # Frames 10-39 of the sequence are scans of the other world: no recovery is possible.
+  copy_frames "$work/here" 0 0 9 "$work/foreign"
+  copy_frames "$work/elsewhere" 10 10 39 "$work/foreign"
+  cp "$work/here/times.txt" "$work/foreign/times.txt"
+  printf 'relocalize_timeout: 1.0\n' >"$work/quick.yaml"  # gives up after 1 s of scans
   map_digest() { cli chunk --sphere 0 0 0 150 --fields features stats free index --digest | sed -n 's/^digest=//p'; }
 
   start_server reference
@@ -410,18 +417,42 @@ lost() {
 
   start_server kidnapped
   local rc=0
-  "$client_bin" --lcm-url "$url" --kitti "$work/here" --robot-id car --quiet --out-dir "$work/out" \
-    >"$work/kidnapped.log" 2>&1 || rc=$?
+  "$client_bin" --lcm-url "$url" --kitti "$work/foreign" --robot-id car --quiet --out-dir "$work/out" \
+    --config "$work/quick.yaml" >"$work/kidnapped.log" 2>&1 || rc=$?
   ((rc == 3)) || fail "odom_client exited $rc, expected 3 (lost): $(tail -5 "$work/kidnapped.log")"
   grep -q "tracking state lost" "$work/kidnapped.log" || fail "no 'tracking state lost' on stderr"
+  grep -q "the run ends LOST" "$work/kidnapped.log" || fail "no 'the run ends LOST' on stderr"
   grep -q ",lost," "$work/out/frames.csv" || fail "frames.csv has no 'lost' status"
+  grep -q ",relocalizing," "$work/out/frames.csv" || fail "frames.csv has no 'relocalizing' status"
   cli stats | tee "$work/stats.txt" | sed 's/^/  stats: /'
   grep -q "tracking=LOST" "$work/stats.txt" || fail "the server does not list the robot as LOST"
   [[ $(map_digest) == "$reference" ]] || fail "the lost robot changed the shared map"
-  echo "lost robot: exit 3, LOST on the server, map identical to frames 0-9 alone"
+  echo "lost robot: searched in vain, exit 3, LOST on the server, map identical to frames 0-9 alone"
+  stop_server
+
+  # Kidnapped for 5 scans, then put down 10 frames further on: recovers without --relocalize.
+  copy_frames "$work/here" 0 0 9 "$work/kidnapped"
+  copy_frames "$work/elsewhere" 10 10 14 "$work/kidnapped"
+  copy_frames "$work/here" 15 25 39 "$work/kidnapped"
+  cp "$work/here/times.txt" "$work/kidnapped/times.txt"
+  start_server recovers
+  rc=0
+  "$client_bin" --lcm-url "$url" --kitti "$work/kidnapped" --robot-id car --quiet \
+    --out-dir "$work/recovers" >"$work/recovers.log" 2>&1 || rc=$?
+  ((rc == 0)) || fail "the kidnapped robot exited $rc, expected 0 (recovered): $(tail -5 "$work/recovers.log")"
+  grep -q "tracking state lost" "$work/recovers.log" || fail "the kidnapped robot never got lost"
+  grep -q "localized in the map" "$work/recovers.log" || fail "the kidnapped robot did not relocalize"
+  cli stats | tee "$work/stats.txt" | sed 's/^/  stats: /'
+  grep "^car " "$work/stats.txt" | grep -q "tracking=TRACKING" ||
+    fail "the server does not list the recovered robot as TRACKING"
+  awk '$1 >= 1.45' "$work/recovers/poses_tum.txt" >"$work/recovered.tum"
+  [[ -s $work/recovered.tum ]] || fail "no poses after the recovery"
+  within_10cm_1deg "$work/recovered.tum" "$work/kidnapped/poses.txt" "kidnapped robot (after recovery)"
+  stop_server
 }
 
-# copy_frames FROM TO FIRST LAST DEST: frames FIRST..LAST of sequence FROM as frames TO.. of DEST.
+# copy_frames FROM TO FIRST LAST DEST: frames FIRST..LAST of sequence FROM (with their point times,
+# when it has them) as frames TO.. of DEST.
 copy_frames() {
   local from=$1 to=$2 first=$3 last=$4 dest=$5 f g
   mkdir -p "$dest/velodyne" "$dest/labels"
@@ -429,6 +460,10 @@ copy_frames() {
     printf -v g %06d "$f"
     cp "$from/velodyne/$g.bin" "$dest/velodyne/$(printf %06d "$to").bin"
     cp "$from/labels/$g.label" "$dest/labels/$(printf %06d "$to").label"
+    if [[ -f $from/point_times/$g.bin ]]; then
+      mkdir -p "$dest/point_times"
+      cp "$from/point_times/$g.bin" "$dest/point_times/$(printf %06d "$to").bin"
+    fi
     sed -n "$((f + 1))p" "$from/poses.txt" >>"$dest/poses.txt"
   done
 }
@@ -490,6 +525,108 @@ relocalize() {
   { sed -n 1,15p "$work/mapper/poses_kitti.txt"; sed -n 26,40p "$work/mapper/poses_kitti.txt"; } \
     >"$work/kidnapped_reference.txt"
   within_10cm_1deg "$work/recovered.tum" "$work/kidnapped_reference.txt" "robot D (after recovery)"
+  stop_server
+}
+
+# pcd_folder KITTI_DIR STEP DEST [STAMPED]: every STEP-th scan of KITTI_DIR as DEST/NNNNNN.pcd
+# (binary x y z, no time field) and the matching GT poses in DEST.poses; STAMPED: file names are
+# the scans' times (1.6e9 s + times.txt).
+pcd_folder() {
+  python3 - "$@" <<'PY'
+import os, sys
+src, step, dest = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+stamped = len(sys.argv) > 4
+os.makedirs(dest, exist_ok=True)
+times = [float(t) for t in open(f"{src}/times.txt")]
+poses = open(f"{src}/poses.txt").read().splitlines()
+with open(dest + ".poses", "w") as gt:
+    for k in range(0, len(times), step):
+        raw = open(f"{src}/velodyne/{k:06d}.bin", "rb").read()
+        n = len(raw) // 16
+        xyz = b"".join(raw[i * 16:i * 16 + 12] for i in range(n))
+        name = f"{1.6e9 + times[k]:.6f}" if stamped else f"{k // step:06d}"
+        with open(f"{dest}/{name}.pcd", "wb") as f:
+            f.write((f"VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+                     f"WIDTH {n}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {n}\n"
+                     f"DATA binary\n").encode())
+            f.write(xyz)
+        gt.write(poses[k] + "\n")
+PY
+}
+
+# keep_frames SRC DEST FRAME...: the listed frames of SRC (with labels, point times and times.txt
+# entries) renumbered 0.. in DEST: a recording with the others dropped.
+keep_frames() {
+  local src=$1 dest=$2 k=0 f; shift 2
+  mkdir -p "$dest/velodyne" "$dest/labels" "$dest/point_times"
+  for f in "$@"; do
+    local g n; g=$(printf %06d "$f"); n=$(printf %06d "$k")
+    cp "$src/velodyne/$g.bin" "$dest/velodyne/$n.bin"
+    cp "$src/labels/$g.label" "$dest/labels/$n.label"
+    [[ -f $src/point_times/$g.bin ]] && cp "$src/point_times/$g.bin" "$dest/point_times/$n.bin"
+    sed -n "$((f + 1))p" "$src/times.txt" >>"$dest/times.txt"
+    sed -n "$((f + 1))p" "$src/poses.txt" >>"$dest/poses.txt"
+    k=$((k + 1))
+  done
+}
+
+# tracks NAME GT [odom_client options]: exit 0, no unhealthy, relocalizing or lost frame, ATE
+# max <= 1 % of the GT path (KITTI poses GT, row per frame).
+tracks() {
+  local name=$1 gt=$2; shift 2
+  local rc=0
+  "$client_bin" --lcm-url "$url" --robot-id "$name" --quiet --out-dir "$work/$name" "$@" \
+    >"$work/$name.log" 2>&1 || rc=$?
+  ((rc == 0)) || fail "$name: odom_client exited $rc: $(tail -5 "$work/$name.log")"
+  local bad; bad=$(grep -c ",unhealthy,\|,lost,\|,relocalizing," "$work/$name/frames.csv" || true)
+  ((bad == 0)) || fail "$name: $bad unhealthy/lost frames: $(grep -m3 ",unhealthy,\|,lost," "$work/$name/frames.csv")"
+  python3 - "$work/$name/poses_kitti.txt" "$gt" "$name" <<'PY' || fail "$name: drift above 1 % of the path"
+import math, sys
+est, gt, name = [[float(v) for v in l.split()] for l in open(sys.argv[1])], \
+    [[float(v) for v in l.split()] for l in open(sys.argv[2])], sys.argv[3]
+assert len(est) == len(gt), f"{len(est)} poses for {len(gt)} GT poses"
+pos = lambda p: (p[3], p[7], p[11])
+path = sum(math.dist(pos(a), pos(b)) for a, b in zip(gt, gt[1:]))
+ate = max(math.dist(pos(a), pos(b)) for a, b in zip(est, gt))
+print(f"{name}: {len(est)} frames, path {path:.1f} m, ATE max {ate:.3f} m ({100 * ate / path:.2f} %)")
+sys.exit(0 if ate <= 0.01 * path else 1)
+PY
+}
+
+health() {
+  [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
+  # Each robot in its own map (they all start at the origin of their own world).
+  start_server walk
+  # A walk near buildings recorded at 2 Hz: every 5th frame of a 10 Hz run, as .pcd.
+  "$sim_bin" --out "$work/walk" --frames 100 --sensor vlp32 --speed 1.5 --trajectory figure8 \
+    --seed 5 --quiet >/dev/null || fail "socc-sim failed"
+  pcd_folder "$work/walk" 5 "$work/walk_2hz"
+  tracks walk_2hz "$work/walk_2hz.poses" --pcd-dir "$work/walk_2hz"
+  grep -q "scan times: none in the file names: assuming 0.1 s" "$work/walk_2hz.log" ||
+    fail "walk_2hz: no start-up message about the assumed frame period"
+  pcd_folder "$work/walk" 5 "$work/walk_stamped" stamped
+  stop_server
+  start_server walk_stamped
+  tracks walk_stamped "$work/walk_stamped.poses" --pcd-dir "$work/walk_stamped"
+  grep -q "scan times: from the file names" "$work/walk_stamped.log" ||
+    fail "walk_stamped: the stamps in the file names were not used"
+  awk -F, 'NR > 2 && $25 > 2.5 { exit 1 }' "$work/walk_stamped/frames.csv" ||
+    fail "walk_stamped: speeds above 2.5 m/s: the 0.5 s between the stamps was not used"
+
+  # An indoor VLP-16 lap with distortion: across the lap's end (socc-sim's seam, issue 27).
+  "$sim_bin" --out "$work/lap" --scene indoor --sensor vlp16 --distortion --speed 1.6 \
+    --frames 130 --seed 3 --quiet >/dev/null || fail "socc-sim failed"
+  stop_server
+  start_server lap
+  tracks lap "$work/lap/poses.txt" --kitti "$work/lap"
+
+  # Dropped scans: frames 20-24 (0.6 s between two scans) and 40-41 missing.
+  "$sim_bin" --out "$work/drive" --frames 60 --sensor vlp32 --distortion --trajectory figure8 \
+    --seed 9 --quiet >/dev/null || fail "socc-sim failed"
+  keep_frames "$work/drive" "$work/dropped" $(seq 0 19) $(seq 25 39) $(seq 42 59)
+  stop_server
+  start_server dropped
+  tracks dropped "$work/dropped/poses.txt" --kitti "$work/dropped"
   stop_server
 }
 
