@@ -149,8 +149,11 @@ bool OdomRunner::relocalize(Odometry& odometry, const PreparedScan& scan) {
             << static_cast<int>(found.fitness * 100) << " % of the scan, "
             << static_cast<int>(found.free * 100) << " % in free space; next place "
             << static_cast<int>(found.runner_up * 100) << " % net)\n";
-  // A verified pose is a given pose: the scan is integrated there, odometry goes on from it.
-  odometry = Odometry(config_, *found.pose, true);
+  // Odometry restarts from the verified pose and registers the scan again: the verification
+  // registered it undeskewed, so with a moving sensor its pose is the sweep's middle, not the
+  // scan time's (half a sweep's motion apart: 0.45 m at 9 m/s); the restart deskews the scan
+  // with the motion of the next one and puts the pose at the scan time.
+  odometry = Odometry(config_, *found.pose, false);
   const bool was_lost = tracking_.state() == TrackingState::kLost;
   tracking_ = TrackingMonitor(config_.max_unhealthy_frames);
   if (was_lost) sendStatus(robot_status_request_t::TRACKING, "relocalized", scan.seq, scan.utime);

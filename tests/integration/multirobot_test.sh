@@ -31,7 +31,7 @@
 #              stream): its frames turn unhealthy, it declares itself lost, searches the map in
 #              vain (relocalize_timeout 1 s), exits 3, the server lists it as LOST, and the map
 #              equals (chunk digest) a run on frames 0-9 alone: nothing of the lost robot reached
-#              the shared map. A robot kidnapped for 5 scans and put down 15 frames further on
+#              the shared map. A robot kidnapped for 5 scans and put down 5 frames further on
 #              recovers by itself: exit 0, its poses after the recovery within 0.1 m / 1 deg
 #              (median) of the GT.
 #   health:    issue 27's healthy robots: a 2 Hz folder of PCD files (every 5th socc-sim frame,
@@ -430,10 +430,11 @@ lost() {
   echo "lost robot: searched in vain, exit 3, LOST on the server, map identical to frames 0-9 alone"
   stop_server
 
-  # Kidnapped for 5 scans, then put down 10 frames further on: recovers without --relocalize.
+  # Kidnapped for 5 scans, then put down 5 frames further on (within the 10 frames' map, 4.5 m
+  # ahead of where it was taken): recovers without --relocalize.
   copy_frames "$work/here" 0 0 9 "$work/kidnapped"
   copy_frames "$work/elsewhere" 10 10 14 "$work/kidnapped"
-  copy_frames "$work/here" 15 25 39 "$work/kidnapped"
+  copy_frames "$work/here" 15 20 39 "$work/kidnapped"
   cp "$work/here/times.txt" "$work/kidnapped/times.txt"
   start_server recovers
   rc=0
