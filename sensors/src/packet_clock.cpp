@@ -30,8 +30,6 @@ PacketClock::Placement PacketClock::place(std::uint32_t sensor_us, std::int64_t 
       p.order = Order::kRestart;
     } else {
       p.order = Order::kNext;
-      const double packets = static_cast<double>(delta) / (period_us_ * 1000.0);
-      if (packets > 1.5) p.lost = static_cast<std::uint64_t>(std::llround(packets)) - 1;
     }
   }
   const std::int64_t candidate = arrival_ns - (sensor_ns + span_ns);

@@ -12,14 +12,13 @@ namespace socc::sensors {
 
 class PacketClock {
  public:
-  /// wrap_us: period of the sensor stamp (one hour for Velodyne), period_us: time between packets.
-  PacketClock(double wrap_us, double period_us) : wrap_us_(wrap_us), period_us_(period_us) {}
+  /// wrap_us: period of the sensor stamp (one hour for Velodyne).
+  explicit PacketClock(double wrap_us) : wrap_us_(wrap_us) {}
 
   enum class Order { kFirst, kNext, kLate, kRestart };
   struct Placement {
     Order order = Order::kFirst;
     std::int64_t sensor_ns = 0;  // the sensor stamp, unwrapped [ns, the sensor's clock]
-    std::uint64_t lost = 0;      // packets missing before this one (kNext)
   };
 
   /// Places a packet with sensor stamp sensor_us and arrival time arrival_ns whose last firing
@@ -31,7 +30,6 @@ class PacketClock {
 
  private:
   double wrap_us_;
-  double period_us_;
   bool started_ = false;
   std::int64_t wraps_ = 0;
   std::int64_t last_sensor_ns_ = 0;  // unwrapped

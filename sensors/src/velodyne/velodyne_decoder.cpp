@@ -4,6 +4,7 @@
 // azimuth crosses SensorConfig::cut_azimuth_deg.
 #include "velodyne_decoder.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <optional>
@@ -141,7 +142,13 @@ class VelodyneDecoder final : public ScanDecoder {
                                                            : model_->distance_resolution_m;
     layout_ = packetLayout(*model_, dual_);
     buildLaserTerms();
-    clock_.emplace(kHourUs, layout_.packet_period_us);
+    firing_step_us_ = layout_.packet_period_us;
+    for (int b = 1; b < kBlocks; ++b)
+      if (layout_.used[b] && layout_.block_start_us[b] != layout_.block_start_us[0]) {
+        firing_step_us_ = layout_.block_start_us[b] - layout_.block_start_us[0];
+        break;
+      }
+    clock_.emplace(kHourUs);
     sweep_.reserve(static_cast<std::size_t>(model_->lasers) * 2000);
     std::vector<Packet> pending;
     pending.swap(pending_);
@@ -197,25 +204,49 @@ class VelodyneDecoder final : public ScanDecoder {
     lost_deg_in_sweep_ = 0.0;
   }
 
-  // Rotation speed [hundredths of a degree per us] from the azimuth advance within the packet,
-  // or between packets when the packet has a single firing sequence (VLS-128 dual return).
+  // Rotation speed [hundredths of a degree per us]: the median step between the packet's firing
+  // sequences (a blind sector inside a packet is one outlier), or the step from the previous
+  // packet when the packet holds one sequence (VLS-128 dual return).
   double rotationRate(const Packet& packet, std::int64_t sensor_ns, bool continuous) {
-    int last = 0;
-    for (int b = 0; b < kBlocks; ++b)
-      if (layout_.used[b] && layout_.block_start_us[b] != layout_.block_start_us[0]) last = b;
+    std::array<double, kBlocks> rates{};
+    std::size_t n = 0;
+    int prev = -1;
+    for (int b = 0; b < kBlocks; ++b) {
+      if (!layout_.used[b]) continue;
+      if (prev >= 0 && layout_.block_start_us[b] == layout_.block_start_us[prev]) continue;
+      if (prev >= 0)
+        rates[n++] = azimuthStep(blockAzimuth(packet.data, prev), blockAzimuth(packet.data, b)) /
+                     static_cast<double>(layout_.block_start_us[b] - layout_.block_start_us[prev]);
+      prev = b;
+    }
     const int az0 = blockAzimuth(packet.data, 0);
-    double rate = rate_;
-    if (last > 0) {
-      rate = azimuthStep(az0, blockAzimuth(packet.data, last)) /
-             static_cast<double>(layout_.block_start_us[last] - layout_.block_start_us[0]);
+    double rate = 0.0;
+    if (n > 0) {
+      std::nth_element(rates.begin(), rates.begin() + static_cast<std::ptrdiff_t>(n / 2),
+                       rates.begin() + n);
+      rate = rates[n / 2];
     } else if (continuous && prev_az_ >= 0) {
       const double dt_us = static_cast<double>(sensor_ns - prev_sensor_ns_) * 1e-3;
       if (dt_us > 0.0) rate = azimuthStep(prev_az_, az0) / dt_us;
     }
     prev_az_ = az0;
     prev_sensor_ns_ = sensor_ns;
-    if (rate > 0.0 && rate < 1.0) rate_ = rate;  // < 1 deg/us... 27 turns a second: plausible
+    if (rate > 0.0 && rate < 1.0) rate_ = rate;  // up to 27 turns a second: plausible
     return rate_;
+  }
+
+  // Packets lost before this one, from the azimuth: the step from the previous packet's last
+  // firing to this packet's first should be one firing's worth. (A time gap with a continuous
+  // azimuth is a blind sector of a sensor with a restricted field of view, not a loss.)
+  void countLost(const Packet& packet, double rate) {
+    if (last_block_az_ < 0) return;
+    const double expected = rate * firing_step_us_;
+    const double excess = azimuthStep(last_block_az_, blockAzimuth(packet.data, 0)) - expected;
+    const double per_packet = packet_deg_ * 100.0;
+    if (per_packet <= 0.0 || excess < 0.5 * per_packet) return;
+    const auto lost = static_cast<std::uint64_t>(std::llround(excess / per_packet));
+    stats_.gaps += lost;
+    lost_deg_in_sweep_ += static_cast<double>(lost) * packet_deg_;
   }
 
   void decode(const Packet& packet, std::vector<SensorScan>& out) {
@@ -229,30 +260,41 @@ class VelodyneDecoder final : public ScanDecoder {
     if (place.order == PacketClock::Order::kRestart) {
       finishSweep(false, out);
       prev_rel_ = -1;
+      last_block_az_ = -1;
       started_at_cut_ = false;
     }
     const double rate =
         rotationRate(packet, place.sensor_ns, place.order == PacketClock::Order::kNext);
     packet_deg_ = rate * layout_.packet_period_us / 100.0;
-    if (place.lost > 0) {
-      stats_.gaps += place.lost;
-      lost_deg_in_sweep_ += static_cast<double>(place.lost) * packet_deg_;
-    }
+    if (place.order == PacketClock::Order::kNext) countLost(packet, rate);
     if (!sweep_.empty() && static_cast<double>(place.sensor_ns - sweep_first_ns_) > kMaxSweepNs) {
       finishSweep(false, out);
       started_at_cut_ = false;
     }
     ++stats_.packets;
     const double rad_per_us = rate * M_PI / 18000.0;
+    // A sensor with a restricted field of view fills a packet across its blind sector: blocks
+    // after an azimuth jump fired that much later (the jump at the rotation speed).
+    double blind_us = 0.0;
+    int prev = -1;
     for (int b = 0; b < kBlocks; ++b) {
       if (!layout_.used[b]) continue;
+      const int az = blockAzimuth(packet.data, b);
+      if (prev >= 0 && layout_.block_start_us[b] != layout_.block_start_us[prev]) {
+        const double expected = rate * (layout_.block_start_us[b] - layout_.block_start_us[prev]);
+        const double actual = azimuthStep(blockAzimuth(packet.data, prev), az);
+        if (actual > 3.0 * expected + 100.0) blind_us += (actual - expected) / rate;
+      }
+      prev = b;
+      last_block_az_ = az;
       if (dual_ && layout_.return_slot[b] == 1) continue;  // decoded with its partner below
-      crossCut(blockAzimuth(packet.data, b), out);
-      if (sweep_.empty()) sweep_first_ns_ = place.sensor_ns;
+      crossCut(az, out);
+      const std::int64_t block_ns = place.sensor_ns + std::llround(blind_us * 1000.0);
+      if (sweep_.empty()) sweep_first_ns_ = block_ns;
       if (dual_)
-        decodePair(packet, b - 1, b, place.sensor_ns, rad_per_us);
+        decodePair(packet, b - 1, b, block_ns, rad_per_us);
       else
-        decodeBlock(packet, b, place.sensor_ns, rad_per_us, 0);
+        decodeBlock(packet, b, block_ns, rad_per_us, 0);
     }
   }
 
@@ -373,6 +415,8 @@ class VelodyneDecoder final : public ScanDecoder {
   double lost_deg_in_sweep_ = 0.0;
   double packet_deg_ = 0.0;
   double rate_ = 36000.0 / 1e5;  // hundredths of a degree per us at 10 Hz until measured
+  double firing_step_us_ = 0.0;  // between consecutive firing sequences
+  int last_block_az_ = -1;       // the previous packet's last firing
   int prev_az_ = -1;
   std::int64_t prev_sensor_ns_ = 0;
   std::int64_t sweep_first_ns_ = 0;
