@@ -25,6 +25,11 @@ class IpReassembly {
 
   /// Adds a fragment; returns the whole datagram's payload (the IP payload) when complete.
   std::optional<std::vector<std::uint8_t>> add(const Fragment& f);
+  /// End of input: datagrams still waiting for fragments are given up.
+  void finish() {
+    abandoned_ += pending_.size();
+    pending_.clear();
+  }
   /// Datagrams given up so far (lost fragments, table full, overlapping or oversized pieces).
   std::uint64_t abandoned() const { return abandoned_; }
 

@@ -56,6 +56,7 @@ class PcapSource final : public PacketSource {
       const int rc = pcap_next_ex(handle_, &header, &bytes);
       if (rc == PCAP_ERROR_BREAK) {
         done_ = true;
+        reassembly_.finish();
         break;
       }
       if (rc != 1) {  // a damaged or cut-off file: what was read stays valid
