@@ -22,11 +22,27 @@ constexpr std::int8_t kFairExhausted = reply_header_t::RESOURCE_EXHAUSTED;
 TEST(RobotRateLimiter, BurstThenRate) {
   RobotRateLimiter limiter(10.0, 5.0);
   const auto t0 = Clock::now();
+  EXPECT_TRUE(limiter.admit("b", t0)) << "b active: a's limit bites";
   for (int i = 0; i < 5; ++i) EXPECT_TRUE(limiter.admit("a", t0)) << i;
   EXPECT_FALSE(limiter.admit("a", t0)) << "burst spent";
   EXPECT_TRUE(limiter.admit("b", t0)) << "another robot has its own budget";
   EXPECT_TRUE(limiter.admit("a", t0 + std::chrono::milliseconds(100))) << "refilled at 10/s";
   EXPECT_FALSE(limiter.admit("a", t0 + std::chrono::milliseconds(150)));
+}
+
+// A robot alone (replaying a recording as fast as possible) is never held back: the limits are
+// for sharing the server, and there is nobody to share with.
+TEST(RobotRateLimiter, LimitsBiteUnderContentionOnly) {
+  RobotRateLimiter limiter(10.0, 5.0);
+  const auto t0 = Clock::now();
+  for (int i = 0; i < 100; ++i) ASSERT_TRUE(limiter.admit("a", t0 + std::chrono::milliseconds(i))) << i;
+  EXPECT_TRUE(limiter.admit("b", t0 + std::chrono::milliseconds(100)));
+  int admitted = 0;  // b is active now: a gets at most what its budget refilled
+  for (int i = 0; i < 5; ++i) admitted += limiter.admit("a", t0 + std::chrono::milliseconds(101));
+  EXPECT_LE(admitted, 1);
+  // b idle for more than a second: a is alone again.
+  EXPECT_TRUE(limiter.admit("a", t0 + std::chrono::milliseconds(1200)));
+  for (int i = 0; i < 50; ++i) ASSERT_TRUE(limiter.admit("a", t0 + std::chrono::milliseconds(1201))) << i;
 }
 
 TEST(RobotRateLimiter, ZeroRateMeansNoLimit) {
@@ -79,8 +95,8 @@ class FairnessHarness {
 
 TEST(Fairness, FloodingRobotIsRefusedAndTheOthersServed) {
   FairnessHarness h;
-  for (int seq = 1; seq <= 20; ++seq) h.send(scan("flood", seq, 0.01 * seq));
   h.send(scan("calm", 1, 3.0));
+  for (int seq = 1; seq <= 20; ++seq) h.send(scan("flood", seq, 0.01 * seq));
   int ok = 0, exhausted = 0;
   std::string message;
   for (const auto& r : h.replies) {
@@ -99,6 +115,13 @@ TEST(Fairness, FloodingRobotIsRefusedAndTheOthersServed) {
   EXPECT_NE(message.find("limits.robot_integrate_rate"), std::string::npos) << message;
   EXPECT_EQ(h.service.robots().find("flood")->integrations, 5);
   EXPECT_EQ(h.service.robots().find("calm")->integrations, 1);
+}
+
+TEST(Fairness, RobotAloneIsServedBeyondItsRate) {
+  FairnessHarness h;
+  for (int seq = 1; seq <= 20; ++seq) h.send(scan("alone", seq, 0.01 * seq));
+  for (const auto& r : h.replies) EXPECT_EQ(r.status, kFairOk) << r.message;
+  EXPECT_EQ(h.service.robots().find("alone")->integrations, 20);
 }
 
 }  // namespace

@@ -21,6 +21,13 @@ void RobotRateLimiter::forgetIdle(Clock::time_point now) {
   if (buckets_.size() >= max_clients_) buckets_.clear();  // all busy: start everyone afresh
 }
 
+bool RobotRateLimiter::othersActive(const std::string& client, Clock::time_point now) const {
+  constexpr auto kWindow = std::chrono::seconds(1);
+  for (const auto& [id, bucket] : buckets_)
+    if (id != client && now - bucket.last < kWindow) return true;
+  return false;
+}
+
 bool RobotRateLimiter::admit(const std::string& client, Clock::time_point now) {
   if (rate_ <= 0.0) return true;
   auto it = buckets_.find(client);
@@ -31,9 +38,11 @@ bool RobotRateLimiter::admit(const std::string& client, Clock::time_point now) {
   Bucket& bucket = it->second;
   bucket.tokens = refilled(bucket, now);
   bucket.last = now;
-  if (bucket.tokens < 1.0) return false;
-  bucket.tokens -= 1.0;
-  return true;
+  if (bucket.tokens >= 1.0) {
+    bucket.tokens -= 1.0;
+    return true;
+  }
+  return !othersActive(client, now);  // alone: nobody to be fair to
 }
 
 }  // namespace socc::service

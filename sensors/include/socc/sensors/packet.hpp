@@ -10,11 +10,11 @@
 namespace socc::sensors {
 
 struct Packet {
-  std::int64_t stamp_ns = 0;       // capture / receive / message time [ns, the recording's clock]
-  std::uint32_t source_ipv4 = 0;   // sender (host byte order); 0 = unknown (bags)
-  std::uint16_t source_port = 0;   // 0 = unknown
+  std::int64_t stamp_ns = 0;      // capture / receive / message time [ns, the recording's clock]
+  std::uint32_t source_ipv4 = 0;  // sender (host byte order); 0 = unknown (bags)
+  std::uint16_t source_port = 0;  // 0 = unknown
   std::uint16_t destination_port = 0;  // 0 = unknown (bags)
-  std::vector<std::uint8_t> data;  // the UDP payload
+  std::vector<std::uint8_t> data;      // the UDP payload
 };
 
 class PacketSource {

@@ -13,9 +13,9 @@
 namespace socc::sensors {
 
 struct RecordingOptions {
-  SensorConfig sensor;      // for packet recordings (pcap, packet topics of bags)
-  std::string topic;        // bags: the topic to read; empty: the only LiDAR topic, if one
-  std::uint16_t port = 0;   // pcap: UDP destination port; 0: the sensor's default ports
+  SensorConfig sensor;     // for packet recordings (pcap, packet topics of bags)
+  std::string topic;       // bags: the topic to read; empty: the only LiDAR topic, if one
+  std::uint16_t port = 0;  // pcap: UDP destination port; 0: the sensor's default ports
 };
 
 std::unique_ptr<ScanStream> openRecording(const std::filesystem::path& file,

@@ -14,15 +14,16 @@ namespace socc::sensors {
 enum class ReturnMode { kAll, kStrongest, kLast, kFirst };
 
 struct SensorConfig {
-  std::string model;  // empty: detected from the packets (cross-checked, never the factory byte alone)
+  std::string
+      model;  // empty: detected from the packets (cross-checked, never the factory byte alone)
   // VeloView XML or ROS velodyne YAML; Ouster metadata JSON; Hesai angle-correction CSV.
   // Empty: the model's nominal values from its manual, where the model has them.
   std::filesystem::path calibration;
   double cut_azimuth_deg = 0.0;  // a sweep ends where the azimuth crosses this [deg]
   ReturnMode returns = ReturnMode::kAll;
-  double min_range = 0.0;      // [m] closer returns are dropped (0: the model's own minimum)
-  double max_range = 0.0;      // [m] 0: no limit
-  bool keep_partial = false;   // keep the first / last incomplete sweep (complete == false)
+  double min_range = 0.0;     // [m] closer returns are dropped (0: the model's own minimum)
+  double max_range = 0.0;     // [m] 0: no limit
+  bool keep_partial = false;  // keep the first / last incomplete sweep (complete == false)
 };
 
 /// A decoder for config.model (or one that detects the model from the first packets).

@@ -14,7 +14,7 @@ struct SensorScan {
   // Time of the sweep's reference instant [ns, the recording's clock]: the time of its earliest
   // point. time[i] is relative to it, so every time is >= 0.
   std::int64_t stamp_ns = 0;
-  std::int64_t seq = 0;  // 0, 1, 2 ... in the order scans are produced
+  std::int64_t seq = 0;                    // 0, 1, 2 ... in the order scans are produced
   std::vector<Eigen::Vector3f> points;     // sensor frame [m] (x forward, y left, z up)
   std::vector<float> intensity;            // empty, or per point (vendor units, e.g. 0..255)
   std::vector<float> time;                 // empty, or per point [s] relative to stamp_ns
