@@ -5,6 +5,7 @@
 #include <limits>
 #include <memory>
 #include <nanoflann.hpp>
+#include <utility>
 #include <vector>
 
 namespace socc::sensors::test_io {
@@ -22,6 +23,20 @@ class NearestPoints {
     float d2 = 0.f;
     tree_.knnSearch(q.data(), 1, &index, &d2);
     return d2;
+  }
+  /// Squared distance and index of the nearest point (the cloud must not be empty).
+  std::pair<float, std::size_t> nearest(const Eigen::Vector3f& q) const {
+    unsigned index = 0;
+    float d2 = 0.f;
+    tree_.knnSearch(q.data(), 1, &index, &d2);
+    return {d2, index};
+  }
+  /// Indices of the k nearest points.
+  std::vector<unsigned> knn(const Eigen::Vector3f& q, std::size_t k) const {
+    std::vector<unsigned> index(k);
+    std::vector<float> d2(k);
+    index.resize(tree_.knnSearch(q.data(), k, index.data(), d2.data()));
+    return index;
   }
   /// Fraction of query's points within radius of the cloud.
   double fractionWithin(const std::vector<Eigen::Vector3f>& query, float radius) const {
