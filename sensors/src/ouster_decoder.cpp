@@ -69,6 +69,17 @@ class OusterLut {
   std::vector<Eigen::Vector3f> direction_, offset_;
 };
 
+// A size some Ouster lidar or IMU packet has (any profile, beam count, 8 or 16 columns).
+bool isOusterPacketSize(std::size_t size) {
+  if (size == kImuPacketSize) return true;
+  for (const OusterProfile p : {OusterProfile::kLegacy, OusterProfile::kSingle,
+                                OusterProfile::kLowData, OusterProfile::kDual})
+    for (const int beams : {16, 32, 64, 128})
+      for (const int columns : {8, 16})
+        if (OusterLayout(p, beams, columns).packet_size == size) return true;
+  return false;
+}
+
 class OusterDecoder final : public ScanDecoder {
  public:
   OusterDecoder(OusterMetadata md, const SensorConfig& config)
@@ -84,7 +95,8 @@ class OusterDecoder final : public ScanDecoder {
   void feed(const Packet& packet, std::vector<SensorScan>& out) override {
     const std::uint8_t* d = packet.data.data();
     if (packet.data.size() != layout_.packet_size) {
-      ++stats_.foreign;
+      // Another sensor's format or the IMU's packets; any other size is a damaged packet.
+      (isOusterPacketSize(packet.data.size()) ? stats_.foreign : stats_.malformed)++;
       if (packet.data.size() != kImuPacketSize)
         refuseIfOnlyMismatch(std::to_string(packet.data.size()) + " B packets, the metadata's " +
                              md_.profile_name + " format with " +
