@@ -41,8 +41,9 @@ HesaiCalibration readHesaiCalibration(const std::filesystem::path& file, int las
       if (rows == 0 && number == 1) continue;  // the header line
       throw fail(number, "expected \"channel,elevation,azimuth\", got \"" + line + "\"");
     }
-    const int channel = static_cast<int>(id);
-    if (channel != id || channel < 1 || channel > lasers)
+    const bool in_range = id >= 1 && id <= lasers;  // before converting: any double may come
+    const int channel = in_range ? static_cast<int>(id) : 0;
+    if (!in_range || channel != id)
       throw fail(number, "channel " + line.substr(0, line.find(',')) + " is not in 1.." +
                              std::to_string(lasers) + " (a calibration of another model?)");
     if (!std::isfinite(elevation) || !std::isfinite(azimuth) || std::abs(elevation) > 90.0 ||

@@ -170,6 +170,8 @@ OusterMetadata readOusterMetadata(const std::filesystem::path& file) {
       md.columns_per_packet = r.integer(*v, "columns_per_packet");
     if (const json* v = r.optional("lidar_data_format", "column_window")) {
       const auto w = r.numbers(*v, "column_window", 2);
+      if (w[0] < 0 || w[1] < 0 || w[0] >= md.columns_per_frame || w[1] >= md.columns_per_frame)
+        throw r.error("column_window outside the frame");
       md.window_first = static_cast<int>(w[0]);
       md.window_last = static_cast<int>(w[1]);
     }
