@@ -289,8 +289,9 @@ void sensorSeeds(SeedWriter& w) {
     }
     tp::HesaiSpec spec;
     spec.model = models[m];
-    w.bytes("fuzz_hesai_decoder", std::string(models[m]) + "_csv",
-            std::string(1, static_cast<char>(3 | (m << 2))) + tp::hesaiCalibrationCsv(spec.lasers()));
+    w.bytes(
+        "fuzz_hesai_decoder", std::string(models[m]) + "_csv",
+        std::string(1, static_cast<char>(3 | (m << 2))) + tp::hesaiCalibrationCsv(spec.lasers()));
   }
   const char* const profiles[] = {"LEGACY", "RNG19_RFL8_SIG16_NIR16", "RNG15_RFL8_NIR8",
                                   "RNG19_RFL8_SIG16_NIR16_DUAL"};
