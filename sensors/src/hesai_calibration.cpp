@@ -10,7 +10,8 @@ namespace socc::sensors {
 namespace {
 
 // "1,14.97,0.08" -> three numbers; false when the line is not three comma-separated numbers.
-bool parseRow(const std::string& line, double& id, double& elevation, double& azimuth) {
+bool parseHesaiCalibrationRow(const std::string& line, double& id, double& elevation,
+                              double& azimuth) {
   std::istringstream in(line);
   char c1 = 0, c2 = 0;
   if (!(in >> id >> c1 >> elevation >> c2 >> azimuth) || c1 != ',' || c2 != ',') return false;
@@ -37,7 +38,7 @@ HesaiCalibration readHesaiCalibration(const std::filesystem::path& file, int las
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.find_first_not_of(" \t") == std::string::npos) continue;
     double id = 0, elevation = 0, azimuth = 0;
-    if (!parseRow(line, id, elevation, azimuth)) {
+    if (!parseHesaiCalibrationRow(line, id, elevation, azimuth)) {
       if (rows == 0 && number == 1) continue;  // the header line
       throw fail(number, "expected \"channel,elevation,azimuth\", got \"" + line + "\"");
     }

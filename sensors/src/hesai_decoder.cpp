@@ -16,13 +16,13 @@
 namespace socc::sensors {
 namespace {
 
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+constexpr double kHesaiDegToRad = 3.14159265358979323846 / 180.0;
 // Packets of another model before any packet of the configured one: the configuration is wrong.
-constexpr std::uint64_t kForeignBeforeRefusal = 50;
+constexpr std::uint64_t kHesaiForeignBeforeRefusal = 50;
 // A sweep missing up to this much azimuth (lost packets) still counts as complete.
-constexpr double kMaxMissingDeg = 2.0;
+constexpr double kHesaiMaxMissingDeg = 2.0;
 // A jump of the sensor's clock beyond this ends the sweep (a restart, a long outage).
-constexpr std::int64_t kMaxTimeJumpNs = 500'000'000;
+constexpr std::int64_t kHesaiMaxTimeJumpNs = 500'000'000;
 
 class HesaiDecoder final : public ScanDecoder {
  public:
@@ -30,10 +30,11 @@ class HesaiDecoder final : public ScanDecoder {
                const SensorConfig& config)
       : layout_(layout), config_(config) {
     for (int c = 0; c < layout.lasers; ++c) {
-      const double el = calibration.elevation_deg[static_cast<std::size_t>(c)] * kDegToRad;
+      const double el = calibration.elevation_deg[static_cast<std::size_t>(c)] * kHesaiDegToRad;
       cos_el_.push_back(std::cos(el));
       sin_el_.push_back(std::sin(el));
-      az_offset_.push_back(calibration.azimuth_offset_deg[static_cast<std::size_t>(c)] * kDegToRad);
+      az_offset_.push_back(calibration.azimuth_offset_deg[static_cast<std::size_t>(c)] *
+                           kHesaiDegToRad);
     }
     min_range_ = config.min_range > 0.0 ? config.min_range : layout.min_range;
     max_range_ = config.max_range > 0.0 ? config.max_range : layout.max_range;
@@ -56,7 +57,7 @@ class HesaiDecoder final : public ScanDecoder {
       ++stats_.late;
       return;
     }
-    if (last_time_ns_ && p.time_ns - *last_time_ns_ > kMaxTimeJumpNs) {
+    if (last_time_ns_ && p.time_ns - *last_time_ns_ > kHesaiMaxTimeJumpNs) {
       finishSweep(false, out);
       last_azimuth_.reset();
       started_at_cut_ = false;
@@ -83,7 +84,7 @@ class HesaiDecoder final : public ScanDecoder {
           stats_.gaps += static_cast<std::uint64_t>(std::max(1L, lost));
         }
         if (relative(azimuth) < relative(*last_azimuth_)) {
-          finishSweep(started_at_cut_ && missing_deg_ <= kMaxMissingDeg, out);
+          finishSweep(started_at_cut_ && missing_deg_ <= kHesaiMaxMissingDeg, out);
           started_at_cut_ = true;
           sweep_.setClockOffset(clockOffset(packet.stamp_ns, p.time_ns));
           sweep_.markClockOffset();
@@ -111,7 +112,7 @@ class HesaiDecoder final : public ScanDecoder {
     if (stats_.packets > 0) return;
     const std::string other = detectHesaiModel(packet.data.data(), packet.data.size());
     if (other.empty() || other == layout_.model) return;
-    if (++foreign_models_ < kForeignBeforeRefusal) return;
+    if (++foreign_models_ < kHesaiForeignBeforeRefusal) return;
     throw std::runtime_error("the sensor was configured as " + layout_.model +
                              " but its packets are " + why + "; use --sensor " + other +
                              " with that model's calibration");
@@ -124,7 +125,7 @@ class HesaiDecoder final : public ScanDecoder {
 
   void decodeRound(const std::uint8_t* data, const HesaiPacket& p, int first_block,
                    std::uint16_t azimuth) {
-    const double block_az = azimuth * 0.01 * kDegToRad;
+    const double block_az = azimuth * 0.01 * kHesaiDegToRad;
     for (int c = 0; c < layout_.lasers; ++c) {
       Return r[2];
       for (int i = 0; i < p.returns; ++i) {

@@ -97,7 +97,7 @@ HesaiLayout pandar64() {
 }
 
 // Days since 1970-01-01 of a proleptic Gregorian date (no time zone involved).
-std::int64_t daysFromCivil(int year, unsigned month, unsigned day) {
+std::int64_t hesaiDaysFromCivil(int year, unsigned month, unsigned day) {
   year -= month <= 2 ? 1 : 0;
   const std::int64_t era = (year >= 0 ? year : year - 399) / 400;
   const unsigned yoe = static_cast<unsigned>(year - era * 400);
@@ -106,7 +106,7 @@ std::int64_t daysFromCivil(int year, unsigned month, unsigned day) {
   return era * 146097 + static_cast<std::int64_t>(doe) - 719468;
 }
 
-int returnsOfMode(std::uint8_t mode) {
+int hesaiReturnsOfMode(std::uint8_t mode) {
   switch (mode) {
     case 0x33:
     case 0x37:
@@ -121,7 +121,7 @@ int returnsOfMode(std::uint8_t mode) {
   }
 }
 
-bool exactLayoutMatch(const HesaiLayout& l, const std::uint8_t* d, std::size_t size) {
+bool exactHesaiLayoutMatch(const HesaiLayout& l, const std::uint8_t* d, std::size_t size) {
   if (size != l.size && size != l.size + 4) return false;
   if (size < 8 || d[0] != 0xEE || d[1] != 0xFF) return false;
   if (l.model == "pandarxt32") return size == l.size + 4 && d[6] == l.lasers && d[7] == l.blocks;
@@ -151,7 +151,7 @@ const HesaiLayout* hesaiLayout(const std::string& model) {
 
 std::string detectHesaiModel(const std::uint8_t* data, std::size_t size) {
   for (const HesaiLayout& l : hesaiLayouts())
-    if (exactLayoutMatch(l, data, size)) return l.model;
+    if (exactHesaiLayoutMatch(l, data, size)) return l.model;
   return {};
 }
 
@@ -212,7 +212,7 @@ HesaiCheck parseHesaiPacket(const HesaiLayout& l, const std::uint8_t* d, std::si
   }
   const std::uint8_t* tail = d + l.tailOffset();
   p.return_mode = tail[l.tail_return_mode];
-  p.returns = returnsOfMode(p.return_mode);
+  p.returns = hesaiReturnsOfMode(p.return_mode);
   if (p.returns == 0 || (header_returns != 0 && header_returns != p.returns)) {
     char mode[8];
     std::snprintf(mode, sizeof mode, "0x%02x", p.return_mode);
@@ -249,7 +249,7 @@ HesaiCheck parseHesaiPacket(const HesaiLayout& l, const std::uint8_t* d, std::si
     why = "bad date or time in the tail";
     return HesaiCheck::kMalformed;
   }
-  const std::int64_t seconds = daysFromCivil(l.year_base + date[0], month, day) * 86400 +
+  const std::int64_t seconds = hesaiDaysFromCivil(l.year_base + date[0], month, day) * 86400 +
                                date[3] * 3600 + date[4] * 60 + date[5];
   p.time_ns = seconds * 1000000000 + static_cast<std::int64_t>(us) * 1000;
   p.has_sequence = size == l.size + 4;

@@ -16,10 +16,10 @@
 namespace socc::sensors {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kOusterPi = 3.14159265358979323846;
 // Lidar packets that do not fit the metadata before any that does: the metadata is wrong.
-constexpr std::uint64_t kMismatchBeforeRefusal = 50;
-constexpr std::size_t kImuPacketSize = 48;  // the sensor's other packets, on their own port
+constexpr std::uint64_t kOusterMismatchBeforeRefusal = 50;
+constexpr std::size_t kOusterImuPacketSize = 48;  // the sensor's other packets, on their own port
 // Closer than this is the sensor's own housing / window, not a return (Ouster's datasheets
 // give 0.3 m as the minimum range of OS0 / OS1 / OS2... the smallest figure is used).
 constexpr double kOusterMinRange = 0.25;
@@ -38,12 +38,12 @@ class OusterLut {
     direction_.resize(static_cast<std::size_t>(width * beams_));
     offset_.resize(direction_.size());
     for (int m = 0; m < width; ++m) {
-      const double encoder = 2.0 * kPi * (1.0 - static_cast<double>(m) / width);
+      const double encoder = 2.0 * kOusterPi * (1.0 - static_cast<double>(m) / width);
       for (int b = 0; b < beams_; ++b) {
         const double azimuth =
-            -2.0 * kPi * md.beam_azimuth_deg[static_cast<std::size_t>(b)] / 360.0;
+            -2.0 * kOusterPi * md.beam_azimuth_deg[static_cast<std::size_t>(b)] / 360.0;
         const double altitude =
-            2.0 * kPi * md.beam_altitude_deg[static_cast<std::size_t>(b)] / 360.0;
+            2.0 * kOusterPi * md.beam_altitude_deg[static_cast<std::size_t>(b)] / 360.0;
         const Eigen::Vector3d dir(std::cos(encoder + azimuth) * std::cos(altitude),
                                   std::sin(encoder + azimuth) * std::cos(altitude),
                                   std::sin(altitude));
@@ -71,7 +71,7 @@ class OusterLut {
 
 // A size some Ouster lidar or IMU packet has (any profile, beam count, 8 or 16 columns).
 bool isOusterPacketSize(std::size_t size) {
-  if (size == kImuPacketSize) return true;
+  if (size == kOusterImuPacketSize) return true;
   for (const OusterProfile p : {OusterProfile::kLegacy, OusterProfile::kSingle,
                                 OusterProfile::kLowData, OusterProfile::kDual})
     for (const int beams : {16, 32, 64, 128})
@@ -97,7 +97,7 @@ class OusterDecoder final : public ScanDecoder {
     if (packet.data.size() != layout_.packet_size) {
       // Another sensor's format or the IMU's packets; any other size is a damaged packet.
       (isOusterPacketSize(packet.data.size()) ? stats_.foreign : stats_.malformed)++;
-      if (packet.data.size() != kImuPacketSize)
+      if (packet.data.size() != kOusterImuPacketSize)
         refuseIfOnlyMismatch(std::to_string(packet.data.size()) + " B packets, the metadata's " +
                              md_.profile_name + " format with " +
                              std::to_string(md_.pixels_per_column) + " beams and " +
@@ -164,7 +164,7 @@ class OusterDecoder final : public ScanDecoder {
 
  private:
   void refuseIfOnlyMismatch(const std::string& what) {
-    if (stats_.packets > 0 || ++mismatches_ < kMismatchBeforeRefusal) return;
+    if (stats_.packets > 0 || ++mismatches_ < kOusterMismatchBeforeRefusal) return;
     throw std::runtime_error("the Ouster packets do not fit the metadata: " + what +
                              " (is the metadata JSON the one of this recording?)");
   }

@@ -14,7 +14,7 @@ using nlohmann::json;
 
 // Where a key lives: firmware 3.x nests it in a section, 2.x has it at the top level or in
 // data_format.
-const json* findKey(const json& root, const char* section, const char* key) {
+const json* findMetadataKey(const json& root, const char* section, const char* key) {
   if (root.contains(section) && root[section].is_object() && root[section].contains(key))
     return &root[section][key];
   if (root.contains(key)) return &root[key];
@@ -24,17 +24,17 @@ const json* findKey(const json& root, const char* section, const char* key) {
   return nullptr;
 }
 
-class Reader {
+class MetadataReader {
  public:
-  Reader(const json& root, std::string file) : root_(root), file_(std::move(file)) {}
+  MetadataReader(const json& root, std::string file) : root_(root), file_(std::move(file)) {}
 
   const json& need(const char* section, const char* key) const {
-    const json* v = findKey(root_, section, key);
+    const json* v = findMetadataKey(root_, section, key);
     if (!v || v->is_null()) throw error(std::string("has no ") + key);
     return *v;
   }
   const json* optional(const char* section, const char* key) const {
-    const json* v = findKey(root_, section, key);
+    const json* v = findMetadataKey(root_, section, key);
     return v && !v->is_null() ? v : nullptr;
   }
   std::vector<double> numbers(const json& v, const char* key, std::size_t count) const {
@@ -61,7 +61,7 @@ class Reader {
   std::string file_;
 };
 
-std::array<double, 16> matrix(const Reader& r, const json& v, const char* key) {
+std::array<double, 16> metadataMatrix(const MetadataReader& r, const json& v, const char* key) {
   const auto n = r.numbers(v, key, 16);
   std::array<double, 16> m{};
   std::copy(n.begin(), n.end(), m.begin());
@@ -70,13 +70,13 @@ std::array<double, 16> matrix(const Reader& r, const json& v, const char* key) {
   return m;
 }
 
-std::array<double, 16> identity() {
+std::array<double, 16> identityMatrix() {
   std::array<double, 16> m{};
   m[0] = m[5] = m[10] = m[15] = 1.0;
   return m;
 }
 
-OusterProfile profileOf(const std::string& name, const Reader& r) {
+OusterProfile ousterProfileOf(const std::string& name, const MetadataReader& r) {
   if (name == "LEGACY") return OusterProfile::kLegacy;
   if (name == "RNG19_RFL8_SIG16_NIR16") return OusterProfile::kSingle;
   if (name == "RNG15_RFL8_NIR8") return OusterProfile::kLowData;
@@ -118,7 +118,7 @@ OusterMetadata readOusterMetadata(const std::filesystem::path& file) {
     throw std::runtime_error(file.string() + ": not a JSON file (" + e.what() + ")");
   }
   if (!root.is_object()) throw std::runtime_error(file.string() + ": not an Ouster metadata JSON");
-  const Reader r(root, file.string());
+  const MetadataReader r(root, file.string());
   OusterMetadata md;
   try {
     md.prod_line = r.need("sensor_info", "prod_line").get<std::string>();
@@ -140,15 +140,15 @@ OusterMetadata readOusterMetadata(const std::filesystem::path& file) {
     for (std::size_t i = 0; i < beams; ++i)
       if (std::abs(md.beam_altitude_deg[i]) > 90 || std::abs(md.beam_azimuth_deg[i]) > 45)
         throw r.error("beam " + std::to_string(i) + " has implausible angles");
-    md.beam_to_lidar = identity();
+    md.beam_to_lidar = identityMatrix();
     if (const json* bl = r.optional("beam_intrinsics", "beam_to_lidar_transform")) {
-      md.beam_to_lidar = matrix(r, *bl, "beam_to_lidar_transform");
+      md.beam_to_lidar = metadataMatrix(r, *bl, "beam_to_lidar_transform");
     } else {
       md.beam_to_lidar[3] =
           r.need("beam_intrinsics", "lidar_origin_to_beam_origin_mm").get<double>();
     }
-    md.lidar_to_sensor = matrix(r, r.need("lidar_intrinsics", "lidar_to_sensor_transform"),
-                                "lidar_to_sensor_transform");
+    md.lidar_to_sensor = metadataMatrix(r, r.need("lidar_intrinsics", "lidar_to_sensor_transform"),
+                                        "lidar_to_sensor_transform");
 
     // lidar_mode "1024x10": columns per frame x frames per second.
     const std::string mode = r.need("config_params", "lidar_mode").get<std::string>();
@@ -179,7 +179,7 @@ OusterMetadata readOusterMetadata(const std::filesystem::path& file) {
       md.profile_name = v->get<std::string>();
     else if (const json* c = r.optional("config_params", "udp_profile_lidar"))
       md.profile_name = c->get<std::string>();
-    md.profile = profileOf(md.profile_name, r);
+    md.profile = ousterProfileOf(md.profile_name, r);
   } catch (const nlohmann::json::exception& e) {
     throw r.error(std::string("has a field of the wrong type (") + e.what() + ")");
   }

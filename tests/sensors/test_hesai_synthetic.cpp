@@ -24,16 +24,16 @@ HesaiUnit everyUnit(int block, int laser) {
   return {static_cast<std::uint16_t>(2500 + laser), static_cast<std::uint8_t>(laser + block)};
 }
 
-struct Stream {
+struct HesaiStream {
   std::vector<Packet> packets;
   std::vector<int> azimuth;        // first round of each packet [0.01 deg]
   std::vector<std::int64_t> time;  // t0 of each packet [ns]
 };
 
 // count packets from azimuth start, one round per firing period of the model.
-Stream hesaiStream(const HesaiSpec& s, int start, int count,
-                   const std::function<HesaiUnit(int, int)>& unit = everyUnit) {
-  Stream st;
+HesaiStream hesaiStream(const HesaiSpec& s, int start, int count,
+                        const std::function<HesaiUnit(int, int)>& unit = everyUnit) {
+  HesaiStream st;
   const int rounds = s.blocks() / s.returns();
   const auto packet_us = static_cast<std::int64_t>(std::lround(rounds * s.roundPeriodUs()));
   for (int k = 0; k < count; ++k) {
@@ -50,14 +50,14 @@ Stream hesaiStream(const HesaiSpec& s, int start, int count,
   return st;
 }
 
-struct Decoded {
+struct HesaiDecoded {
   std::vector<SensorScan> scans;
   DecodeStats stats;
 };
 
-Decoded decode(const SensorConfig& config, const std::vector<Packet>& packets) {
+HesaiDecoded decodeHesai(const SensorConfig& config, const std::vector<Packet>& packets) {
   auto decoder = makeHesaiDecoder(config);
-  Decoded d;
+  HesaiDecoded d;
   for (const Packet& p : packets) decoder->feed(p, d.scans);
   decoder->flush(d.scans);
   d.stats = decoder->stats();
@@ -66,7 +66,7 @@ Decoded decode(const SensorConfig& config, const std::vector<Packet>& packets) {
 
 // Hesai's angles (manual: azimuth clockwise from the front) with the CSV's corrections, in
 // socc's frame (x forward, y left).
-Eigen::Vector3d expectedPoint(int block_azimuth, int laser, double distance_m) {
+Eigen::Vector3d expectedHesaiPoint(int block_azimuth, int laser, double distance_m) {
   const double az = (block_azimuth / 100.0 + test_packets::hesaiAzimuthOffset(laser)) * M_PI / 180;
   const double el = test_packets::hesaiElevation(laser) * M_PI / 180;
   return {distance_m * std::cos(el) * std::cos(az), -distance_m * std::cos(el) * std::sin(az),
@@ -90,8 +90,8 @@ TEST_P(HesaiModels, SingleReturnGeometryAndFiringTimes) {
   const int packets_per_rotation = 36000 / per_packet;
   // 2.5 rotations from about 100 deg: one complete rotation between the cuts, starting with a
   // packet whose first round is at 0 deg.
-  const Stream st = hesaiStream(s, per_packet * 70, packets_per_rotation * 5 / 2);
-  const Decoded d = decode(config, st.packets);
+  const HesaiStream st = hesaiStream(s, per_packet * 70, packets_per_rotation * 5 / 2);
+  const HesaiDecoded d = decodeHesai(config, st.packets);
   EXPECT_EQ(d.stats.packets, st.packets.size());
   EXPECT_EQ(d.stats.foreign + d.stats.malformed + d.stats.late + d.stats.gaps, 0u);
   ASSERT_EQ(d.scans.size(), 1u);
@@ -137,9 +137,10 @@ TEST_P(HesaiModels, SingleReturnGeometryAndFiringTimes) {
         const std::size_t i = index(k, b, l);
         ASSERT_EQ(scan.ring[i], l - 1);
         const int az = (st.azimuth[first + k] + (b - 1) * s.azimuthStep()) % 36000;
-        ASSERT_LT((scan.points[i].cast<double>() - expectedPoint(az, l - 1, (2500 + l - 1) * 0.004))
-                      .norm(),
-                  1e-4)
+        ASSERT_LT(
+            (scan.points[i].cast<double>() - expectedHesaiPoint(az, l - 1, (2500 + l - 1) * 0.004))
+                .norm(),
+            1e-4)
             << "packet " << k << " block " << b << " laser " << l;
         ASSERT_NEAR(scan.time[i] - scan.time[reference], when(k, b, l) - when(0, 1, lasers[0]),
                     2e-7)
@@ -173,13 +174,13 @@ TEST(HesaiDual, ReturnsAndSelection) {
   config.calibration = dir.write("angles.csv", test_packets::hesaiCalibrationCsv(64));
   const int rounds_per_rotation = 36000 / s.azimuthStep();
   const int packets = 2 * rounds_per_rotation / 3 + 10;  // 3 rounds a packet
-  const Stream st = hesaiStream(s, 0, packets, dualUnit);
+  const HesaiStream st = hesaiStream(s, 0, packets, dualUnit);
   const std::size_t identical = 13;  // lasers 0, 5, ... 60: one point per round
   std::map<ReturnMode, std::size_t> points;
   for (const ReturnMode mode :
        {ReturnMode::kAll, ReturnMode::kStrongest, ReturnMode::kFirst, ReturnMode::kLast}) {
     config.returns = mode;
-    const Decoded d = decode(config, st.packets);
+    const HesaiDecoded d = decodeHesai(config, st.packets);
     ASSERT_EQ(d.scans.size(), 1u);
     const SensorScan& scan = d.scans[0];
     points[mode] = scan.size();
@@ -210,8 +211,8 @@ TEST(HesaiCut, SweepsStartAtTheCutAzimuth) {
   SensorConfig config;
   config.model = s.model;
   config.cut_azimuth_deg = 90.0;
-  const Stream st = hesaiStream(s, 0, 700);  // 2.8 rotations
-  const Decoded d = decode(config, st.packets);
+  const HesaiStream st = hesaiStream(s, 0, 700);  // 2.8 rotations
+  const HesaiDecoded d = decodeHesai(config, st.packets);
   ASSERT_EQ(d.scans.size(), 2u);
   for (const SensorScan& scan : d.scans) {
     // Hesai azimuth (clockwise from the front) of the first and last points.
@@ -236,23 +237,23 @@ class HesaiBadInput : public ::testing::Test {
  protected:
   HesaiSpec s;  // PandarXT32
   SensorConfig config = xt32();
-  Stream st = hesaiStream(s, 0, 600);  // 2.4 rotations: one complete
+  HesaiStream st = hesaiStream(s, 0, 600);  // 2.4 rotations: one complete
 };
 
 TEST_F(HesaiBadInput, LostPacketsAreCountedAndLongGapsDropTheSweep) {
   std::vector<Packet> one_lost = st.packets;
   one_lost.erase(one_lost.begin() + 400);  // 1.44 deg: tolerated
-  Decoded d = decode(config, one_lost);
+  HesaiDecoded d = decodeHesai(config, one_lost);
   EXPECT_EQ(d.stats.gaps, 1u);
   ASSERT_EQ(d.scans.size(), 1u);
   EXPECT_TRUE(d.scans[0].complete);
   std::vector<Packet> many_lost = st.packets;
   many_lost.erase(many_lost.begin() + 400, many_lost.begin() + 410);  // 14.4 deg
-  d = decode(config, many_lost);
+  d = decodeHesai(config, many_lost);
   EXPECT_EQ(d.stats.gaps, 10u);
   EXPECT_TRUE(d.scans.empty());
   config.keep_partial = true;
-  d = decode(config, many_lost);
+  d = decodeHesai(config, many_lost);
   ASSERT_EQ(d.scans.size(), 3u);
   EXPECT_FALSE(d.scans[1].complete);
 }
@@ -261,7 +262,7 @@ TEST_F(HesaiBadInput, ReorderedAndDuplicatedPacketsAreLate) {
   std::vector<Packet> packets = st.packets;
   std::swap(packets[300], packets[301]);
   packets.insert(packets.begin() + 350, packets[349]);
-  const Decoded d = decode(config, packets);
+  const HesaiDecoded d = decodeHesai(config, packets);
   EXPECT_EQ(d.stats.late, 2u);
   ASSERT_EQ(d.scans.size(), 1u);
   EXPECT_TRUE(d.scans[0].complete);  // the reordered packet is a 0.14 deg hole
@@ -288,7 +289,7 @@ TEST_F(HesaiBadInput, DamagedPacketsAreCountedDrops) {
   junk.data.assign(1080, 0xab);
   packets.insert(packets.begin() + 20,
                  {truncated, bad_mode, bad_returns, bad_azimuth, bad_date, too_fast, junk});
-  const Decoded d = decode(config, packets);
+  const HesaiDecoded d = decodeHesai(config, packets);
   EXPECT_EQ(d.stats.malformed, 5u);
   EXPECT_EQ(d.stats.foreign, 2u);
   EXPECT_EQ(d.stats.packets, st.packets.size());
@@ -300,7 +301,7 @@ TEST_F(HesaiBadInput, PacketsOfAnotherModelAreRefused) {
   test_io::TempDir dir;
   HesaiSpec p40;
   p40.model = "pandar40p";
-  const Stream other = hesaiStream(p40, 0, 60);
+  const HesaiStream other = hesaiStream(p40, 0, 60);
   auto decoder = makeHesaiDecoder(config);
   std::vector<SensorScan> scans;
   try {

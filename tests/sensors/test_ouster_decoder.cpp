@@ -23,7 +23,8 @@ fs::path osFolder() {
   return fs::path(SOCC_SHARED_DATA_DIR) / "raw_sensors" / "05_ouster_os1-128_lb_3frames";
 }
 
-std::vector<SensorScan> decodeAll(ScanDecoder& decoder, const std::vector<Packet>& packets) {
+std::vector<SensorScan> decodeOusterPackets(ScanDecoder& decoder,
+                                            const std::vector<Packet>& packets) {
   std::vector<SensorScan> scans;
   for (const Packet& p : packets) decoder.feed(p, scans);
   decoder.flush(scans);
@@ -56,9 +57,9 @@ std::vector<Eigen::Vector3f> deskewed(const SensorScan& scan, const Eigen::Vecto
 
 // Unit normal of cloud[i] (smallest principal axis of its 12 nearest points); zero where the
 // neighbourhood is not planar. Computed on demand: registration needs few of them.
-class Normals {
+class LazyNormals {
  public:
-  Normals(const std::vector<Eigen::Vector3f>& cloud, const test_io::NearestPoints& tree)
+  LazyNormals(const std::vector<Eigen::Vector3f>& cloud, const test_io::NearestPoints& tree)
       : cloud_(cloud), tree_(tree), normal_(cloud.size()), known_(cloud.size(), false) {}
   const Eigen::Vector3d& operator()(std::size_t i) {
     if (known_[i]) return normal_[i];
@@ -85,19 +86,19 @@ class Normals {
   std::vector<bool> known_;
 };
 
-struct Registration {
+struct CloudRegistration {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // target_T_source
   double inlier_fraction = 0.0;  // sampled source points within 5 cm of a target surface
 };
 
 // Point-to-plane ICP (Gauss-Newton, small angles) of source onto target from identity.
-Registration registerClouds(const std::vector<Eigen::Vector3f>& source,
-                            const std::vector<Eigen::Vector3f>& target) {
+CloudRegistration registerClouds(const std::vector<Eigen::Vector3f>& source,
+                                 const std::vector<Eigen::Vector3f>& target) {
   const test_io::NearestPoints tree(target);
-  Normals target_normals(target, tree);
+  LazyNormals target_normals(target, tree);
   std::vector<Eigen::Vector3d> sample;
   for (std::size_t i = 0; i < source.size(); i += 13) sample.push_back(source[i].cast<double>());
-  Registration r;
+  CloudRegistration r;
   for (int iteration = 0; iteration < 25; ++iteration) {
     const double max_distance = iteration < 8 ? 1.0 : 0.3;
     Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
@@ -144,7 +145,7 @@ TEST(OusterOs1_128, LowBandwidthCaptureDecodesThreeCompleteFrames) {
   config.calibration = osFolder() / "OS-1-128_v2.3.0_1024x10.json";
   auto decoder = makeOusterDecoder(config);
   EXPECT_EQ(decoder->model(), "os1-128");
-  const std::vector<SensorScan> frames = decodeAll(*decoder, packets);
+  const std::vector<SensorScan> frames = decodeOusterPackets(*decoder, packets);
   const DecodeStats& stats = decoder->stats();
   EXPECT_EQ(stats.packets, 192u);
   EXPECT_EQ(stats.foreign, 30u);
@@ -206,7 +207,7 @@ TEST(OusterOs1_128, LowBandwidthCaptureDecodesThreeCompleteFrames) {
   for (const auto& [i, j] : pairs) {
     // Registered as captured, then again deskewed with the velocity that gave.
     const double dt_frames = (frames[j].stamp_ns - frames[i].stamp_ns) * 1e-9;
-    Registration reg = registerClouds(frames[j].points, frames[i].points);
+    CloudRegistration reg = registerClouds(frames[j].points, frames[i].points);
     const Eigen::Vector3d velocity = reg.pose.translation() / dt_frames;
     reg = registerClouds(deskewed(frames[j], velocity), deskewed(frames[i], velocity));
     const Eigen::Isometry3d& ours = reg.pose;

@@ -47,7 +47,7 @@ std::vector<Packet> ousterFrames(const OusterSpec& s, int first_frame, int frame
 
 // Ouster's range-to-XYZ formula (sensor docs, "Lidar Range to XYZ"), then the
 // lidar-to-sensor transform of the metadata (180 deg about z, +36.18 mm in z).
-Eigen::Vector3d expectedPoint(const OusterSpec& s, int column, int beam, double range_mm) {
+Eigen::Vector3d expectedOusterPoint(const OusterSpec& s, int column, int beam, double range_mm) {
   const double enc = 2 * M_PI * (1.0 - static_cast<double>(column) / s.columns_per_frame);
   const double az = -2 * M_PI * s.azimuth(beam) / 360, alt = 2 * M_PI * s.altitude(beam) / 360;
   const double n = s.beam_origin_mm;
@@ -58,14 +58,14 @@ Eigen::Vector3d expectedPoint(const OusterSpec& s, int column, int beam, double 
   return Eigen::Vector3d(-lidar.x(), -lidar.y(), lidar.z() + 36.18) * 1e-3;
 }
 
-struct Decoded {
+struct OusterDecoded {
   std::vector<SensorScan> scans;
   DecodeStats stats;
 };
 
-Decoded decode(const SensorConfig& config, const std::vector<Packet>& packets) {
+OusterDecoded decodeOuster(const SensorConfig& config, const std::vector<Packet>& packets) {
   auto decoder = makeOusterDecoder(config);
-  Decoded d;
+  OusterDecoded d;
   for (const Packet& p : packets) decoder->feed(p, d.scans);
   decoder->flush(d.scans);
   d.stats = decoder->stats();
@@ -87,7 +87,7 @@ TEST_P(OusterProfiles, DecodeTheDocumentedGeometryTimesAndReturns) {
   std::vector<Packet> packets = ousterFrames(s, 7, 4);
   packets.erase(packets.begin(), packets.begin() + 10);
   packets.resize(packets.size() - 31);
-  const Decoded d = decode(config, packets);
+  const OusterDecoded d = decodeOuster(config, packets);
   EXPECT_EQ(d.stats.packets, packets.size());
   EXPECT_EQ(d.stats.foreign + d.stats.malformed + d.stats.late + d.stats.gaps, 0u);
   ASSERT_EQ(d.scans.size(), 2u);
@@ -112,7 +112,7 @@ TEST_P(OusterProfiles, DecodeTheDocumentedGeometryTimesAndReturns) {
       const bool second = scan.return_index[i] == 1;
       const double range = second ? p.range2_mm : p.range_mm;
       ASSERT_NEAR(scan.time[i], m * period_s, 1e-7);
-      ASSERT_LT((scan.points[i].cast<double>() - expectedPoint(s, m, b, range)).norm(), 1e-4)
+      ASSERT_LT((scan.points[i].cast<double>() - expectedOusterPoint(s, m, b, range)).norm(), 1e-4)
           << "column " << m << " beam " << b;
       ASSERT_EQ(scan.intensity[i], second ? p.reflectivity2 : p.reflectivity);
     }
@@ -134,7 +134,7 @@ TEST(OusterDual, ReturnSelection) {
   for (const ReturnMode mode :
        {ReturnMode::kAll, ReturnMode::kStrongest, ReturnMode::kFirst, ReturnMode::kLast}) {
     config.returns = mode;
-    const Decoded d = decode(config, packets);
+    const OusterDecoded d = decodeOuster(config, packets);
     ASSERT_EQ(d.scans.size(), 1u);
     points[mode] = d.scans[0].size();
     if (mode == ReturnMode::kLast)  // the second return (farther) wherever there is one
@@ -162,11 +162,11 @@ class OusterBadInput : public ::testing::Test {
 TEST_F(OusterBadInput, LostPacketDropsOrFlagsTheFrame) {
   std::vector<Packet> packets = ousterFrames(s, 0, 3);
   packets.erase(packets.begin() + 32 + 5);  // a packet of frame 1
-  Decoded d = decode(config, packets);
+  OusterDecoded d = decodeOuster(config, packets);
   EXPECT_EQ(d.scans.size(), 2u);  // frames 0 and 2
   EXPECT_EQ(d.stats.gaps, 1u);
   config.keep_partial = true;
-  d = decode(config, packets);
+  d = decodeOuster(config, packets);
   ASSERT_EQ(d.scans.size(), 3u);
   EXPECT_FALSE(d.scans[1].complete);
   EXPECT_EQ(d.stats.partial_scans, 1u);
@@ -176,7 +176,7 @@ TEST_F(OusterBadInput, ReorderedAndLatePackets) {
   std::vector<Packet> packets = ousterFrames(s, 0, 2);
   std::swap(packets[3], packets[4]);    // within a frame: harmless
   std::swap(packets[31], packets[32]);  // frame 1 starts before frame 0's last packet
-  Decoded d = decode(config, packets);
+  OusterDecoded d = decodeOuster(config, packets);
   EXPECT_EQ(d.stats.late, 1u);    // frame 0's last packet, after frame 1 began
   ASSERT_EQ(d.scans.size(), 1u);  // frame 1; frame 0 lost its last packet
   EXPECT_EQ(d.stats.gaps, 0u);    // (the first frame: not counted as a gap)
@@ -197,7 +197,7 @@ TEST_F(OusterBadInput, TruncatedForeignAndSecondSensorPacketsAreCountedDrops) {
   bad_column.data[32 + 8] = 0xff;  // measurement id 0xffxx: beyond the frame
   bad_column.data[32 + 9] = 0xff;
   packets.insert(packets.begin() + 3, {truncated, imu, second_sensor, bad_column});
-  const Decoded d = decode(config, packets);
+  const OusterDecoded d = decodeOuster(config, packets);
   EXPECT_EQ(d.stats.malformed, 2u);
   EXPECT_EQ(d.stats.foreign, 2u);
   ASSERT_EQ(d.scans.size(), 1u);
