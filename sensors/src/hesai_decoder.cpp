@@ -33,9 +33,15 @@ class HesaiDecoder final : public ScanDecoder {
       const double el = calibration.elevation_deg[static_cast<std::size_t>(c)] * kHesaiDegToRad;
       cos_el_.push_back(std::cos(el));
       sin_el_.push_back(std::sin(el));
-      az_offset_.push_back(calibration.azimuth_offset_deg[static_cast<std::size_t>(c)] *
-                           kHesaiDegToRad);
+      const double offset =
+          calibration.azimuth_offset_deg[static_cast<std::size_t>(c)] * kHesaiDegToRad;
+      cos_offset_.push_back(std::cos(offset));
+      sin_offset_.push_back(std::sin(offset));
     }
+    for (int returns = 1; returns <= 2; ++returns)
+      for (int b = 0; b < layout.blocks; ++b)
+        for (int c = 0; c < layout.lasers; ++c)
+          offset_ns_[returns - 1].push_back(layout.pointOffsetNs(b, c, returns));
     min_range_ = config.min_range > 0.0 ? config.min_range : layout.min_range;
     max_range_ = config.max_range > 0.0 ? config.max_range : layout.max_range;
     cut_ = static_cast<int>(std::lround(
@@ -125,7 +131,9 @@ class HesaiDecoder final : public ScanDecoder {
 
   void decodeRound(const std::uint8_t* data, const HesaiPacket& p, int first_block,
                    std::uint16_t azimuth) {
+    // One sine and cosine per round; each channel's offset is added by the angle-sum formulas.
     const double block_az = azimuth * 0.01 * kHesaiDegToRad;
+    const Rotation round{std::cos(block_az), std::sin(block_az)};
     for (int c = 0; c < layout_.lasers; ++c) {
       Return r[2];
       for (int i = 0; i < p.returns; ++i) {
@@ -141,8 +149,8 @@ class HesaiDecoder final : public ScanDecoder {
       for (int k = 0; k < returns; ++k) {
         const int i = returns == 2 ? (k == 0 ? strong : 1 - strong) : 0;
         if (returns == 2 && !wanted(r, i)) continue;
-        addPoint(r[i], c, block_az,
-                 p.time_ns + layout_.pointOffsetNs(first_block + i, c, p.returns),
+        addPoint(r[i], c, round,
+                 p.time_ns + offset_ns_[p.returns - 1][offsetIndex(first_block + i, c)],
                  static_cast<std::uint8_t>(k));
       }
     }
@@ -168,15 +176,24 @@ class HesaiDecoder final : public ScanDecoder {
     return r[i].distance != 0.0 && r[i].distance <= r[1 - i].distance;
   }
 
-  void addPoint(const Return& r, int channel, double block_az, std::int64_t time_ns,
+  std::size_t offsetIndex(int block, int channel) const {
+    return static_cast<std::size_t>(block * layout_.lasers + channel);
+  }
+
+  struct Rotation {
+    double cos, sin;
+  };
+
+  void addPoint(const Return& r, int channel, const Rotation& round, std::int64_t time_ns,
                 std::uint8_t return_index) {
     if (r.distance == 0.0 || r.distance < min_range_ || r.distance > max_range_) return;
     const auto ch = static_cast<std::size_t>(channel);
-    const double az = block_az + az_offset_[ch];
+    const double cos_az = round.cos * cos_offset_[ch] - round.sin * sin_offset_[ch];
+    const double sin_az = round.sin * cos_offset_[ch] + round.cos * sin_offset_[ch];
     const double horizontal = r.distance * cos_el_[ch];
     // Hesai's frame has y forward and x right, azimuth clockwise from y; ours x forward, y left.
-    const Eigen::Vector3f point(static_cast<float>(horizontal * std::cos(az)),
-                                static_cast<float>(-horizontal * std::sin(az)),
+    const Eigen::Vector3f point(static_cast<float>(horizontal * cos_az),
+                                static_cast<float>(-horizontal * sin_az),
                                 static_cast<float>(r.distance * sin_el_[ch]));
     sweep_.add(point, r.unit[2], time_ns, static_cast<std::uint16_t>(channel), return_index);
   }
@@ -194,7 +211,9 @@ class HesaiDecoder final : public ScanDecoder {
 
   const HesaiLayout& layout_;
   SensorConfig config_;
-  std::vector<double> cos_el_, sin_el_, az_offset_;
+  std::vector<double> cos_el_, sin_el_, cos_offset_, sin_offset_;
+  // Firing time of block, channel relative to the packet time [ns], single and dual return.
+  std::vector<std::int64_t> offset_ns_[2];
   double min_range_ = 0.0, max_range_ = 0.0;
   int cut_ = 0;  // [0.01 deg]
   PointSweep sweep_;

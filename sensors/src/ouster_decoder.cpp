@@ -5,7 +5,6 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <optional>
-#include <regex>
 #include <stdexcept>
 
 #include "ouster_layout.hpp"
@@ -260,8 +259,7 @@ class OusterDecoder final : public ScanDecoder {
 }  // namespace
 
 bool isOusterModel(const std::string& model) {
-  static const std::regex pattern("^os[012]-(16|32|64|128)$");
-  return model == "ouster" || std::regex_match(model, pattern);
+  return model == "ouster" || (!model.empty() && ousterModelName(model) == model);
 }
 
 std::unique_ptr<ScanDecoder> makeOusterDecoder(const SensorConfig& config) {

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <stdexcept>
 
 namespace socc::sensors {
@@ -99,13 +98,22 @@ bool OusterMetadata::inWindow(int column) const {
 }
 
 std::string ousterModelName(const std::string& prod_line) {
+  // "OS-1-128", "OS1-64", "OS-0-128-U13" ...: "os", an optional '-', the family digit, '-',
+  // the beam count, then the end or a further '-' or ' ' field.
   std::string lower;
   for (const char c : prod_line)
     lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  std::smatch m;
-  static const std::regex pattern("^os-?([012])-(16|32|64|128)\\b.*");
-  if (!std::regex_match(lower, m, pattern)) return {};
-  return "os" + m[1].str() + "-" + m[2].str();
+  if (lower.rfind("os", 0) != 0) return {};
+  std::size_t at = lower.size() > 2 && lower[2] == '-' ? 3 : 2;
+  if (at + 2 > lower.size() || lower[at] < '0' || lower[at] > '2' || lower[at + 1] != '-')
+    return {};
+  const char family = lower[at];
+  at += 2;
+  const std::size_t end = lower.find_first_of("- ", at);
+  const std::string beams =
+      lower.substr(at, end == std::string::npos ? std::string::npos : end - at);
+  if (beams != "16" && beams != "32" && beams != "64" && beams != "128") return {};
+  return std::string("os") + family + "-" + beams;
 }
 
 OusterMetadata readOusterMetadata(const std::filesystem::path& file) {
@@ -152,11 +160,15 @@ OusterMetadata readOusterMetadata(const std::filesystem::path& file) {
 
     // lidar_mode "1024x10": columns per frame x frames per second.
     const std::string mode = r.need("config_params", "lidar_mode").get<std::string>();
-    std::smatch m;
-    static const std::regex mode_pattern("^(512|1024|2048|4096)x(5|10|20)$");
-    if (!std::regex_match(mode, m, mode_pattern)) throw r.error("lidar_mode \"" + mode + "\"");
-    md.frequency_hz = std::stod(m[2].str());
-    const int mode_columns = std::stoi(m[1].str());
+    const std::size_t x = mode.find('x');
+    const std::string columns_text = mode.substr(0, x),
+                      rate_text = x == std::string::npos ? "" : mode.substr(x + 1);
+    if ((columns_text != "512" && columns_text != "1024" && columns_text != "2048" &&
+         columns_text != "4096") ||
+        (rate_text != "5" && rate_text != "10" && rate_text != "20"))
+      throw r.error("lidar_mode \"" + mode + "\"");
+    md.frequency_hz = std::stod(rate_text);
+    const int mode_columns = std::stoi(columns_text);
 
     md.pixels_per_column = static_cast<int>(beams);
     md.columns_per_frame = mode_columns;

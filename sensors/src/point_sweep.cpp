@@ -28,6 +28,13 @@ SensorScan PointSweep::take(bool complete, std::int64_t seq) {
   scan.ring = std::move(ring_);
   scan.return_index = std::move(return_index_);
   clear();
+  // The next sweep will be about as large: no reallocations while it grows.
+  const std::size_t n = scan.points.size();
+  points_.reserve(n);
+  intensity_.reserve(n);
+  time_ns_.reserve(n);
+  ring_.reserve(n);
+  return_index_.reserve(n);
   return scan;
 }
 

@@ -29,7 +29,7 @@ struct OusterSpec {
   double beam_origin_mm = 15.806;
   std::uint64_t column_period_ns = 195312;  // 1 / (512 x 10 Hz)
 
-  double altitude(int beam) const { return 15.0 - 2.0 * beam; }     // [deg]
+  double altitude(int beam) const { return 15.0 - 30.0 * beam / beams; }  // [deg]
   double azimuth(int beam) const { return beam % 2 ? -1.5 : 1.5; }  // [deg]
   bool legacy() const { return profile == "LEGACY"; }
   bool dual() const { return profile == "RNG19_RFL8_SIG16_NIR16_DUAL"; }
