@@ -21,6 +21,7 @@
 #include "socc/scan_t.hpp"
 #include "socc/stats_request_t.hpp"
 #include "socc/wire_arrays.hpp"
+#include "vendor_packets.hpp"
 
 namespace {
 namespace fs = std::filesystem;
@@ -256,6 +257,61 @@ void fileSeeds(SeedWriter& w) {
   w.bytes(p, "binary.pcd", head + "DATA binary\n" + body);
 }
 
+// Packets with a 2-byte length each (sensor_fuzz_input.hpp) behind a selector byte.
+std::string packetSeed(char selector, const std::vector<std::vector<std::uint8_t>>& packets) {
+  std::string seed(1, selector);
+  for (const auto& p : packets) {
+    seed += static_cast<char>(p.size() & 0xff);
+    seed += static_cast<char>(p.size() >> 8);
+    seed.append(p.begin(), p.end());
+  }
+  return seed;
+}
+
+void sensorSeeds(SeedWriter& w) {
+  namespace tp = socc::sensors::test_packets;
+  const auto unit = [](int block, int laser) {
+    return tp::HesaiUnit{static_cast<std::uint16_t>(1000 + 10 * laser + block), 40};
+  };
+  const char* const models[] = {"pandarxt32", "pandar40p", "pandar64"};
+  for (int m = 0; m < 3; ++m) {
+    for (const std::uint8_t mode : {0x37, 0x39}) {
+      tp::HesaiSpec spec;
+      spec.model = models[m];
+      spec.return_mode = mode;
+      std::vector<std::vector<std::uint8_t>> packets;
+      for (int k = 0; k < 3; ++k)  // across the cut at 0 deg
+        packets.push_back(tp::hesaiPacket(spec, (35800 + k * 8 * spec.azimuthStep()) % 36000,
+                                          1'700'000'000, static_cast<std::uint32_t>(k * 400), unit,
+                                          static_cast<std::uint32_t>(k)));
+      w.bytes("fuzz_hesai_decoder", std::string(models[m]) + "_" + std::to_string(mode),
+              packetSeed(static_cast<char>(m | 0x40), packets));
+    }
+    tp::HesaiSpec spec;
+    spec.model = models[m];
+    w.bytes(
+        "fuzz_hesai_decoder", std::string(models[m]) + "_csv",
+        std::string(1, static_cast<char>(3 | (m << 2))) + tp::hesaiCalibrationCsv(spec.lasers()));
+  }
+  const char* const profiles[] = {"LEGACY", "RNG19_RFL8_SIG16_NIR16", "RNG15_RFL8_NIR8",
+                                  "RNG19_RFL8_SIG16_NIR16_DUAL"};
+  for (int p = 0; p < 4; ++p) {
+    tp::OusterSpec spec;
+    spec.profile = profiles[p];
+    const auto pixel = [](int column, int beam) {
+      return tp::OusterPixel{static_cast<std::uint32_t>(2000 + 8 * (column + beam)), 30,
+                             beam % 3 ? 0u : 9000u, 5};
+    };
+    // The last packet of frame 3, then the first of frame 4.
+    const std::vector<std::vector<std::uint8_t>> packets = {
+        tp::ousterPacket(spec, 3, 512 - 16, 1'000'000'000, pixel),
+        tp::ousterPacket(spec, 4, 0, 1'100'000'000, pixel)};
+    w.bytes("fuzz_ouster_decoder", profiles[p], packetSeed(static_cast<char>(p | 0x40), packets));
+    w.bytes("fuzz_ouster_decoder", std::string(profiles[p]) + "_json",
+            std::string(1, static_cast<char>(4 + 5 * p)) + tp::ousterMetadata(spec, p % 2));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -269,6 +325,7 @@ int main(int argc, char** argv) {
     SeedWriter w(dir);
     requestSeeds(w);
     fileSeeds(w);
+    sensorSeeds(w);
   } catch (const std::exception& e) {
     std::cerr << "fuzz_seeds: " << e.what() << "\n";
     return 1;

@@ -2,6 +2,9 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "detecting_decoder.hpp"
+#include "socc/sensors/hesai_decoder.hpp"
+#include "socc/sensors/ouster_decoder.hpp"
 #include "socc/sensors/sensor_config.hpp"
 #include "velodyne/velodyne_decoder.hpp"
 #include "velodyne/velodyne_model.hpp"
@@ -10,7 +13,8 @@ namespace socc::sensors {
 namespace {
 
 struct Family {
-  std::vector<std::string> (*models)();
+  std::vector<std::string> (*models)();  // the names listed in --help and errors
+  bool (*accepts)(const std::string&);   // also the names a family derives (os1-64, os0-128...)
   std::unique_ptr<ScanDecoder> (*make)(const SensorConfig&);
 };
 
@@ -20,9 +24,21 @@ std::vector<std::string> velodyneModelNames() {
   return names;
 }
 
-// An empty model name goes to the first family (Velodyne), which detects its model.
+bool isVelodyneModel(const std::string& model) {
+  const std::vector<std::string> names = velodyneModelNames();
+  return std::find(names.begin(), names.end(), model) != names.end();
+}
+
+// Ouster models follow from the metadata JSON (os<family>-<beams>); these are the common ones.
+std::vector<std::string> ousterModelNames() {
+  return {"os0-32", "os0-64", "os0-128", "os1-16", "os1-32", "os1-64", "os1-128",
+          "os2-32", "os2-64", "os2-128", "ouster"};
+}
+
 const Family kFamilies[] = {
-    {velodyneModelNames, velodyne::makeVelodyneDecoder},
+    {velodyneModelNames, isVelodyneModel, velodyne::makeVelodyneDecoder},
+    {ousterModelNames, isOusterModel, makeOusterDecoder},
+    {hesaiModels, isHesaiModel, makeHesaiDecoder},
 };
 
 std::string joined(const std::vector<std::string>& names) {
@@ -34,11 +50,9 @@ std::string joined(const std::vector<std::string>& names) {
 }  // namespace
 
 std::unique_ptr<ScanDecoder> makeDecoder(const SensorConfig& config) {
-  if (config.model.empty()) return kFamilies[0].make(config);
-  for (const Family& f : kFamilies) {
-    const std::vector<std::string> names = f.models();
-    if (std::find(names.begin(), names.end(), config.model) != names.end()) return f.make(config);
-  }
+  if (config.model.empty()) return makeDetectingDecoder(config);
+  for (const Family& f : kFamilies)
+    if (f.accepts(config.model)) return f.make(config);
   throw std::runtime_error("unknown sensor model '" + config.model +
                            "' (known: " + joined(supportedModels()) + ")");
 }
