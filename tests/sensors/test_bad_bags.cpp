@@ -144,13 +144,13 @@ INSTANTIATE_TEST_SUITE_P(Bags, DamagedBag,
                            return name;
                          });
 
-const fs::path kVlp32Db3 =
+const fs::path kDamagedDb3Source =
     test::rawSensors() / "03_velodyne_vlp32c_nebula_db3" / "1713492677464078412_0.db3";
 
 // SQLite reports a cut or damaged database; the packets that come out are whole.
 TEST(DamagedDb3, TruncatedAndCorruptedDatabases) {
-  SOCC_REQUIRE_DATA(kVlp32Db3);
-  const std::vector<std::uint8_t> bytes = fileBytes(kVlp32Db3);
+  SOCC_REQUIRE_DATA(kDamagedDb3Source);
+  const std::vector<std::uint8_t> bytes = fileBytes(kDamagedDb3Source);
   for (const double fraction : {0.0, 0.01, 0.5, 0.9}) {
     std::vector<std::uint8_t> cut(
         bytes.begin(),
@@ -160,7 +160,7 @@ TEST(DamagedDb3, TruncatedAndCorruptedDatabases) {
     for (const auto& [damaged, tag] : {std::pair{cut, "cut"}, std::pair{flipped, "flip"}}) {
       std::size_t packets = 0;
       try {
-        const DamagedCopy copy(damaged, kVlp32Db3, tag);
+        const DamagedCopy copy(damaged, kDamagedDb3Source, tag);
         BagPacketSource source(openBagReader(copy.path()), 0);
         while (std::optional<Packet> p = source.next()) {
           EXPECT_EQ(p->data.size(), 1206u);
@@ -188,8 +188,8 @@ TEST(DamagedDb3, NotABag) {
 // Every prefix of a real serialized message fails to parse (FormatError), never reads past it;
 // a VelodyneScan cut inside a packet yields no packet at all.
 TEST(MalformedMessages, TruncatedMessagesThrowFormatError) {
-  SOCC_REQUIRE_DATA(kVlp32Db3);
-  std::unique_ptr<BagReader> reader = openBagReader(kVlp32Db3);
+  SOCC_REQUIRE_DATA(kDamagedDb3Source);
+  std::unique_ptr<BagReader> reader = openBagReader(kDamagedDb3Source);
   const std::optional<BagMessage> m = reader->next();
   ASSERT_TRUE(m);
   for (std::size_t n = 0; n < m->data.size(); n += 997) {

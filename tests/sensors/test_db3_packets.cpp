@@ -2,6 +2,9 @@
 // counts and stamps as sqlite3 shows them, and every packet of the VelodyneScan / PandarScan
 // messages with its size, first bytes and stamp.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <fstream>
 
 #include "bag_test_data.hpp"
 #include "bags/bag_packet_source.hpp"
@@ -132,6 +135,69 @@ TEST(Db3Bag, PacketTopicGoesThroughMakeDecoder) {
     EXPECT_GT(s->stamp_ns, 1713492677464078412 - 200'000'000);
   }
   EXPECT_GE(scans, 1u);
+}
+
+}  // namespace
+}  // namespace socc::sensors::bags
+
+namespace socc::sensors::bags {
+namespace {
+
+// A split ROS 2 bag: metadata.yaml lists two storage files, read one after the other.
+TEST(Db3Bag, SplitBagFolderReadsItsFilesInOrder) {
+  SOCC_REQUIRE_DATA(kVlp32Db3);
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("socc_test_split_bag_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::filesystem::copy_file(kVlp32Db3, dir / "split_0.db3");
+  std::filesystem::copy_file(kVlp32Db3, dir / "split_1.db3");
+  std::ofstream(dir / "metadata.yaml") << "rosbag2_bagfile_information:\n"
+                                          "  version: 5\n"
+                                          "  storage_identifier: sqlite3\n"
+                                          "  relative_file_paths:\n"
+                                          "    - split_0.db3\n"
+                                          "    - split_1.db3\n"
+                                          "  compression_format: \"\"\n";
+  std::unique_ptr<BagReader> reader = openBagReader(dir);
+  ASSERT_EQ(reader->topics().size(), 1u);
+  EXPECT_EQ(reader->topics()[0].messages, 10u);
+  BagPacketSource source(std::move(reader), 0);
+  std::size_t packets = 0;
+  while (source.next()) ++packets;
+  EXPECT_EQ(packets, 2u * 379u);
+  std::filesystem::remove_all(dir);
+}
+
+// ouster_ros / ouster_sensor_msgs PacketMsg: uint8[] buf, stamped with the bag's receive time.
+TEST(PacketMessages, OusterPacketMsgInBothSerializations) {
+  const std::vector<std::uint8_t> cdr = {0, 1, 0, 0, 3, 0, 0, 0, 0xAA, 0xBB, 0xCC};
+  const std::vector<std::uint8_t> ros1 = {3, 0, 0, 0, 0xAA, 0xBB, 0xCC};
+  for (const auto& [bytes, encoding] :
+       {std::pair{cdr, Encoding::kCdr}, std::pair{ros1, Encoding::kRos1}}) {
+    std::vector<Packet> packets;
+    appendPackets(MessageKind::kOusterPacket, ByteView(bytes), encoding, 42, packets);
+    ASSERT_EQ(packets.size(), 1u);
+    EXPECT_EQ(packets[0].stamp_ns, 42);
+    EXPECT_EQ(packets[0].data, (std::vector<std::uint8_t>{0xAA, 0xBB, 0xCC}));
+  }
+  EXPECT_EQ(messageKind("ouster_sensor_msgs/msg/PacketMsg"), MessageKind::kOusterPacket);
+  EXPECT_EQ(messageKind("ouster_ros/PacketMsg"), MessageKind::kOusterPacket);
+  EXPECT_EQ(messageKind("sensor_msgs/msg/PointCloud2"), MessageKind::kPointCloud2);
+  EXPECT_EQ(messageKind("velodyne_msgs/VelodyneScan"), MessageKind::kVelodyneScan);
+  EXPECT_EQ(messageKind("sensor_msgs/msg/Image"), MessageKind::kUnsupported);
+}
+
+// Big-endian CDR is decoded; XCDR2 / parameter-list encapsulations are refused, not misread.
+TEST(PacketMessages, CdrEncapsulations) {
+  const std::vector<std::uint8_t> big = {0, 0, 0, 0, 0, 0, 0, 2, 0x12, 0x34};
+  std::vector<Packet> packets;
+  appendPackets(MessageKind::kOusterPacket, ByteView(big), Encoding::kCdr, 0, packets);
+  ASSERT_EQ(packets.size(), 1u);
+  EXPECT_EQ(packets[0].data, (std::vector<std::uint8_t>{0x12, 0x34}));
+  const std::vector<std::uint8_t> xcdr2 = {0, 0x11, 0, 0, 2, 0, 0, 0, 0x12, 0x34};
+  EXPECT_THROW(
+      appendPackets(MessageKind::kOusterPacket, ByteView(xcdr2), Encoding::kCdr, 0, packets),
+      FormatError);
 }
 
 }  // namespace

@@ -23,6 +23,7 @@ enum McapOpcode : std::uint8_t {
   kMcapChannel = 0x04,
   kMcapMessage = 0x05,
   kMcapChunk = 0x06,
+  kMcapChunkIndex = 0x08,
   kMcapStatistics = 0x0B,
   kMcapDataEnd = 0x0F,
 };
@@ -101,12 +102,14 @@ class McapReader : public BagReader {
       while (std::optional<McapRecord> r = nextMcapRecord(records)) {
         declare(*r);
         if (r->opcode == kMcapStatistics) readStatistics(r->content);
+        if (r->opcode == kMcapChunkIndex) readChunkIndex(r->content);
       }
       return !channels_.empty();
     } catch (const FormatError&) {
       schemas_.clear();
       channels_.clear();
       channel_topic_.clear();
+      chunk_channels_.clear();
       topics_.clear();
       return false;
     }
@@ -205,6 +208,32 @@ class McapReader : public BagReader {
     }
   }
 
+  /// A chunk index: the channels with messages in the chunk at chunk_start_offset.
+  void readChunkIndex(ByteView content) {
+    ByteCursor c(content);
+    c.take(16);  // message start and end time
+    std::vector<std::uint16_t>& channels = chunk_channels_[c.read<std::uint64_t>()];
+    c.read<std::uint64_t>();  // chunk length
+    ByteCursor offsets(c.bytes32());
+    while (!offsets.done()) {
+      channels.push_back(offsets.read<std::uint16_t>());
+      offsets.read<std::uint64_t>();
+    }
+  }
+
+  /// True when the summary says the chunk at offset holds no message of the selected topic,
+  /// so it need not be decompressed (a camera topic's chunks, say).
+  bool skippable(std::uint64_t offset) const {
+    if (!selected_) return false;
+    const auto it = chunk_channels_.find(offset);
+    if (it == chunk_channels_.end() || it->second.empty()) return false;
+    for (const std::uint16_t channel : it->second) {
+      const auto topic = channel_topic_.find(channel);
+      if (topic == channel_topic_.end() || topic->second == *selected_) return false;
+    }
+    return true;
+  }
+
   /// A Chunk record's content -> its records, decompressed and CRC-checked.
   static std::vector<std::uint8_t> chunkRecords(ByteView content) {
     ByteCursor c(content);
@@ -227,6 +256,7 @@ class McapReader : public BagReader {
       ByteCursor h{ByteView(head)};
       const auto opcode = h.read<std::uint8_t>();
       const auto length = h.read<std::uint64_t>();
+      const std::uint64_t record_at = pos_;
       const std::uint64_t at = pos_ + kRecordHeaderBytes;
       if (opcode == kMcapFooter || opcode == kMcapDataEnd) {
         ended_ = true;
@@ -237,7 +267,7 @@ class McapReader : public BagReader {
       }
       pos_ = at + length;
       if (opcode == kMcapChunk) {
-        openChunk(file_.read(at, length));
+        if (!skippable(record_at)) openChunk(file_.read(at, length));
       } else if (opcode == kMcapSchema || opcode == kMcapChannel || opcode == kMcapMessage) {
         const std::vector<std::uint8_t> content = file_.read(at, length);
         return handle({opcode, ByteView(content)});
@@ -317,6 +347,7 @@ class McapReader : public BagReader {
   std::unordered_map<std::uint16_t, Schema> schemas_;
   std::unordered_map<std::uint16_t, TopicInfo> channels_;
   std::unordered_map<std::uint16_t, std::size_t> channel_topic_;
+  std::unordered_map<std::uint64_t, std::vector<std::uint16_t>> chunk_channels_;
   std::vector<TopicInfo> topics_;
   std::optional<std::size_t> selected_;
   std::uint64_t pos_ = sizeof(kMcapMagic);

@@ -149,12 +149,13 @@ class Ros1BagReader : public BagReader {
       while (pos < file_.size()) {
         const OwnedRecord o = readTopLevel(pos);
         if (o.record.op == kRos1Connection) declare(o.record);
-        if (o.record.op == kRos1ChunkInfo) countChunkInfo(o.record.data);
+        if (o.record.op == kRos1ChunkInfo) countChunkInfo(o.record);
         pos = o.next;
       }
       return !topics_.empty();
     } catch (const FormatError&) {
       connection_topic_.clear();
+      chunk_connections_.clear();
       topics_.clear();
       return false;
     }
@@ -188,14 +189,31 @@ class Ros1BagReader : public BagReader {
     if (it != connection_topic_.end()) ++topics_[it->second].messages;
   }
 
-  void countChunkInfo(ByteView data) {
-    ByteCursor c(data);
+  /// A chunk info record: messages per connection in the chunk at chunk_pos.
+  void countChunkInfo(const Ros1Record& r) {
+    std::vector<std::uint32_t>& connections =
+        chunk_connections_[ros1Field<std::uint64_t>(r.fields, "chunk_pos")];
+    ByteCursor c(r.data);
     while (!c.done()) {
       const auto conn = c.read<std::uint32_t>();
       const auto n = c.read<std::uint32_t>();
+      connections.push_back(conn);
       const auto it = connection_topic_.find(conn);
       if (it != connection_topic_.end()) topics_[it->second].messages += n;
     }
+  }
+
+  /// True when the index says the chunk at offset holds no message of the selected topic, so
+  /// it need not be decompressed (a camera topic's chunks, say).
+  bool skippable(std::uint64_t offset) const {
+    if (!selected_) return false;
+    const auto it = chunk_connections_.find(offset);
+    if (it == chunk_connections_.end()) return false;
+    for (const std::uint32_t conn : it->second) {
+      const auto topic = connection_topic_.find(conn);
+      if (topic == connection_topic_.end() || topic->second == *selected_) return false;
+    }
+    return true;
   }
 
   /// A connection record: its topic and, in its data, the type (fields topic, type, md5sum...).
@@ -230,10 +248,11 @@ class Ros1BagReader : public BagReader {
         ended_ = true;
         return std::nullopt;
       }
+      const std::uint64_t at = pos_;
       const OwnedRecord o = readTopLevel(pos_);
       pos_ = o.next;
       if (o.record.op == kRos1Chunk) {
-        openChunk(o.record);
+        if (!skippable(at)) openChunk(o.record);
       } else {
         return handle(o.record);
       }
@@ -294,6 +313,7 @@ class Ros1BagReader : public BagReader {
   RecordFile file_;
   std::uint64_t index_pos_ = 0;
   std::unordered_map<std::uint32_t, std::size_t> connection_topic_;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> chunk_connections_;
   std::vector<TopicInfo> topics_;
   std::optional<std::size_t> selected_;
   std::uint64_t pos_ = 0;
