@@ -17,13 +17,11 @@ bool isBag(const fs::path& file) {
   if (fs::is_directory(file, ec)) {
     if (fs::exists(file / "metadata.yaml", ec)) return true;
     for (const fs::directory_entry& e : fs::directory_iterator(file, ec)) {
-      const fs::path ext = e.path().extension();
-      if (ext == ".db3" || ext == ".mcap") return true;
+      if (bags::hasBagExtension(e.path()) && e.path().extension() != ".bag") return true;
     }
     return false;
   }
-  const fs::path ext = file.extension();
-  return ext == ".bag" || ext == ".db3" || ext == ".mcap";
+  return bags::hasBagExtension(file);
 }
 
 std::unique_ptr<ScanStream> openBag(const fs::path& file, const RecordingOptions& options) {

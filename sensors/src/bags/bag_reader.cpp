@@ -140,6 +140,11 @@ std::unique_ptr<BagReader> openRos2Bag(const fs::path& path) {
   return std::make_unique<ChainedReader>(std::move(files));
 }
 
+bool hasBagExtension(const fs::path& file) {
+  const std::string ext = lowerExtension(file);
+  return ext == ".bag" || ext == ".db3" || ext == ".mcap";
+}
+
 std::unique_ptr<BagReader> openBagReader(const fs::path& path) {
   if (fs::is_directory(path)) return openRos2Bag(path);
   if (!fs::exists(path)) throw std::runtime_error(path.string() + ": no such file");

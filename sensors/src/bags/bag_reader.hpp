@@ -46,6 +46,9 @@ std::unique_ptr<BagReader> openDb3(const std::filesystem::path& file);
 std::unique_ptr<BagReader> openMcap(const std::filesystem::path& file);
 std::unique_ptr<BagReader> openRos1Bag(const std::filesystem::path& file);
 
+/// A file named .bag, .db3 or .mcap (any case).
+bool hasBagExtension(const std::filesystem::path& file);
+
 /// By extension / folder layout; throws when path is none of the above.
 std::unique_ptr<BagReader> openBagReader(const std::filesystem::path& path);
 
