@@ -4,6 +4,8 @@
 // none, zstd, lz4). Every coordinate and intensity reads back bit-identical; stamps and point
 // times as written; topic choice and its errors.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
+#include <unistd.h>
 
 #include <cstring>
 
@@ -145,6 +147,53 @@ INSTANTIATE_TEST_SUITE_P(Bags, IndependentWriter,
                            }
                            return name;
                          });
+
+// A ROS 2 .db3 bag of PointCloud2: the tables as rosbag2's sqlite3 storage creates them, holding
+// the CDR messages @mcap/core's serializer wrote into clouds_none.mcap.
+TEST(IndependentCdrInDb3, PointCloudsReadBackBitIdentical) {
+  SOCC_REQUIRE_DATA(test::sharedData() / "kitti_00_first16");
+  const std::filesystem::path mcap = kFixtures / "clouds_none.mcap";
+  ASSERT_TRUE(std::filesystem::exists(mcap)) << mcap << " missing: run sensors.bag_writers";
+  const std::filesystem::path db3 = std::filesystem::temp_directory_path() /
+                                    ("socc_test_clouds_" + std::to_string(::getpid()) + ".db3");
+  std::filesystem::remove(db3);
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(db3.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(
+      sqlite3_exec(db,
+                   "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT "
+                   "NOT NULL, serialization_format TEXT NOT NULL, offered_qos_profiles TEXT "
+                   "NOT NULL);"
+                   "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, "
+                   "timestamp INTEGER NOT NULL, data BLOB NOT NULL);"
+                   "INSERT INTO topics VALUES (1, '/points', 'sensor_msgs/msg/PointCloud2', "
+                   "'cdr', '');",
+                   nullptr, nullptr, nullptr),
+      SQLITE_OK);
+  std::unique_ptr<BagReader> reader = openBagReader(mcap);
+  reader->select(0);
+  ASSERT_EQ(reader->topics()[0].name, "/points");
+  while (const std::optional<BagMessage> m = reader->next()) {
+    sqlite3_stmt* insert = nullptr;
+    sqlite3_prepare_v2(db, "INSERT INTO messages (topic_id, timestamp, data) VALUES (1, ?, ?)", -1,
+                       &insert, nullptr);
+    sqlite3_bind_int64(insert, 1, m->stamp_ns);
+    sqlite3_bind_blob(insert, 2, m->data.data(), static_cast<int>(m->data.size()), SQLITE_STATIC);
+    EXPECT_EQ(sqlite3_step(insert), SQLITE_DONE);
+    sqlite3_finalize(insert);
+  }
+  sqlite3_close(db);
+  const std::vector<SensorScan> scans = readAll(db3, "");
+  std::filesystem::remove(db3);
+  ASSERT_EQ(scans.size(), 2u);
+  for (int i = 0; i < 2; ++i) {
+    const KittiScan expected = kittiScan(i);
+    const SensorScan& s = scans[static_cast<std::size_t>(i)];
+    EXPECT_TRUE(bitIdentical(s.points, expected.points)) << "scan " << i;
+    EXPECT_TRUE(bitIdentical(s.intensity, expected.intensity)) << "scan " << i;
+    EXPECT_EQ(s.stamp_ns, kStamp0 + i * 1'000'000'000LL);
+  }
+}
 
 }  // namespace
 }  // namespace socc::sensors::bags
