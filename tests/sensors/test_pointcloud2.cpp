@@ -191,6 +191,17 @@ TEST(PointCloud2, HeaderStampZeroFallsBackToTheReceiveTime) {
   EXPECT_EQ(convertPointCloud2(cloud, 42).scan.stamp_ns, 42);
 }
 
+// Found by fuzz_bag_messages: width 0 with a huge height once looped over every empty row.
+TEST(PointCloud2, EmptyCloudsOfAnyHeightAreEmpty) {
+  CloudBuilder b = xyzi();
+  b.set(0, 0, 1.f);
+  PointCloud2Msg cloud = b.build();
+  cloud.width = 0;
+  cloud.height = 0xFFFFFFFF;
+  cloud.row_step = 0;
+  EXPECT_EQ(convertPointCloud2(cloud, 0).scan.size(), 0u);
+}
+
 TEST(PointCloud2, UnreadableLayoutsThrow) {
   CloudBuilder no_z(16);
   no_z.field("x", 0, 7).field("y", 4, 7).set(0, 0, 1.f);

@@ -198,6 +198,7 @@ PointCloud2Conversion convertPointCloud2(const PointCloud2Msg& cloud,
       cloud.header.stamp_ns != 0 ? cloud.header.stamp_ns : receive_stamp_ns;
   scan.stamp_ns = header_ns;
   const std::size_t n = std::size_t{cloud.height} * cloud.width;
+  if (n == 0) return out;  // also no loop over 2^32 empty rows
   scan.points.reserve(n);
   std::vector<double> raw_times;
   for (std::uint32_t row = 0; row < cloud.height; ++row) {
