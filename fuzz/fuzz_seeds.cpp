@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "bag_seeds.hpp"
 #include "socc/auth/message_auth.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/integrate_request_t.hpp"
@@ -326,6 +327,9 @@ int main(int argc, char** argv) {
     requestSeeds(w);
     fileSeeds(w);
     sensorSeeds(w);
+    for (const socc::fuzz::BagSeed& s : socc::fuzz::bagSeeds(dir)) {
+      w.bytes(s.harness, s.name, s.content);
+    }
   } catch (const std::exception& e) {
     std::cerr << "fuzz_seeds: " << e.what() << "\n";
     return 1;

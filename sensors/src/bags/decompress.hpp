@@ -1,0 +1,21 @@
+#pragma once
+// Decompression of bag chunks into a buffer of the size the container announces. Throws
+// FormatError when the bytes do not decompress to exactly that size, and before allocating
+// when the size is implausible for the compressed length (a corrupted size field).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bags/byte_view.hpp"
+
+namespace socc::sensors::bags {
+
+/// compression: "" / "none", "zstd", "lz4" (LZ4 frame format: MCAP and ROS 1's roslz4),
+/// "bz2"; anything else throws FormatError.
+std::vector<std::uint8_t> decompress(const std::string& compression, ByteView compressed,
+                                     std::uint64_t uncompressed_size);
+
+/// CRC-32 (ISO-HDLC, as zlib and MCAP compute it).
+std::uint32_t crc32Of(ByteView bytes);
+
+}  // namespace socc::sensors::bags
