@@ -47,8 +47,10 @@ double mean(const std::vector<double>& v) {
 }
 
 socc::LabeledCloud scanOf(const socc::sim::Scene& scene, const socc::sim::LidarModel& lidar,
-                          double t, std::uint64_t frame, std::uint64_t seed) {
-  const socc::sim::SimulatedScan s = socc::sim::simulateScan(scene, lidar, t, frame, {false, seed});
+                          const socc::sim::Realism& realism, double t, std::uint64_t frame,
+                          std::uint64_t seed) {
+  const socc::sim::SimulatedScan s =
+      socc::sim::simulateScan(scene, lidar, t, frame, {false, seed, &realism});
   socc::LabeledCloud c;
   c.points = s.points;
   for (const std::uint32_t raw : s.labels) c.labels.push_back(socc::mapSemanticKittiLabel(raw));
@@ -56,11 +58,12 @@ socc::LabeledCloud scanOf(const socc::sim::Scene& scene, const socc::sim::LidarM
 }
 
 // The world mapped at its exact poses (every frame, as a robot with perfect odometry would).
-void mapWorld(const socc::sim::Scene& scene, const socc::sim::LidarModel& lidar, int frames,
-              socc::map::SemanticOccupancyMap& map, bool progress) {
+void mapWorld(const socc::sim::Scene& scene, const socc::sim::LidarModel& lidar,
+              const socc::sim::Realism& realism, int frames, socc::map::SemanticOccupancyMap& map,
+              bool progress) {
   socc::ProgressBar bar("mapping", static_cast<std::size_t>(frames), progress);
   for (int k = 0; k < frames; ++k) {
-    map.integrate(scene.trajectory.poseAt(0.1 * k), scanOf(scene, lidar, 0.1 * k, k, 7));
+    map.integrate(scene.trajectory.poseAt(0.1 * k), scanOf(scene, lidar, realism, 0.1 * k, k, 7));
     bar.tick();
   }
 }
@@ -94,13 +97,15 @@ void diagnose(double when, const Eigen::Isometry3d& truth, const harness::InProc
 
 // One robot dropped at time t: tries scans t, t + 0.1, ... until one is localized.
 void dropRobot(const OdomConfig& cfg, const socc::sim::Scene& scene,
-               const socc::sim::LidarModel& lidar, double t, int max_scans, std::uint64_t seed,
-               harness::InProcessMap& access, Tally& tally, bool verbose, bool diagnostics) {
+               const socc::sim::LidarModel& lidar, const socc::sim::Realism& realism, double t,
+               int max_scans, std::uint64_t seed, harness::InProcessMap& access, Tally& tally,
+               bool verbose, bool diagnostics) {
   ++tally.starts;
   for (int j = 0; j < max_scans; ++j) {
     const double when = t + 0.1 * j;
     Odometry odom(cfg, Eigen::Isometry3d::Identity());
-    const PreparedScan scan = odom.prepare(scanOf(scene, lidar, when, 100000 + seed, seed), 0, 0);
+    const PreparedScan scan =
+        odom.prepare(scanOf(scene, lidar, realism, when, 100000 + seed, seed), 0, 0);
     const auto start = std::chrono::steady_clock::now();
     const Relocalization r = relocalize(cfg, scan, access, {});
     tally.attempt_seconds.push_back(
@@ -134,6 +139,7 @@ struct Options {
   int starts = 100, max_scans = 5, street_frames = 1000, indoor_frames = 300;
   std::string sensor = "hdl64", scenes = "street,indoor";
   std::uint64_t seed = 1, world_seed = 1;
+  std::string realism = "kitti";
   bool smoke = false, quiet = false, diagnose = false;
   socc::localization::LocalizerParams params;
 };
@@ -144,11 +150,13 @@ Tally runScene(const SceneRun& run, const Options& o) {
   options.type = run.type;
   options.frames = static_cast<std::size_t>(run.map_frames);
   options.seed = o.world_seed;
+  const socc::sim::Realism realism = socc::sim::realismPreset(o.realism);
+  options.body_motion = realism.motion;
   const socc::sim::Scene scene = socc::sim::buildScene(options);
   const socc::sim::LidarModel lidar = socc::sim::lidarPreset(o.sensor);
   const OdomConfig cfg;
   socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
-  mapWorld(scene, lidar, run.map_frames, map, progress);
+  mapWorld(scene, lidar, realism, run.map_frames, map, progress);
 
   Tally tally;
   tally.voxels = map.stats().num_voxels;
@@ -167,7 +175,7 @@ Tally runScene(const SceneRun& run, const Options& o) {
   std::uniform_real_distribution<double> when(0.0, std::max(0.0, last));
   socc::ProgressBar bar(run.name + " starts", static_cast<std::size_t>(o.starts), progress);
   for (int i = 0; i < o.starts; ++i) {
-    dropRobot(cfg, scene, lidar, when(rng), o.max_scans,
+    dropRobot(cfg, scene, lidar, realism, when(rng), o.max_scans,
               o.seed * 1000 + static_cast<std::uint64_t>(i), access, tally, !progress, o.diagnose);
     bar.tick();
   }
@@ -184,6 +192,10 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--sensor", o.sensor, "hdl64, vlp32 or vlp16")->capture_default_str();
   app.add_option("--seed", o.seed, "seed of the drop places and scan noise")->capture_default_str();
   app.add_option("--world-seed", o.world_seed, "seed of the socc-sim worlds (their layout)")
+      ->capture_default_str();
+  app.add_option("--realism", o.realism,
+                 "socc-sim error models: kitti (as real KITTI data) or none (exact)")
+      ->check(CLI::IsMember({"none", "kitti"}))
       ->capture_default_str();
   app.add_option("--scenes", o.scenes, "street, indoor or both")->capture_default_str();
   app.add_flag("--diagnose", o.diagnose,

@@ -9,13 +9,14 @@
 # most frames.
 #
 # Usage: scripts/bench_robustness.sh [--build BUILD] [--out OUT] [--frames N] [--config ODOM_YAML]
-#        [--kitti-sweep] [--keep-sequences]   (--kitti-sweep: instead of the matrix, two segments
+#        [--kitti-sweep] [--keep-sequences] [--realism kitti|none]   (--kitti-sweep: instead of the matrix, two segments
 #        of every KITTI GT trajectory 00-10 but 03, sensors rotating HDL-64 / VLP-32 / VLP-16, with
 #        distortion. The simulated sequences, ~0.8 GB per HDL-64 case, are deleted once evaluated
 #        unless --keep-sequences.)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$root/build"; out="$root/out/robustness"; frames=150; odom_args=(); sweep=0; keep=0
+realism=kitti  # socc-sim error models (sim/README.md "Realism"); none: the exact simulator
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
@@ -24,6 +25,7 @@ while [ $# -gt 0 ]; do
     --config) odom_args+=(--config "$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"); shift 2 ;;
     --kitti-sweep) sweep=1; shift ;;
     --keep-sequences) keep=1; shift ;;
+    --realism) realism="$2"; shift 2 ;;
     -h|--help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench_robustness: unknown argument $1" >&2; exit 2 ;;
   esac
@@ -76,7 +78,7 @@ simulate() {  # dir distortion(0|1) args... -> sequence in dir
   fi
   local seed=(--seed 11)  # unless the case names its own
   [[ " ${args[*]} " == *" --seed "* ]] && seed=()
-  "$build/sim/socc-sim" --out "$dir" --frames "$frames" "${seed[@]}" "${distortion[@]}" --quiet "${args[@]}" >&2
+  "$build/sim/socc-sim" --out "$dir" --frames "$frames" "${seed[@]}" "${distortion[@]}" --realism "$realism" --quiet "${args[@]}" >&2
 }
 
 rows=()
