@@ -16,8 +16,8 @@
 #        [--band 30] [--pose-at end|start] [--kitti-gt DIR] [--keep-sequences]
 #   Each run simulates the first N frames (default 1000) of that KITTI GT trajectory with motion
 #   distortion; the sequences (~3 MB a frame) are deleted once scored unless --keep-sequences
-#   (then they are kept in OUT/seqNN_sS and reused by later calls). Segments: KITTI lengths
-#   100..800 m that fit in the run.
+#   (then they are kept in OUT/seqNN_sS and reused by later calls, with the peer's poses unless
+#   the sequence is newer). Segments: KITTI lengths 100..800 m that fit in the run.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
@@ -49,7 +49,7 @@ for bin in sim/socc-sim eval/socc-eval; do
 done
 [ -d "$kitti_gt/poses" ] || { echo "bench_sim_calibration: $kitti_gt/poses missing (--kitti-gt)" >&2; exit 2; }
 mkdir -p "$out"
-results="$out/results.txt"; : >"$results"
+results="$out/results_$$.txt"; : >"$results"; trap 'rm -f "$results"' EXIT
 
 calib_of() { if [ "$((10#$1))" -le 2 ]; then echo "$kitti_gt/calib_00-02.txt"; else echo "$kitti_gt/calib_04-10_Tr.txt"; fi; }
 
@@ -65,15 +65,17 @@ for seq in "${seq_list[@]}"; do
         --realism "$realism" --kitti-poses "$kitti_gt/poses/$seq.txt" --calib "$(calib_of "$seq")" \
         --quiet $sim_args >"$out/sim_${seq}_s${seed}.log"
     fi
-    echo "bench_sim_calibration: peer on KITTI $seq, seed $seed" >&2
-    nice bash -c "$peer \"\$1\" \"\$2\"" peer "$dir" "$out/peer_${seq}_s${seed}.txt" \
-      >"$out/peer_${seq}_s${seed}.log" 2>&1 ||
-      { cat "$out/peer_${seq}_s${seed}.log" >&2; echo "bench_sim_calibration: the peer failed" >&2; exit 1; }
     gt="$dir/poses.txt"; est="$out/peer_${seq}_s${seed}.txt"
+    # A kept sequence's peer poses are reused (when the sequence is older than them).
+    if [ "$keep" -eq 0 ] || [ ! -s "$est" ] || [ "$gt" -nt "$est" ]; then
+      echo "bench_sim_calibration: peer on KITTI $seq, seed $seed" >&2
+      nice bash -c "$peer \"\$1\" \"\$2\"" peer "$dir" "$est" >"$out/peer_${seq}_s${seed}.log" 2>&1 ||
+        { cat "$out/peer_${seq}_s${seed}.log" >&2; echo "bench_sim_calibration: the peer failed" >&2; exit 1; }
+    fi
     if [ "$pose_at" = end ]; then
       # Estimate k is the pose at the start of sweep k + 1.
-      tail -n +2 "$dir/poses.txt" >"$out/gt_shift.txt"; gt="$out/gt_shift.txt"
-      head -n -1 "$est" >"$out/est_shift.txt"; est="$out/est_shift.txt"
+      tail -n +2 "$dir/poses.txt" >"$out/gt_shift_${seq}_s${seed}.txt"; gt="$out/gt_shift_${seq}_s${seed}.txt"
+      head -n -1 "$est" >"$out/est_shift_${seq}_s${seed}.txt"; est="$out/est_shift_${seq}_s${seed}.txt"
     fi
     "$build/eval/socc-eval" --gt "$gt" --est "$est" --truncate \
       --json "$out/eval_${seq}_s${seed}.json" >/dev/null
