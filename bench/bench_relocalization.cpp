@@ -56,8 +56,10 @@ double mean(const std::vector<double>& v) {
 }
 
 socc::LabeledCloud scanOf(const socc::sim::Scene& scene, const socc::sim::LidarModel& lidar,
-                          double t, std::uint64_t frame, std::uint64_t seed) {
-  const socc::sim::SimulatedScan s = socc::sim::simulateScan(scene, lidar, t, frame, {false, seed});
+                          const socc::sim::Realism& realism, double t, std::uint64_t frame,
+                          std::uint64_t seed) {
+  const socc::sim::SimulatedScan s =
+      socc::sim::simulateScan(scene, lidar, t, frame, {false, seed, &realism});
   socc::LabeledCloud c;
   c.points = s.points;
   for (const std::uint32_t raw : s.labels) c.labels.push_back(socc::mapSemanticKittiLabel(raw));
@@ -65,11 +67,12 @@ socc::LabeledCloud scanOf(const socc::sim::Scene& scene, const socc::sim::LidarM
 }
 
 // The world mapped at its exact poses (every frame, as a robot with perfect odometry would).
-void mapWorld(const socc::sim::Scene& scene, const socc::sim::LidarModel& lidar, int frames,
-              socc::map::SemanticOccupancyMap& map, bool progress) {
+void mapWorld(const socc::sim::Scene& scene, const socc::sim::LidarModel& lidar,
+              const socc::sim::Realism& realism, int frames, socc::map::SemanticOccupancyMap& map,
+              bool progress) {
   socc::ProgressBar bar("mapping", static_cast<std::size_t>(frames), progress);
   for (int k = 0; k < frames; ++k) {
-    map.integrate(scene.trajectory.poseAt(0.1 * k), scanOf(scene, lidar, 0.1 * k, k, 7));
+    map.integrate(scene.trajectory.poseAt(0.1 * k), scanOf(scene, lidar, realism, 0.1 * k, k, 7));
     bar.tick();
   }
 }
@@ -112,13 +115,15 @@ void diagnose(double when, const Eigen::Isometry3d& truth, const harness::InProc
 
 // One robot dropped at time t: tries scans t, t + 0.1, ... until one is localized.
 void dropRobot(const OdomConfig& cfg, const socc::sim::Scene& scene,
-               const socc::sim::LidarModel& lidar, double t, int max_scans, std::uint64_t seed,
-               harness::InProcessMap& access, Tally& tally, bool verbose, bool diagnostics) {
+               const socc::sim::LidarModel& lidar, const socc::sim::Realism& realism, double t,
+               int max_scans, std::uint64_t seed, harness::InProcessMap& access, Tally& tally,
+               bool verbose, bool diagnostics) {
   ++tally.starts;
   for (int j = 0; j < max_scans; ++j) {
     const double when = t + 0.1 * j;
     Odometry odom(cfg, Eigen::Isometry3d::Identity());
-    const PreparedScan scan = odom.prepare(scanOf(scene, lidar, when, 100000 + seed, seed), 0, 0);
+    const PreparedScan scan =
+        odom.prepare(scanOf(scene, lidar, realism, when, 100000 + seed, seed), 0, 0);
     const auto start = std::chrono::steady_clock::now();
     const Relocalization r = relocalize(cfg, scan, access, {});
     tally.attempt_seconds.push_back(
@@ -158,6 +163,7 @@ struct Options {
   std::string sensors = "hdl64,vlp32";  // --kitti-routes
   std::string seeds = "1,2";            // --kitti-routes: world seeds (and segment starts)
   int route_frames = 600;               // --kitti-routes: frames of each segment mapped
+  std::string realism = "kitti";
   socc::localization::LocalizerParams params;
 };
 
@@ -168,12 +174,14 @@ Tally runScene(const SceneRun& run, const Options& o) {
   options.frames = static_cast<std::size_t>(run.map_frames);
   options.seed = run.world_seed;
   options.poses = run.poses;
+  const socc::sim::Realism realism = socc::sim::realismPreset(o.realism);
+  options.body_motion = realism.motion;
   const socc::sim::Scene scene = socc::sim::buildScene(options);
   const socc::sim::Scene reversed = reversedScene(scene, run.map_frames);
   const socc::sim::LidarModel lidar = socc::sim::lidarPreset(run.sensor);
   const OdomConfig cfg;
   socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
-  mapWorld(scene, lidar, run.map_frames, map, progress);
+  mapWorld(scene, lidar, realism, run.map_frames, map, progress);
 
   Tally tally;
   tally.voxels = map.stats().num_voxels;
@@ -195,7 +203,7 @@ Tally runScene(const SceneRun& run, const Options& o) {
     // KITTI-shaped routes: every other robot revisits the route the other way.
     const bool backwards = run.poses && i % 2 == 1;
     const int localized = tally.localized;
-    dropRobot(cfg, backwards ? reversed : scene, lidar, when(rng), o.max_scans,
+    dropRobot(cfg, backwards ? reversed : scene, lidar, realism, when(rng), o.max_scans,
               o.seed * 1000 + static_cast<std::uint64_t>(i), access, tally, !progress, o.diagnose);
     tally.reversed += backwards ? 1 : 0;
     tally.reversed_localized += backwards && tally.localized > localized ? 1 : 0;
@@ -214,6 +222,10 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--sensor", o.sensor, "hdl64, vlp32 or vlp16")->capture_default_str();
   app.add_option("--seed", o.seed, "seed of the drop places and scan noise")->capture_default_str();
   app.add_option("--world-seed", o.world_seed, "seed of the socc-sim worlds (their layout)")
+      ->capture_default_str();
+  app.add_option("--realism", o.realism,
+                 "socc-sim error models: kitti (as real KITTI data) or none (exact)")
+      ->check(CLI::IsMember({"none", "kitti"}))
       ->capture_default_str();
   app.add_option("--scenes", o.scenes, "street, indoor or both")->capture_default_str();
   app.add_flag("--diagnose", o.diagnose,

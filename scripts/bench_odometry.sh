@@ -12,21 +12,24 @@
 # upload <= 1 MB/frame (--no-targets: report them, exit 0; for callers that judge accuracy, e.g.
 # demo.sh). --repeat N: N runs of socc (a fresh map server each) and of the baseline,
 # interleaved; the rates are their medians and the ratio judged is the median of the N pairs'
-# (one pair on a shared machine is noise).
+# (one pair on a shared machine is noise). --baseline-pose-at end|start|auto: peers that deskew
+# (KISS-ICP, GenZ-ICP) report each pose at the END of its sweep (the next sweep's start) while
+# socc-sim's poses.txt holds the sweep's start: `end` scores them one frame shifted; auto (the
+# default) = end when DIR/point_times exists (the peer deskews), else start.
 #
 # Usage: scripts/bench_odometry.sh DIR [--build BUILD] [--out OUT] [--gt POSES] [--calib CALIB]
 #                                  [--lengths 100,200,...] [--no-semantics] [--frames N]
 #                                  [--config ODOM_YAML] [--baseline CMD [--baseline-poses FILE]]
-#                                  [--repeat N] [--no-targets]
+#                                  [--baseline-pose-at end|start|auto] [--repeat N] [--no-targets]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 [ $# -ge 1 ] || usage 2
 case "$1" in -h|--help) usage 0 ;; esac
 dir="$(cd "$1" && pwd)"; shift
 build="$root/build"; out=""; gt=""; calib=""; lengths=""; client_args=()
-baseline=""; baseline_poses=""; judge=1; repeat=1
+baseline=""; baseline_poses=""; baseline_pose_at=auto; judge=1; repeat=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
@@ -39,6 +42,7 @@ while [ $# -gt 0 ]; do
     --frames) client_args+=(--last-frame "$(($2 - 1))"); shift 2 ;;
     --baseline) baseline="$2"; shift 2 ;;
     --baseline-poses) baseline_poses="$2"; shift 2 ;;
+    --baseline-pose-at) baseline_pose_at="$2"; shift 2 ;;
     --no-targets) judge=0; shift ;;
     --repeat) repeat="$2"; shift 2 ;;
     -h|--help) usage 0 ;;
@@ -109,7 +113,13 @@ if [ -n "$baseline" ]; then
   bash -c "$baseline \"\$1\"" baseline "$dir" >"$out/baseline.txt" 2>&1 ||
     { cat "$out/baseline.txt" >&2; echo "bench_odometry: the baseline failed" >&2; exit 1; }
   if [ -n "$baseline_poses" ]; then
-    base_args=(--gt "$gt" --est "$baseline_poses" --truncate --json "$out/baseline_eval.json")
+    base_gt="$gt" base_est="$baseline_poses"
+    [ "$baseline_pose_at" = auto ] && { [ -d "$dir/point_times" ] && baseline_pose_at=end || baseline_pose_at=start; }
+    if [ "$baseline_pose_at" = end ]; then  # estimate k = pose at the start of sweep k + 1
+      tail -n +2 "$gt" >"$out/baseline_gt_shifted.txt"; base_gt="$out/baseline_gt_shifted.txt"
+      head -n -1 "$baseline_poses" >"$out/baseline_est_shifted.txt"; base_est="$out/baseline_est_shifted.txt"
+    fi
+    base_args=(--gt "$base_gt" --est "$base_est" --truncate --json "$out/baseline_eval.json")
     [ -n "$calib" ] && base_args+=(--calib "$calib")
     [ -n "$lengths" ] && base_args+=(--lengths "$lengths")
     "$build/eval/socc-eval" "${base_args[@]}" >"$out/baseline_eval.txt"

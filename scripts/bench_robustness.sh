@@ -9,17 +9,20 @@
 # most frames.
 #
 # Usage: scripts/bench_robustness.sh [--build BUILD] [--out OUT] [--frames N] [--config ODOM_YAML]
-#        [--kitti-sweep | --kitti-starts [SEQS]] [--keep-sequences]   (--kitti-sweep: instead of
+#        [--kitti-sweep | --kitti-starts [SEQS]] [--keep-sequences] [--realism kitti|none]
+#        (--kitti-sweep: instead of
 #        the matrix, two segments of every KITTI GT trajectory 00-10 but 03, sensors rotating
 #        HDL-64 / VLP-32 / VLP-16, with distortion. --kitti-starts: the first --frames (default
 #        300) frames of every KITTI GT trajectory (or the comma-separated SEQS) with HDL-64 and with
 #        VLP-32, with distortion only: slow, turning starts from standstill; a case fails on any
 #        unhealthy or lost frame (issue 27). The simulated sequences, ~0.8 GB per HDL-64 case, are
-#        deleted once evaluated unless --keep-sequences.)
+#        deleted once evaluated unless --keep-sequences. --realism: socc-sim's error models,
+#        sim/README.md "Realism"; none: the exact simulator.)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$root/build"; out="$root/out/robustness"; frames=""; odom_args=(); sweep=0; keep=0
 starts=0; start_seqs="00,01,02,04,05,06,07,08,09,10"
+realism=kitti
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
@@ -31,7 +34,8 @@ while [ $# -gt 0 ]; do
       starts=1; shift
       if [[ ${1:-} =~ ^[0-9,]+$ ]]; then start_seqs=$1; shift; fi ;;
     --keep-sequences) keep=1; shift ;;
-    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --realism) realism="$2"; shift 2 ;;
+    -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench_robustness: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -96,7 +100,7 @@ simulate() {  # dir distortion(0|1) args... -> sequence in dir
   fi
   local seed=(--seed 11)  # unless the case names its own
   [[ " ${args[*]} " == *" --seed "* ]] && seed=()
-  "$build/sim/socc-sim" --out "$dir" --frames "$frames" "${seed[@]}" "${distortion[@]}" --quiet "${args[@]}" >&2
+  "$build/sim/socc-sim" --out "$dir" --frames "$frames" "${seed[@]}" "${distortion[@]}" --realism "$realism" --quiet "${args[@]}" >&2
 }
 
 rows=()

@@ -13,7 +13,7 @@
 #
 # Usage: scripts/demo_multirobot.sh [--robots N] [--frames F] [--build DIR] [--out DIR]
 #                                   [--seed S] [--speed V] [--scene S] [--trajectory R]
-#                                   [--distortion] [--relocalize]
+#                                   [--distortion] [--realism kitti|none] [--relocalize]
 #   --robots N   number of robots (default 3)
 #   --frames F   frames per robot (default 25; the sequence has N*F frames)
 #   --build DIR  build directory with all binaries (default build/)
@@ -23,13 +23,14 @@
 #   --scene S    socc-sim scene (default street; indoor has no moving objects)
 #   --trajectory R  socc-sim route (straight, circle, figure8, zigzag; default: the scene's)
 #   --distortion socc-sim moves the sensor during each sweep (per-point times; deskewed)
+#   --realism L  socc-sim error models (default kitti: as real KITTI data; none: exact)
 #   --relocalize robots 1..N-1 join the map without start poses (see above)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,27p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 robots=3 frames=25 build="$root/build" out="$root/out/multirobot" seed=1 scene=street speed=9
-relocalize=0
+relocalize=0 realism=kitti
 sim_extra=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -42,6 +43,7 @@ while [ $# -gt 0 ]; do
     --speed) speed="$2"; shift 2 ;;
     --trajectory) sim_extra+=(--trajectory "$2"); shift 2 ;;
     --distortion) sim_extra+=(--distortion); shift ;;
+    --realism) realism="$2"; shift 2 ;;
     --relocalize) relocalize=1; shift ;;
     -h|--help) usage 0 ;;
     *) echo "demo_multirobot: unknown argument $1" >&2; usage 2 ;;
@@ -92,7 +94,7 @@ seq_dir="$out/sim"
 log "socc-sim: $total frames ($scene, $speed m/s, seed $seed) -> $seq_dir"
 rm -rf "$seq_dir"
 "$build/sim/socc-sim" --out "$seq_dir" --scene "$scene" --frames "$total" --seed "$seed" \
-  --speed "$speed" "${sim_extra[@]}" --quiet >/dev/null
+  --speed "$speed" --realism "$realism" "${sim_extra[@]}" --quiet >/dev/null
 
 first_of() { echo $(($1 * frames)); }
 # GT segment of robot i (poses in the map = GT frame) and its first pose as "x y z roll pitch yaw"

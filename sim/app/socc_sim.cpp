@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "socc/kitti_io.hpp"
+#include "socc/sim/realism.hpp"
 #include "socc/sim/scene.hpp"
 #include "socc/sim/sequence_writer.hpp"
 #include "socc/version.hpp"
@@ -28,6 +29,9 @@ struct Arguments {
   double dropout = 0.0;
   bool distortion = false;
   double max_range = 100.0;
+  std::string realism = "none";
+  std::vector<std::string> realism_off;
+  double realism_scale = 1.0;
   bool quiet = false;
 };
 
@@ -38,6 +42,10 @@ int run(const Arguments& a) {
   scene_options.frames = a.frames;
   scene_options.speed = a.speed;
   scene_options.seed = a.seed;
+  Realism realism = realismPreset(a.realism);
+  disableRealism(realism, a.realism_off);
+  scaleRealism(realism, a.realism_scale);
+  scene_options.body_motion = realism.motion;
   if (a.kitti_poses) {
     socc::Poses poses = socc::readKittiPoses(*a.kitti_poses);
     if (a.calib) poses = socc::cameraToLidarPoses(poses, socc::readKittiCalibTr(*a.calib));
@@ -61,12 +69,15 @@ int run(const Arguments& a) {
   options.frame_period = scene_options.frame_period;
   options.write_point_times = a.distortion;
   options.show_progress = !a.quiet;
-  options.scan = {a.distortion, a.seed};
-  writeSequence(a.out, scene, model, options);
+  options.scan = {a.distortion, a.seed, &realism};
+  const SequenceSummary summary = writeSequence(a.out, scene, model, options);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "wrote " << options.frames << " frames (" << a.scene << ", " << a.sensor << ") to "
-            << a.out.string() << " in " << seconds << " s\n";
+            << a.out.string() << " in " << seconds << " s (realism " << a.realism << ")\n";
+  if (summary.label_classes > 0)
+    std::cout << "labels: mIoU " << 100.0 * summary.label_miou << " % against the exact labels ("
+              << summary.label_classes << " classes)\n";
   return 0;
 }
 
@@ -122,6 +133,19 @@ int main(int argc, char** argv) {
                "(point_times/); see sim/README.md for the convention");
   app.add_option("--max-range", a.max_range, "Maximum range [m]")
       ->check(CLI::Range(1.0, 1000.0))
+      ->capture_default_str();
+  app.add_option("--realism", a.realism,
+                 "Error models of real LiDAR data (sim/README.md \"Realism\"): none = exact "
+                 "(unit tests), kitti = a KITTI-like HDL-64 on a car (the benchmarks' default)")
+      ->check(CLI::IsMember({"none", "kitti"}))
+      ->capture_default_str();
+  app.add_option("--realism-off", a.realism_off,
+                 "Switch groups of the preset off: beams, returns, terrain, motion, labels")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"beams", "returns", "terrain", "motion", "labels"}));
+  app.add_option("--realism-scale", a.realism_scale,
+                 "Multiply every magnitude of the preset (probabilities saturate at 1)")
+      ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
   app.add_flag("--quiet", a.quiet, "No progress bar");
   CLI11_PARSE(app, argc, argv);

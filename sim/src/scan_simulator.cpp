@@ -4,31 +4,13 @@
 
 #include <cmath>
 
+#include "realistic_scan.hpp"
 #include "socc/sim/random.hpp"
-#include "socc/sim/semantic_ids.hpp"
+#include "socc/sim/surface_model.hpp"
 
 namespace socc::sim {
 
 namespace {
-
-float albedo(std::uint16_t label) {
-  switch (label) {
-    case raw::kRoad:
-      return 0.15f;
-    case raw::kSidewalk:
-      return 0.3f;
-    case raw::kVegetation:
-    case raw::kTerrain:
-      return 0.45f;
-    case raw::kTrafficSign:
-      return 0.95f;
-    case raw::kCar:
-    case raw::kMovingCar:
-      return 0.6f;
-    default:
-      return 0.35f;
-  }
-}
 
 struct RayResult {
   Eigen::Vector3f point;
@@ -40,6 +22,8 @@ struct RayResult {
 
 SimulatedScan simulateScan(const Scene& scene, const LidarModel& model, double sweep_start,
                            std::uint64_t frame, const ScanOptions& options) {
+  if (options.realism && options.realism->anyScanError())
+    return simulateRealisticScan(scene, model, sweep_start, frame, options);
   const WorldSnapshot world = scene.world.at(sweep_start);
   const int beams = static_cast<int>(model.elevations_deg.size());
   std::vector<Eigen::Vector3d> beam_dirs;  // at azimuth 0
@@ -80,7 +64,7 @@ SimulatedScan simulateScan(const Scene& scene, const LidarModel& model, double s
     scan.labels.push_back(rays[i].label);
     scan.times.push_back(
         static_cast<float>(model.columnTime(static_cast<int>(i / beam_dirs.size()))));
-    scan.reflectance.push_back(albedo(rays[i].label));
+    scan.reflectance.push_back(classAlbedo(rays[i].label));
   }
   return scan;
 }

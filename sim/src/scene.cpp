@@ -80,6 +80,11 @@ Scene buildScene(const SceneOptions& o) {
     trajectory.emplace(followPath(*route, speed, s0, duration + o.frame_period));
   }
 
+  const MotionErrors& m = o.body_motion;
+  if (m.pitch_per_acceleration_deg > 0 || m.roll_per_lateral_deg > 0 || m.bump_pitch_deg > 0 ||
+      m.bump_roll_deg > 0 || m.bump_heave > 0 || m.vibration_deg > 0)
+    trajectory->setBodyMotion(BodyMotion(m, o.seed));
+
   Random rng(o.seed);
   switch (o.type) {
     case SceneType::kStreet:

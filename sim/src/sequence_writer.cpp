@@ -6,6 +6,7 @@
 
 #include "socc/kitti_io.hpp"
 #include "socc/progress_bar.hpp"
+#include "socc/sim/label_noise.hpp"
 
 namespace socc::sim {
 namespace fs = std::filesystem;
@@ -26,20 +27,22 @@ void writeText(const fs::path& file, const std::string& text) {
 
 }  // namespace
 
-void writeSequence(const fs::path& out, const Scene& scene, const LidarModel& model,
-                   const SequenceOptions& options) {
+SequenceSummary writeSequence(const fs::path& out, const Scene& scene, const LidarModel& model,
+                              const SequenceOptions& options) {
   for (const char* dir : {"velodyne", "labels"}) fs::create_directories(out / dir);
   if (options.write_point_times) fs::create_directories(out / "point_times");
 
   Poses poses;
   std::string times;
   const Eigen::Isometry3d first_inverse = scene.trajectory.poseAt(0.0).inverse();
+  LabelScore labels;
   ProgressBar progress("socc-sim", options.frames, options.show_progress);
   for (std::size_t k = 0; k < options.frames; ++k) {
     const double t = options.frame_period * static_cast<double>(k);
     const SimulatedScan scan = simulateScan(scene, model, t, k, options.scan);
     writeKittiBin(out / "velodyne" / frameName(k, ".bin"), scan.points, &scan.reflectance);
     writeSemanticKittiLabels(out / "labels" / frameName(k, ".label"), scan.labels);
+    if (!scan.exact_labels.empty()) labels.add(scan.exact_labels, scan.labels);
     if (options.write_point_times) {
       std::ofstream f(out / "point_times" / frameName(k, ".bin"), std::ios::binary);
       f.write(reinterpret_cast<const char*>(scan.times.data()),
@@ -57,6 +60,7 @@ void writeSequence(const fs::path& out, const Scene& scene, const LidarModel& mo
   writeKittiPoses(out / "poses.txt", poses);
   writeText(out / "times.txt", times);
   writeText(out / "calib.txt", "Tr: 1 0 0 0 0 1 0 0 0 0 1 0\n");
+  return {labels.meanIou(), labels.classesPresent()};
 }
 
 }  // namespace socc::sim

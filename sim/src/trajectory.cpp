@@ -24,6 +24,19 @@ Trajectory::Trajectory(Poses keyframes, double period)
 }
 
 Eigen::Isometry3d Trajectory::poseAt(double t) const {
+  const Eigen::Isometry3d route = routePoseAt(t);
+  if (!body_) return route;
+  // The route's acceleration and speed (sensor frame) from central differences over 0.3 s, long
+  // enough to smooth the centimetre noise of recorded (GPS/INS) trajectories.
+  constexpr double kH = 0.3;
+  const Eigen::Vector3d before = routePoseAt(t - kH).translation();
+  const Eigen::Vector3d after = routePoseAt(t + kH).translation();
+  const Eigen::Vector3d accel = (after - 2.0 * route.translation() + before) / (kH * kH);
+  const double speed = (after - before).norm() / (2.0 * kH);
+  return route * body_->offset(t, route.linear().transpose() * accel, speed);
+}
+
+Eigen::Isometry3d Trajectory::routePoseAt(double t) const {
   double u = std::max(0.0, t / period_);
   if (std::abs(u - std::round(u)) < 1e-9) u = std::round(u);  // frame times hit keyframes exactly
   const std::size_t last = keyframes_.size() - 1;

@@ -16,20 +16,24 @@
 
 #include "socc/point_cloud.hpp"
 #include "socc/sim/lidar_model.hpp"
+#include "socc/sim/realism.hpp"
 #include "socc/sim/scene.hpp"
 
 namespace socc::sim {
 
 struct SimulatedScan {
-  Points points;                      // sensor frame (see the conventions above)
-  std::vector<std::uint32_t> labels;  // raw SemanticKITTI ids
-  std::vector<float> times;           // [s] within the sweep
-  std::vector<float> reflectance;     // a per-class albedo in [0, 1]
+  Points points;                            // sensor frame (see the conventions above)
+  std::vector<std::uint32_t> labels;        // raw SemanticKITTI ids
+  std::vector<float> times;                 // [s] within the sweep
+  std::vector<float> reflectance;           // a per-class albedo in [0, 1]
+  std::vector<std::uint32_t> exact_labels;  // with realism: the true labels (`labels` is noisy)
 };
 
 struct ScanOptions {
   bool motion_distortion = false;
   std::uint64_t seed = 1;  // noise and dropouts depend only on (seed, frame, ray)
+  /// Error models (sim/README.md "Realism"); null or all off: the exact scan.
+  const Realism* realism = nullptr;
 };
 
 SimulatedScan simulateScan(const Scene& scene, const LidarModel& model, double sweep_start,

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "socc/kitti_io.hpp"
+#include "socc/sim/realism.hpp"
 #include "socc/sim/trajectory.hpp"
 #include "socc/sim/world.hpp"
 
@@ -30,6 +31,8 @@ struct SceneOptions {
   double frame_period = 0.1;    // [s]
   std::optional<double> speed;  // [m/s]; default per scene
   std::uint64_t seed = 1;
+  /// The car body's own motion on top of the route (realism "motion"; zero: smooth route).
+  MotionErrors body_motion;
 };
 
 struct Scene {

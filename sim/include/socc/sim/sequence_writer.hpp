@@ -18,8 +18,15 @@ struct SequenceOptions {
   ScanOptions scan;
 };
 
+struct SequenceSummary {
+  /// With noisy labels (realism "labels"): their mIoU [0, 1] against the exact ones and the
+  /// number of classes it is taken over; 0 classes otherwise.
+  double label_miou = 1.0;
+  int label_classes = 0;
+};
+
 /// Throws std::runtime_error when the directory cannot be written.
-void writeSequence(const std::filesystem::path& out, const Scene& scene, const LidarModel& model,
-                   const SequenceOptions& options);
+SequenceSummary writeSequence(const std::filesystem::path& out, const Scene& scene,
+                              const LidarModel& model, const SequenceOptions& options);
 
 }  // namespace socc::sim

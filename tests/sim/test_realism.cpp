@@ -1,0 +1,144 @@
+// The realism error models: "none" is the exact scan, each model does what sim/README.md says
+// at the stated magnitude, and everything stays a function of the seed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "socc/sim/beam_calibration.hpp"
+#include "socc/sim/body_motion.hpp"
+#include "socc/sim/label_noise.hpp"
+#include "socc/sim/scan_simulator.hpp"
+#include "socc/sim/semantic_ids.hpp"
+#include "socc/sim/surface_model.hpp"
+
+namespace socc::sim {
+namespace {
+
+Scene wallScene(std::uint16_t label) {
+  Poses still(2, Eigen::Isometry3d::Identity());
+  const Box wall = makeBox({15, 0, 0}, {1, 40, 20});
+  return Scene{World({{wall, label}}, {}, nullptr, {}, 1.73), Trajectory(still, 0.1)};
+}
+
+// Mean and RMS of the points' x minus the wall face at x = 14.5.
+std::pair<double, double> wallError(const SimulatedScan& s) {
+  double sum = 0.0;
+  double sq = 0.0;
+  for (const auto& p : s.points) {
+    sum += p.x() - 14.5;
+    sq += (p.x() - 14.5) * (p.x() - 14.5);
+  }
+  const auto n = static_cast<double>(std::max<std::size_t>(1, s.points.size()));
+  return {sum / n, std::sqrt(sq / n)};
+}
+
+TEST(Realism, NonePresetIsTheExactScan) {
+  const Realism none = realismPreset("none");
+  EXPECT_FALSE(none.anyScanError());
+  const Scene scene = wallScene(raw::kBuilding);
+  const SimulatedScan a = simulateScan(scene, lidarPreset("vlp16"), 0.0, 2, {true, 4});
+  const SimulatedScan b = simulateScan(scene, lidarPreset("vlp16"), 0.0, 2, {true, 4, &none});
+  EXPECT_EQ(a.points, b.points);
+  EXPECT_EQ(a.labels, b.labels);
+  EXPECT_TRUE(b.exact_labels.empty());
+  EXPECT_THROW(realismPreset("mars"), std::invalid_argument);
+}
+
+TEST(Realism, EveryGroupSwitchesOff) {
+  Realism r = realismPreset("kitti");
+  EXPECT_TRUE(r.anyScanError());
+  disableRealism(r, {"beams", "returns", "terrain", "motion", "labels"});
+  EXPECT_FALSE(r.anyScanError());
+  EXPECT_EQ(r.motion.bump_pitch_deg, 0.0);
+  EXPECT_THROW(disableRealism(r, {"weather"}), std::invalid_argument);
+}
+
+TEST(Realism, BeamCalibrationIsFixedPerSensorAtTheStatedSpread) {
+  const BeamErrors e = realismPreset("kitti").beams;
+  const BeamCalibration a = drawBeamCalibration(e, 64, 7);
+  const BeamCalibration b = drawBeamCalibration(e, 64, 7);
+  const BeamCalibration c = drawBeamCalibration(e, 64, 8);
+  EXPECT_EQ(a.elevation_error, b.elevation_error);
+  EXPECT_NE(a.elevation_error, c.elevation_error);
+  double mean = 0.0;
+  double sq = 0.0;
+  for (const double v : a.elevation_error) mean += v / 64.0;
+  for (const double v : a.elevation_error) sq += (v - mean) * (v - mean) / 64.0;
+  const double deg = M_PI / 180.0;
+  EXPECT_NEAR(mean, e.elevation_bias_deg * deg, 4 * e.elevation_sigma_deg * deg / 8.0);
+  EXPECT_NEAR(std::sqrt(sq), e.elevation_sigma_deg * deg, 0.4 * e.elevation_sigma_deg * deg);
+}
+
+TEST(Realism, ReturnsAreNoisierAndBiasedButStayOnTheWall) {
+  Realism r = realismPreset("kitti");
+  disableRealism(r, {"beams", "labels"});
+  const Scene scene = wallScene(raw::kBuilding);
+  LidarModel m = lidarPreset("vlp16");
+  m.range_noise = 0.0;
+  const SimulatedScan exact = simulateScan(scene, m, 0.0, 0, {});
+  const SimulatedScan real = simulateScan(scene, m, 0.0, 0, {false, 3, &r});
+  EXPECT_NEAR(wallError(exact).second, 0.0, 1e-4);
+  // Windows drop or push returns behind the facade; the rest stays within centimetres.
+  std::size_t behind = 0;
+  for (const auto& p : real.points) behind += p.x() > 14.8f ? 1 : 0;
+  EXPECT_GT(behind, real.points.size() / 20);
+  EXPECT_LT(real.points.size(), exact.points.size());
+  EXPECT_EQ(real.exact_labels.size(), real.points.size());
+}
+
+TEST(Realism, DarkFarSurfacesDropOut) {
+  Realism r = realismPreset("none");
+  r.returns.detection_threshold = realismPreset("kitti").returns.detection_threshold;
+  const Scene near = wallScene(raw::kRoad);  // albedo 0.15 at 15 m: well above the threshold
+  const SimulatedScan a = simulateScan(near, lidarPreset("vlp16"), 0.0, 0, {false, 1, &r});
+  const SimulatedScan exact = simulateScan(near, lidarPreset("vlp16"), 0.0, 0, {});
+  EXPECT_GT(a.points.size(), exact.points.size() * 9 / 10);
+  Poses far(2, Eigen::Isometry3d::Identity());
+  const Box distant = makeBox({80, 0, 0}, {1, 200, 100});
+  const Scene dark{World({{distant, raw::kRoad}}, {}, nullptr, {}, 1.73), Trajectory(far, 0.1)};
+  const SimulatedScan b = simulateScan(dark, lidarPreset("vlp16"), 0.0, 0, {false, 1, &r});
+  const SimulatedScan b_exact = simulateScan(dark, lidarPreset("vlp16"), 0.0, 0, {});
+  EXPECT_LT(b.points.size(), b_exact.points.size() / 5);  // 0.15 / 80^2 < threshold
+}
+
+TEST(Realism, GroundUnevennessIsBoundedAndOnlyOnTheGround) {
+  const Realism r = realismPreset("kitti");
+  const SurfaceModel s(r.returns, r.terrain, 5);
+  double peak = 0.0;
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector3d p(0.37 * i, 0.11 * i, 0.0);
+    peak = std::max(peak, std::abs(s.groundHeight(raw::kRoad, p)));
+    EXPECT_EQ(s.groundHeight(raw::kBuilding, p), 0.0);
+  }
+  EXPECT_GT(peak, 0.3 * r.terrain.road_roughness);
+  EXPECT_LE(peak, r.terrain.road_roughness + 1e-12);
+}
+
+TEST(Realism, BodyPitchesForwardWhenBrakingAndRollsOutOfTurns) {
+  MotionErrors e;
+  e.pitch_per_acceleration_deg = 0.2;
+  e.roll_per_lateral_deg = 0.4;
+  const BodyMotion body(e, 1);
+  const Eigen::Isometry3d brake = body.offset(1.0, {-5.0, 0.0, 0.0}, 10.0);
+  EXPECT_LT((brake.linear() * Eigen::Vector3d::UnitX()).z(), -0.01);  // nose down
+  const Eigen::Isometry3d left = body.offset(1.0, {0.0, 3.0, 0.0}, 10.0);
+  EXPECT_GT((left.linear() * Eigen::Vector3d::UnitY()).z(), 0.01);  // left side up
+  const Eigen::Isometry3d still = BodyMotion(MotionErrors{}, 1).offset(1.0, {-5, 3, 0}, 10.0);
+  EXPECT_TRUE(still.isApprox(Eigen::Isometry3d::Identity()));
+}
+
+TEST(Realism, NetworkLabelsHaveNoMoversAndAStatedScore) {
+  EXPECT_EQ(singleScanRawId(raw::kMovingCar), raw::kCar);
+  EXPECT_EQ(singleScanRawId(raw::kRoad), raw::kRoad);
+  LabelScore perfect;
+  perfect.add({40, 40, 10}, {40, 40, 10});
+  EXPECT_DOUBLE_EQ(perfect.meanIou(), 1.0);
+  LabelScore half;  // road: 1 of 2 right, sidewalk predicted once wrongly -> IoU 1/2 and 0
+  half.add({40, 40}, {40, 48});
+  EXPECT_EQ(half.classesPresent(), 1);
+  EXPECT_DOUBLE_EQ(half.meanIou(), 0.5);
+  for (std::uint8_t c = 1; c < kNumClasses; ++c) EXPECT_LT(confusedClass(c, false), kNumClasses);
+}
+
+}  // namespace
+}  // namespace socc::sim
