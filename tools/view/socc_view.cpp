@@ -84,6 +84,18 @@ int run(const Options& options) {
   std::unique_ptr<socc::view::WebServer> server;
   try {
     feed = std::make_unique<socc::view::LcmFeed>(options.lcm_url, model);
+    web.metrics = [&model, feed = feed.get()] {
+      return model.read([feed](const socc::view::ViewModel& m) {
+        return "\"delta_bytes\":" + std::to_string(feed->deltaBytes()) +
+               ",\"status_bytes\":" + std::to_string(feed->statusBytes()) +
+               ",\"integrate_bytes\":" + std::to_string(feed->integrateBytes()) +
+               ",\"lcm_dropped\":" + std::to_string(feed->dropped()) +
+               ",\"deltas\":" + std::to_string(m.deltasReceived()) +
+               ",\"voxels\":" + std::to_string(m.voxelCount()) +
+               ",\"blocks\":" + std::to_string(m.blocks().size()) +
+               ",\"robots\":" + std::to_string(m.robots().size());
+      });
+    };
     server = std::make_unique<socc::view::WebServer>(web, model);
   } catch (const std::exception& e) {
     std::cerr << "socc-view: " << e.what() << '\n';

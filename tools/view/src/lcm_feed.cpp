@@ -45,14 +45,14 @@ void LcmFeed::run() {
 
 void LcmFeed::onDelta(const lcm_recv_buf_t* rbuf, const char* /*channel*/, void* self) {
   auto* feed = static_cast<LcmFeed*>(self);
-  feed->bytes_received_ += rbuf->data_size;
+  feed->delta_bytes_ += rbuf->data_size;
   const auto delta = decode<map_delta_t>(rbuf);
   if (!delta || !feed->model_.applyDelta(*delta).empty()) ++feed->dropped_;
 }
 
 void LcmFeed::onStatus(const lcm_recv_buf_t* rbuf, const char* /*channel*/, void* self) {
   auto* feed = static_cast<LcmFeed*>(self);
-  feed->bytes_received_ += rbuf->data_size;
+  feed->status_bytes_ += rbuf->data_size;
   const auto stats = decode<map_stats_t>(rbuf);
   if (!stats) return void(++feed->dropped_);
   for (const robot_state_t& r : stats->robots)
@@ -62,7 +62,7 @@ void LcmFeed::onStatus(const lcm_recv_buf_t* rbuf, const char* /*channel*/, void
 
 void LcmFeed::onIntegrate(const lcm_recv_buf_t* rbuf, const char* /*channel*/, void* self) {
   auto* feed = static_cast<LcmFeed*>(self);
-  feed->bytes_received_ += rbuf->data_size;
+  feed->integrate_bytes_ += rbuf->data_size;
   const auto request = decode<integrate_request_t>(rbuf);
   if (!request || !rpc::checkClientId(request->header.client_id).empty())
     return void(++feed->dropped_);

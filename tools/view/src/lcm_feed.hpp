@@ -22,7 +22,10 @@ class LcmFeed {
   LcmFeed& operator=(const LcmFeed&) = delete;
 
   std::int64_t dropped() const { return dropped_; }
-  std::int64_t bytesReceived() const { return bytes_received_; }
+  /// Bytes received on SOCC/MAP_DELTA, SOCC/STATUS and SOCC/INTEGRATE/REQ.
+  std::int64_t deltaBytes() const { return delta_bytes_; }
+  std::int64_t statusBytes() const { return status_bytes_; }
+  std::int64_t integrateBytes() const { return integrate_bytes_; }
 
  private:
   static void onDelta(const lcm_recv_buf_t* rbuf, const char* channel, void* self);
@@ -34,7 +37,9 @@ class LcmFeed {
   ViewModel& model_;
   std::atomic<bool> stop_{false};
   std::atomic<std::int64_t> dropped_{0};
-  std::atomic<std::int64_t> bytes_received_{0};
+  std::atomic<std::int64_t> delta_bytes_{0};
+  std::atomic<std::int64_t> status_bytes_{0};
+  std::atomic<std::int64_t> integrate_bytes_{0};
   std::thread thread_;
 };
 

@@ -23,10 +23,12 @@ bool isFoxglove(const mg_connection* conn) {
   return std::strncmp(info->local_uri, "/foxglove", 9) == 0;
 }
 
-FrameWriter writerFor(mg_connection* conn) {
-  return [conn](bool binary, const void* data, std::size_t size) {
+FrameWriter writerFor(mg_connection* conn, std::atomic<std::uint64_t>& bytes_sent) {
+  return [conn, &bytes_sent](bool binary, const void* data, std::size_t size) {
     const int opcode = binary ? MG_WEBSOCKET_OPCODE_BINARY : MG_WEBSOCKET_OPCODE_TEXT;
-    return mg_websocket_write(conn, opcode, static_cast<const char*>(data), size) > 0;
+    if (mg_websocket_write(conn, opcode, static_cast<const char*>(data), size) <= 0) return false;
+    bytes_sent += size;
+    return true;
   };
 }
 
@@ -53,6 +55,7 @@ WebServer::WebServer(const WebServerOptions& options, ViewModel& model)
   if (context_ == nullptr)
     throw std::runtime_error("cannot listen on " + ports + " (port in use?)");
   mg_set_auth_handler(context_, "/", &WebServer::authorize, this);
+  mg_set_request_handler(context_, "/metrics.json", &WebServer::serveMetrics, this);
   mg_set_websocket_handler(context_, "/ws", &WebServer::connect, &WebServer::ready,
                            &WebServer::data, &WebServer::close, this);
   mg_set_websocket_handler_with_subprotocols(context_, "/foxglove", &foxgloveSubprotocols,
@@ -85,6 +88,17 @@ int WebServer::authorize(mg_connection* conn, void* self) {
   return 0;
 }
 
+int WebServer::serveMetrics(mg_connection* conn, void* self) {
+  auto* server = static_cast<WebServer*>(self);
+  std::string body = "{\"clients\":" + std::to_string(server->clients_) +
+                     ",\"bytes_sent\":" + std::to_string(server->bytes_sent_);
+  if (server->options_.metrics) body += "," + server->options_.metrics();
+  body += "}\n";
+  mg_send_http_ok(conn, "application/json", static_cast<long long>(body.size()));
+  mg_write(conn, body.data(), body.size());
+  return 200;
+}
+
 int WebServer::connect(const mg_connection* conn, void* self) {
   auto* server = static_cast<WebServer*>(self);
   if (!server->tokenOk(conn)) return 1;  // refused
@@ -97,10 +111,10 @@ void WebServer::ready(mg_connection* conn, void* self) {
   auto* server = static_cast<WebServer*>(self);
   std::unique_ptr<ClientSession> session;
   if (isFoxglove(conn))
-    session = std::make_unique<FoxgloveSession>(server->model_, writerFor(conn),
+    session = std::make_unique<FoxgloveSession>(server->model_, writerFor(conn, server->bytes_sent_),
                                                 std::to_string(server->next_session_++));
   else
-    session = std::make_unique<PageSession>(server->model_, writerFor(conn));
+    session = std::make_unique<PageSession>(server->model_, writerFor(conn, server->bytes_sent_));
   session->start();
   mg_set_user_connection_data(conn, session.release());
 }

@@ -4,6 +4,7 @@
 // gets its own session (client_session.hpp); at most max_clients at once.
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -21,6 +22,9 @@ struct WebServerOptions {
   std::string web_root;
   std::string token;  // empty: no token needed (localhost)
   int max_clients = 8;
+  /// Extra fields of GET /metrics.json (a JSON object's members, without braces), e.g. the LCM
+  /// side's counters; the server adds its own (clients, bytes_sent).
+  std::function<std::string()> metrics;
 };
 
 class WebServer {
@@ -33,9 +37,12 @@ class WebServer {
 
   int port() const { return port_; }
   int clients() const { return clients_; }
+  /// WebSocket payload bytes written to all clients since the start.
+  std::uint64_t bytesSent() const { return bytes_sent_; }
 
  private:
   static int authorize(mg_connection* conn, void* self);
+  static int serveMetrics(mg_connection* conn, void* self);
   static int connect(const mg_connection* conn, void* self);
   static void ready(mg_connection* conn, void* self);
   static int data(mg_connection* conn, int flags, char* data, std::size_t size, void* self);
@@ -48,6 +55,7 @@ class WebServer {
   int port_ = 0;
   std::atomic<int> clients_{0};
   std::atomic<std::uint64_t> next_session_{1};
+  std::atomic<std::uint64_t> bytes_sent_{0};
 };
 
 }  // namespace socc::view
