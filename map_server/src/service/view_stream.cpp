@@ -5,7 +5,7 @@
 namespace socc::service {
 namespace {
 
-map_delta_t emptyDelta(const map::SemanticOccupancyMap& map, std::int8_t kind,
+map_delta_t deltaHeader(const map::SemanticOccupancyMap& map, std::int8_t kind,
                        std::int64_t utime) {
   map_delta_t m{};
   m.utime = utime;
@@ -20,7 +20,7 @@ map_delta_t emptyDelta(const map::SemanticOccupancyMap& map, std::int8_t kind,
 }
 
 // Appends the voxels of blocks to a message (the blocks' contents are whole: never split).
-void append(map_delta_t& m, const map::BlockVoxels& blocks) {
+void appendBlocks(map_delta_t& m, const map::BlockVoxels& blocks) {
   for (std::size_t b = 0; b < blocks.block_key.size(); ++b) {
     for (int a = 0; a < 3; ++a) m.block_key[a].push_back(blocks.block_key[b][a]);
     m.block_voxels.push_back(static_cast<std::int16_t>(blocks.block_voxels[b]));
@@ -32,23 +32,44 @@ void append(map_delta_t& m, const map::BlockVoxels& blocks) {
   m.num_voxels = static_cast<std::int32_t>(m.local.size());
 }
 
+// FNV-1a over what a view shows of a block (voxels, classes, occupancy in kOccupancyStep steps).
+std::uint64_t fingerprint(const map::BlockVoxels& block) {
+  std::uint64_t h = 14695981039346656037ull;
+  const auto mix = [&h](std::uint64_t v) { h = (h ^ v) * 1099511628211ull; };
+  for (std::size_t v = 0; v < block.local.size(); ++v) {
+    mix(static_cast<std::uint64_t>(block.local[v]));
+    mix(block.label[v]);
+    mix(block.occupancy[v] / kOccupancyStep);
+  }
+  return h;
+}
+
 }  // namespace
 
 void ViewStream::emit(const map::SemanticOccupancyMap& map, std::deque<Key>& keys,
                       std::size_t budget, std::int8_t kind, std::int64_t utime,
                       std::vector<map_delta_t>& out) {
   std::size_t sent = 0;
-  map_delta_t message = emptyDelta(map, kind, utime);
+  map_delta_t message = deltaHeader(map, kind, utime);
   // A block at a time: its voxel count is known only once read (at most 512).
   while (!keys.empty() && sent < budget) {
-    const map::BlockVoxels block = map.occupiedInBlocks({keys.front()});
-    if (kind == map_delta_t::CHANGED) pending_set_.erase(keys.front());
+    const Key key = keys.front();
     keys.pop_front();
+    Sent& last = sent_[key];
+    if (kind == map_delta_t::REFRESH && last.cycle == cycle_) continue;  // sent this cycle
+    const map::BlockVoxels block = map.occupiedInBlocks({key});
+    const std::uint64_t print = fingerprint(block);
+    if (kind == map_delta_t::CHANGED) {
+      pending_set_.erase(key);
+      // Nothing a view would see (a block never sent counts as empty).
+      if (print == (last.cycle >= 0 ? last.fingerprint : fingerprint({}))) continue;
+    }
+    last = {print, cycle_};
     sent += block.local.size();
-    append(message, block);
+    appendBlocks(message, block);
     if (message.local.size() >= budget_.message_voxels) {
       out.push_back(std::move(message));
-      message = emptyDelta(map, kind, utime);
+      message = deltaHeader(map, kind, utime);
     }
   }
   if (message.num_blocks > 0) out.push_back(std::move(message));
@@ -62,18 +83,20 @@ std::vector<map_delta_t> ViewStream::next(const map::SemanticOccupancyMap& map,
     pending_.clear();
     pending_set_.clear();
     refresh_.clear();
+    sent_.clear();
   }
   if (map.version() != seen_version_) {
     for (const Key& key : map.blocksChangedSince(seen_version_))
       if (pending_set_.insert(key).second) pending_.push_back(key);
     seen_version_ = map.version();
   }
-  std::vector<map_delta_t> out;
-  emit(map, pending_, budget_.changed_voxels, map_delta_t::CHANGED, utime, out);
   if (refresh_.empty()) {  // the next cycle: every block of the map as it is now
     const std::vector<Key> all = map.blocksChangedSince(-1);
     refresh_.assign(all.begin(), all.end());
+    ++cycle_;
   }
+  std::vector<map_delta_t> out;
+  emit(map, pending_, budget_.changed_voxels, map_delta_t::CHANGED, utime, out);
   emit(map, refresh_, budget_.refresh_voxels, map_delta_t::REFRESH, utime, out);
   return out;
 }

@@ -2,7 +2,9 @@
 // The map's stream for live views (SOCC/MAP_DELTA, map_delta_t; socc-view): every period, the
 // blocks whose occupied voxels changed since the last look, each sent once with its content
 // at that moment (a block changed by many integrations in between is sent once), within a
-// voxel budget per period; what does not fit stays pending. Alongside, a background refresh
+// voxel budget per period; what does not fit stays pending. A block is sent only when a view
+// would show the change: a voxel appeared or vanished, changed class, or its occupancy moved
+// to another sixteenth (kOccupancyStep); re-observing a wall does not resend it. Alongside, a background refresh
 // cycles through every block with a smaller budget, so a view that starts late (or lost a
 // multicast message) fills in. Transport-free: the caller publishes the messages.
 // Not thread-safe: called from the server's single thread, between requests.
@@ -10,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <set>
 #include <vector>
 
@@ -17,6 +20,9 @@
 #include "socc/map_delta_t.hpp"
 
 namespace socc::service {
+
+/// Occupancy changes smaller than this (in round(p_occ * 255) units) are not sent as changes.
+inline constexpr int kOccupancyStep = 16;
 
 struct ViewStreamBudget {
   std::size_t changed_voxels = 65536;  // per period, changed blocks (at least one block)
@@ -45,6 +51,12 @@ class ViewStream {
   std::deque<Key> pending_;         // changed blocks to send, oldest first
   std::set<Key> pending_set_;       // the same keys, to coalesce repeated changes
   std::deque<Key> refresh_;         // the rest of the current refresh cycle
+  struct Sent {
+    std::uint64_t fingerprint = 0;  // of the block's content as last sent
+    std::int64_t cycle = -1;        // the refresh cycle it was last sent in
+  };
+  std::map<Key, Sent> sent_;
+  std::int64_t cycle_ = 0;  // refresh cycles begun
 };
 
 }  // namespace socc::service

@@ -44,6 +44,7 @@ void ClientSession::mapReset() {
   const std::lock_guard<std::mutex> lock(mutex_);
   dirty_.reset = true;
   dirty_.blocks.clear();
+  dirty_.robots = true;
   cv_.notify_all();
 }
 

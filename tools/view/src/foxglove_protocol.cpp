@@ -17,7 +17,7 @@ constexpr int kUint8 = 1;    // foxglove.PackedElementField numeric types
 constexpr int kFloat32 = 7;
 constexpr std::size_t kPointStride = 16;  // x y z float32, red green blue alpha uint8
 
-json time(std::uint64_t ns) {
+json stamp(std::uint64_t ns) {
   return {{"sec", ns / 1000000000u}, {"nsec", ns % 1000000000u}};
 }
 
@@ -66,7 +66,7 @@ json pointCloud(std::uint64_t ns, const std::vector<std::uint8_t>& data) {
   const char* colours[] = {"red", "green", "blue", "alpha"};
   for (int i = 0; i < 4; ++i)
     fields.push_back({{"name", colours[i]}, {"offset", 12 + i}, {"type", kUint8}});
-  return {{"timestamp", time(ns)}, {"frame_id", "map"},   {"pose", identityPose()},
+  return {{"timestamp", stamp(ns)}, {"frame_id", "map"},   {"pose", identityPose()},
           {"point_stride", kPointStride}, {"fields", fields}, {"data", base64(data)}};
 }
 
@@ -187,10 +187,10 @@ std::string robots(const ViewModel& model, std::uint64_t time_ns) {
                  {"scale_invariant", true},
                  {"color", c},
                  {"text", id + " " + rpc::trackingStateName(r.tracking_state)}};
-    entities.push_back({{"timestamp", time(time_ns)},
+    entities.push_back({{"timestamp", stamp(time_ns)},
                         {"frame_id", "map"},
                         {"id", "robot/" + id},
-                        {"lifetime", time(0)},
+                        {"lifetime", stamp(0)},
                         {"frame_locked", false},
                         {"metadata", json::array({{{"key", "tracking"},
                                                    {"value", rpc::trackingStateName(r.tracking_state)}},
@@ -210,7 +210,7 @@ std::string robots(const ViewModel& model, std::uint64_t time_ns) {
 std::vector<std::string> transforms(const ViewModel& model, std::uint64_t time_ns) {
   std::vector<std::string> out;
   for (const auto& [id, r] : model.robots())
-    out.push_back(json{{"timestamp", time(time_ns)},
+    out.push_back(json{{"timestamp", stamp(time_ns)},
                        {"parent_frame_id", "map"},
                        {"child_frame_id", id},
                        {"translation", vec3(r.translation[0], r.translation[1], r.translation[2])},

@@ -59,6 +59,35 @@ bool FoxgloveSession::publish(std::uint32_t channel, std::uint64_t time_ns,
   return true;
 }
 
+namespace {
+// Shortest time between two messages of a channel (index = channel id).
+std::chrono::milliseconds minInterval(std::uint32_t channel) {
+  switch (channel) {
+    case foxglove::kVoxels: return std::chrono::milliseconds(2000);
+    case foxglove::kScans: return std::chrono::milliseconds(500);
+    case foxglove::kRobots: return std::chrono::milliseconds(1000);
+    default: return std::chrono::milliseconds(0);
+  }
+}
+}  // namespace
+
+std::vector<std::string> FoxgloveSession::payloads(std::uint32_t channel,
+                                                   std::uint64_t ns) const {
+  return model_.read([&](const ViewModel& m) -> std::vector<std::string> {
+    switch (channel) {
+      case foxglove::kVoxels: return {foxglove::voxels(m, ns, kMaxVoxelPoints)};
+      case foxglove::kScans: return {foxglove::scans(m, ns)};
+      case foxglove::kRobots: return {foxglove::robots(m, ns)};
+      case foxglove::kTransforms: return foxglove::transforms(m, ns);
+      default: {
+        std::string stats = page::stats(m);
+        if (stats.empty()) return {};
+        return {std::move(stats)};
+      }
+    }
+  });
+}
+
 bool FoxgloveSession::send(Dirty& dirty) {
   std::set<std::uint32_t> wanted;
   std::set<std::uint32_t> fresh;
@@ -67,38 +96,25 @@ bool FoxgloveSession::send(Dirty& dirty) {
     for (const auto& entry : subscriptions_) wanted.insert(entry.second);
     std::swap(fresh, fresh_);
   }
-  voxels_dirty_ = voxels_dirty_ || dirty.reset || !dirty.blocks.empty();
+  changed_[foxglove::kVoxels] = changed_[foxglove::kVoxels] || dirty.reset || !dirty.blocks.empty();
+  for (const std::uint32_t c : {foxglove::kScans, foxglove::kRobots, foxglove::kTransforms})
+    changed_[c] = changed_[c] || dirty.robots || dirty.reset;
+  changed_[foxglove::kStats] = changed_[foxglove::kStats] || dirty.stats;
   const auto now = std::chrono::steady_clock::now();
   const auto ns = static_cast<std::uint64_t>(nowMicros()) * 1000u;
-  const auto due = [&](std::uint32_t c, bool changed) {
-    return wanted.count(c) != 0 && (changed || fresh.count(c) != 0);
-  };
-  if (due(foxglove::kVoxels, voxels_dirty_ && now - last_voxels_ >= kVoxelInterval)) {
-    const std::string cloud = model_.read(
-        [&](const ViewModel& m) { return foxglove::voxels(m, ns, kMaxVoxelPoints); });
-    if (!publish(foxglove::kVoxels, ns, cloud)) return false;
-    voxels_dirty_ = false;
-    last_voxels_ = now;
-  } else if (voxels_dirty_) {
-    wake();  // not yet due: come back
+  bool later = false;
+  for (std::uint32_t c = 1; c <= foxglove::kNumChannels; ++c) {
+    if (wanted.count(c) == 0 || !(changed_[c] || fresh.count(c) != 0)) continue;
+    if (fresh.count(c) == 0 && now - last_sent_[c] < minInterval(c)) {
+      later = true;  // throttled: the newest state goes out when the interval has passed
+      continue;
+    }
+    for (const std::string& payload : payloads(c, ns))
+      if (!publish(c, ns, payload)) return false;
+    changed_[c] = false;
+    last_sent_[c] = now;
   }
-  if (due(foxglove::kScans, dirty.robots)) {
-    const std::string cloud = model_.read([&](const ViewModel& m) { return foxglove::scans(m, ns); });
-    if (!publish(foxglove::kScans, ns, cloud)) return false;
-  }
-  if (due(foxglove::kRobots, dirty.robots)) {
-    const std::string scene = model_.read([&](const ViewModel& m) { return foxglove::robots(m, ns); });
-    if (!publish(foxglove::kRobots, ns, scene)) return false;
-  }
-  if (due(foxglove::kTransforms, dirty.robots)) {
-    for (const std::string& tf :
-         model_.read([&](const ViewModel& m) { return foxglove::transforms(m, ns); }))
-      if (!publish(foxglove::kTransforms, ns, tf)) return false;
-  }
-  if (due(foxglove::kStats, dirty.stats)) {
-    const std::string stats = model_.read([](const ViewModel& m) { return page::stats(m); });
-    if (!stats.empty() && !publish(foxglove::kStats, ns, stats)) return false;
-  }
+  if (later) wake();
   return true;
 }
 

@@ -1,5 +1,6 @@
 #include "page_protocol.hpp"
 
+#include <cmath>
 #include <cstring>
 #include <nlohmann/json.hpp>
 
@@ -118,8 +119,27 @@ std::vector<std::uint8_t> scan(const RobotView& robot) {
   put<std::uint8_t>(out, kScan);
   put<std::uint8_t>(out, static_cast<std::uint8_t>(robot.id.size()));  // ids: <= 64 chars
   out.insert(out.end(), robot.id.begin(), robot.id.end());
-  put<std::uint32_t>(out, static_cast<std::uint32_t>(robot.scan.size() / 3));
-  for (const float v : robot.scan) put<float>(out, v);
+  const std::size_t count_at = out.size();
+  put<std::uint32_t>(out, 0);
+  float origin[3];
+  for (int a = 0; a < 3; ++a) {
+    origin[a] = static_cast<float>(robot.translation[a]);
+    put<float>(out, origin[a]);
+  }
+  std::uint32_t n = 0;
+  for (std::size_t i = 0; i + 2 < robot.scan.size(); i += 3) {
+    std::int16_t q[3];
+    bool fits = true;
+    for (int a = 0; a < 3; ++a) {
+      const float steps = std::round((robot.scan[i + a] - origin[a]) / kScanStep);
+      fits = fits && std::abs(steps) <= 32767.0f;
+      q[a] = fits ? static_cast<std::int16_t>(steps) : 0;
+    }
+    if (!fits) continue;  // beyond +-655 m of the robot
+    for (const std::int16_t v : q) put<std::int16_t>(out, v);
+    ++n;
+  }
+  std::memcpy(out.data() + count_at, &n, sizeof(n));
   return out;
 }
 

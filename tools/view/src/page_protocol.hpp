@@ -1,7 +1,7 @@
 #pragma once
 // What socc-view's page receives on its WebSocket (/ws), all little-endian (docs/view.md):
 // * text: JSON objects with "type": "hello" (voxel size, block edge, class names and colours,
-//   tracking state names), "reset" (a new map epoch: drop every voxel), "stats" (the map
+//   tracking state names), "reset" (a new map epoch: drop every voxel and robot), "stats" (the map
 //   server's map_stats_t), "robots" (per robot: pose, tracking state, the trajectory points
 //   after those already sent).
 // * binary, first byte the kind: kBlocks (blocks whose voxels replace what the page holds)
@@ -17,7 +17,9 @@ namespace socc::view::page {
 
 inline constexpr std::uint8_t kBlocks = 1;  // u8 kind, u8 0 x3, u32 n; per block: i32 x3
                                             // key, u16 count, count x (u16 local, u8 occ, u8 label)
-inline constexpr std::uint8_t kScan = 2;    // u8 kind, u8 id length, id, u32 n, n x f32 x3
+inline constexpr std::uint8_t kScan = 2;    // u8 kind, u8 id length, id, u32 n, f32 x3 origin,
+                                            // n x i16 x3: (point - origin) / kScanStep
+inline constexpr float kScanStep = 0.02f;   // [m]: +-655 m around the robot in 6 bytes a point
 
 std::string hello(const ViewModel& model);
 std::string reset();

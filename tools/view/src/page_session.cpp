@@ -21,7 +21,12 @@ bool PageSession::greet() {
 }
 
 bool PageSession::send(Dirty& dirty) {
-  if (dirty.reset && !writeText(page::reset())) return false;
+  if (dirty.reset) {  // the page drops everything; robots are sent whole again
+    if (!writeText(page::reset())) return false;
+    trajectory_sent_.clear();
+    scan_sent_.clear();
+    dirty.robots = true;
+  }
   const bool new_geometry = model_.read([this](const ViewModel& m) {
     return m.voxelSize() != voxel_size_;
   });
@@ -52,11 +57,13 @@ bool PageSession::sendBlocks(const std::set<BlockKey>& dirty) {
 
 bool PageSession::sendRobots() {
   std::vector<std::vector<std::uint8_t>> scans;
+  const auto now = std::chrono::steady_clock::now();
   const std::string robots = model_.read([&](const ViewModel& m) {
     for (const auto& [id, r] : m.robots()) {
-      auto [it, added] = scan_sent_.try_emplace(id, -1);
-      if (r.scan_seq != it->second && !r.scan.empty()) scans.push_back(page::scan(r));
-      it->second = r.scan_seq;
+      ScanSent& sent = scan_sent_[id];
+      if (r.scan_seq == sent.seq || r.scan.empty() || now - sent.at < kScanInterval) continue;
+      scans.push_back(page::scan(r));
+      sent = {r.scan_seq, now};
     }
     return page::robots(m, trajectory_sent_);
   });

@@ -29,6 +29,17 @@ std::string checkDelta(const map_delta_t& d) {
   return {};
 }
 
+// Whether block b of d shows the same as held (same voxels and classes, occupancy within the
+// map server's kOccupancyStep of 16): the refresh cycle resends unchanged blocks.
+bool sameAsHeld(const map_delta_t& d, std::size_t first, std::size_t n, const BlockContent& held) {
+  if (held.local.size() != n) return false;
+  for (std::size_t v = 0; v < n; ++v)
+    if (held.local[v] != d.local[first + v] || held.label[v] != d.label[first + v] ||
+        held.occupancy[v] / 16 != d.occupancy[first + v] / 16)
+      return false;
+  return true;
+}
+
 }  // namespace
 
 void ViewModel::addListener(ModelListener* listener) {
@@ -45,9 +56,10 @@ std::string ViewModel::applyDelta(const map_delta_t& d) {
   if (std::string why = checkDelta(d); !why.empty()) return why;
   const std::lock_guard<std::mutex> lock(mutex_);
   ++deltas_received_;
-  if (d.epoch != epoch_) {
+  if (d.epoch != epoch_) {  // another map (restart, load, clear): its robots report again
     epoch_ = d.epoch;
     blocks_.clear();
+    robots_.clear();
     voxel_count_ = 0;
     for (ModelListener* l : listeners_) l->mapReset();
   }
@@ -60,6 +72,10 @@ std::string ViewModel::applyDelta(const map_delta_t& d) {
     const BlockKey key{d.block_key[0][b], d.block_key[1][b], d.block_key[2][b]};
     const auto n = static_cast<std::size_t>(d.block_voxels[b]);
     const auto it = blocks_.find(key);
+    if (it == blocks_.end() ? n == 0 : sameAsHeld(d, next, n, it->second)) {
+      next += n;
+      continue;  // nothing to show
+    }
     if (it != blocks_.end()) voxel_count_ -= static_cast<std::int64_t>(it->second.local.size());
     if (n == 0) {
       if (it != blocks_.end()) blocks_.erase(it);
@@ -75,7 +91,8 @@ std::string ViewModel::applyDelta(const map_delta_t& d) {
     next += n;
     keys.push_back(key);
   }
-  for (ModelListener* l : listeners_) l->blocksChanged(keys);
+  if (!keys.empty())
+    for (ModelListener* l : listeners_) l->blocksChanged(keys);
   return {};
 }
 

@@ -54,7 +54,7 @@ struct RobotView {
 /// What changed, told to listeners.
 struct ModelListener {
   virtual ~ModelListener() = default;
-  virtual void mapReset() = 0;  // new epoch: forget every block
+  virtual void mapReset() = 0;  // new epoch: forget every block and robot
   virtual void blocksChanged(const std::vector<BlockKey>& keys) = 0;
   virtual void robotsChanged() = 0;
   virtual void statsChanged() = 0;

@@ -48,7 +48,6 @@ WebServer::WebServer(const WebServerOptions& options, ViewModel& model)
                           "num_threads", threads.c_str(),
                           "enable_directory_listing", "no",
                           "websocket_timeout_ms", "3600000",
-                          "enable_websocket_ping_pong", "yes",
                           nullptr};
   mg_callbacks callbacks{};
   context_ = mg_start(&callbacks, this, config);

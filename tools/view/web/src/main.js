@@ -102,10 +102,8 @@ function onText(message) {
     palette.setClasses(message.classes);
     voxels.configure(message.voxel_size, message.block_dim);
     showLegend(message.classes);
-  } else if (message.type === 'reset') {  // a new map (epoch): its voxels only
-    voxels.clear();
-    topdown.clear();
-    framed = false;
+  } else if (message.type === 'reset') {  // a new map (epoch): robots are sent again
+    resetAll();
   } else if (message.type === 'stats') {
     state.stats = message;
     showStats(message);

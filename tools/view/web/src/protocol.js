@@ -23,13 +23,17 @@ export function decodeBlocks(buffer, onBlock) {
   }
 }
 
+const SCAN_STEP = 0.02;  // [m] per unit of a scan point's int16 offsets
+
 export function decodeScan(buffer) {
   const view = new DataView(buffer);
   const idLength = view.getUint8(1);
   const id = new TextDecoder().decode(new Uint8Array(buffer, 2, idLength));
-  const n = view.getUint32(2 + idLength, true);
+  let at = 2 + idLength;
+  const n = view.getUint32(at, true);
+  const origin = [0, 1, 2].map((a) => view.getFloat32(at + 4 + 4 * a, true));
+  at += 16;
   const points = new Float32Array(3 * n);
-  let at = 6 + idLength;
-  for (let i = 0; i < 3 * n; ++i, at += 4) points[i] = view.getFloat32(at, true);
+  for (let i = 0; i < 3 * n; ++i, at += 2) points[i] = origin[i % 3] + SCAN_STEP * view.getInt16(at, true);
   return { id, points };
 }
