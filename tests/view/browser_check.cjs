@@ -49,11 +49,19 @@ async function screenshotPixels(page, png) {
           if (near(at(td.left + r.x + dx, td.top + r.y + dy), r.rgb, 30)) ++hits;
       robots[id] = hits;
     }
+    const robots3d = {};
+    for (const [id, r] of Object.entries(window.soccView.robotScreen || {})) {
+      let hits = 0;
+      for (let dy = -6; dy <= 6; ++dy)
+        for (let dx = -6; dx <= 6; ++dx)
+          if (near(at(r.x + dx, r.y + dy), r.rgb, 30)) ++hits;
+      robots3d[id] = hits;
+    }
     let topdownPixels = 0;
     for (let y = td.top; y < td.bottom; y += 2)
       for (let x = td.left; x < td.right; x += 2)
         if (!near(at(x, y), [0x0b, 0x0d, 0x10], 24)) ++topdownPixels;
-    return { scenePixels, topdownPixels, robots };
+    return { scenePixels, topdownPixels, robots, robots3d };
   }, png.toString('base64'));
 }
 
@@ -90,8 +98,10 @@ async function screenshotPixels(page, png) {
     console.log(`screenshot ${screenshot}: ${JSON.stringify(pixels)}`);
     if (s.webgl && pixels.scenePixels < 500) fail(`3D view: only ${pixels.scenePixels} map pixels`);
     if (pixels.topdownPixels < 200) fail(`top-down layer: only ${pixels.topdownPixels} map pixels`);
-    for (const id of robotIds)
+    for (const id of robotIds) {
       if (!(pixels.robots[id] >= 5)) fail(`robot ${id}: not drawn in the top-down layer (${pixels.robots[id]} pixels)`);
+      if (s.webgl && !(pixels.robots3d[id] >= 5)) fail(`robot ${id}: not drawn in 3D (${pixels.robots3d[id]} pixels)`);
+    }
     if (!s.webgl) console.log('NOTE: WebGL unavailable in this Chromium: 3D pixels not checked');
   } finally {
     await browser.close();

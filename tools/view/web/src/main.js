@@ -30,6 +30,8 @@ try {
   document.getElementById('scene').textContent = 'WebGL unavailable: ' + e.message;
 }
 const controls = renderer ? new OrbitControls(camera, renderer.domElement) : null;
+// For the console and tests (not part of the page's state): the scene's objects.
+Object.defineProperty(state, 'three', { value: { scene, camera, controls }, enumerable: false });
 scene.add(new THREE.AxesHelper(5));
 
 const voxels = new VoxelLayer(scene, palette);
@@ -182,6 +184,8 @@ function animate(now) {
   }
   if (renderer) {
     controls.update();
+    robots.fitScreen(camera, window.innerHeight);
+    state.robotScreen = robots.screenPositions(camera, window.innerWidth, window.innerHeight);
     renderer.render(scene, camera);
   }
   ++state.frames;

@@ -1,25 +1,29 @@
-// Each robot in 3D: a cone at its pose coloured by tracking state (healthy green, degraded
-// amber, lost red), its trajectory as a line and its latest scan as small points.
+// Each robot in 3D: an arrow (cone) at its pose coloured by tracking state (healthy green,
+// degraded amber, lost red), drawn over the map at a constant size on screen; its trajectory as
+// a line and its latest scan as small white points.
 import * as THREE from 'three';
 import { STATE_COLOURS } from './colours.js';
 
 class RobotObjects {
   constructor(scene) {
     this.group = new THREE.Group();
-    this.marker = new THREE.Mesh(new THREE.ConeGeometry(1.0, 3.0, 12),
-                                 new THREE.MeshBasicMaterial({ color: STATE_COLOURS[0] }));
+    this.marker = new THREE.Mesh(new THREE.ConeGeometry(0.5, 1.6, 16),
+                                 new THREE.MeshBasicMaterial({ color: STATE_COLOURS[0], depthTest: false }));
     this.marker.rotation.z = -Math.PI / 2;  // the cone points along the robot's x axis
+    this.marker.renderOrder = 10;  // over the voxels
     this.body = new THREE.Group();
     this.body.add(this.marker);
     this.trajectory = new Float32Array(3 * 1024);
     this.trajectoryLength = 0;
     this.lineGeometry = new THREE.BufferGeometry();
     this.lineGeometry.setAttribute('position', new THREE.BufferAttribute(this.trajectory, 3));
-    this.line = new THREE.Line(this.lineGeometry, new THREE.LineBasicMaterial({ color: 0xffffff }));
+    this.line = new THREE.Line(this.lineGeometry,
+                               new THREE.LineBasicMaterial({ color: 0xffffff, depthTest: false }));
     this.line.frustumCulled = false;
+    this.line.renderOrder = 9;
     this.scanGeometry = new THREE.BufferGeometry();
     this.scan = new THREE.Points(this.scanGeometry,
-                                 new THREE.PointsMaterial({ color: 0x7fe7ff, size: 2, sizeAttenuation: false }));
+                                 new THREE.PointsMaterial({ color: 0xffffff, size: 1.5, sizeAttenuation: false }));
     this.scan.frustumCulled = false;
     this.group.add(this.body, this.line, this.scan);
     scene.add(this.group);
@@ -52,6 +56,13 @@ class RobotObjects {
     this.scanGeometry.computeBoundingSphere();
   }
 
+  // About `pixels` tall on screen whatever the zoom.
+  fitScreen(camera, viewportHeight, pixels) {
+    const distance = camera.position.distanceTo(this.body.position);
+    const metresPerPixel = (2 * distance * Math.tan((camera.fov * Math.PI) / 360)) / viewportHeight;
+    this.body.scale.setScalar(Math.max(0.5, (pixels * metresPerPixel) / 1.6));
+  }
+
   dispose(scene) { scene.remove(this.group); }
 }
 
@@ -80,6 +91,23 @@ export class RobotsLayer {
       e.objects.setPose(r.pose.t, r.pose.q, r.tracking_state);
       e.info = r;
     }
+  }
+
+  // Each robot's position on screen (CSS pixels) and marker colour, for tests.
+  screenPositions(camera, width, height) {
+    const out = {};
+    for (const [id, r] of this.robots) {
+      if (!r.info) continue;
+      const p = r.objects.body.position.clone().project(camera);
+      const hex = r.objects.marker.material.color.getHex();
+      out[id] = { x: ((p.x + 1) / 2) * width, y: ((1 - p.y) / 2) * height,
+                  rgb: [hex >> 16, (hex >> 8) & 255, hex & 255] };
+    }
+    return out;
+  }
+
+  fitScreen(camera, viewportHeight) {
+    for (const r of this.robots.values()) r.objects.fitScreen(camera, viewportHeight, 28);
   }
 
   setScan(id, points) {
