@@ -11,16 +11,21 @@
 # Results (poses, plots, map images) go to out/demo.
 # The drive is simulated with --realism kitti (sensor, ground, vehicle and label errors as on real
 # KITTI data; sim/README.md "Realism"); --realism none gives the exact simulator.
-# Usage: scripts/demo.sh [--frames N] [--seed S] [--realism kitti|none]
+# --view: socc-view shows every run live (http://127.0.0.1:PORT/, printed; docs/view.md): the
+# three methods' maps, then the two robots; it keeps serving until the demo ends (and, from a
+# terminal, until Enter is pressed).
+# Usage: scripts/demo.sh [--frames N] [--seed S] [--realism kitti|none] [--view [--view-port P]]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-frames=200; seed=1; realism=kitti
+frames=200; seed=1; realism=kitti; view=0; view_port=8765
 while [ $# -gt 0 ]; do
   case "$1" in
     --frames) frames="$2"; shift 2 ;;
     --seed) seed="$2"; shift 2 ;;
     --realism) realism="$2"; shift 2 ;;
-    -h|--help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --view) view=1; shift ;;
+    --view-port) view_port="$2"; shift 2 ;;
+    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "demo: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -30,6 +35,21 @@ bash scripts/build.sh "$root/build"
 out="$root/out/demo"
 rm -rf "$out"
 mkdir -p "$out"
+view_pid=""
+multirobot_url=()
+if ((view)); then
+  # Every map_server of the demo runs on this one URL, one after the other (never two at once).
+  view_lcm="udpm://239.255.76.67:$((20000 + RANDOM % 40000))?ttl=0&recv_buf_size=33554432"
+  export SOCC_LCM_URL=$view_lcm  # bench_odometry.sh's map_server
+  multirobot_url=(--lcm-url "$view_lcm")
+  "$root/build/tools/socc-view" --lcm-url "$view_lcm" --port "$view_port" \
+    --url-file "$out/view_url.txt" >"$out/view.log" 2>&1 &
+  view_pid=$!
+  trap 'kill "$view_pid" 2>/dev/null || true; wait "$view_pid" 2>/dev/null || true' EXIT
+  for _ in $(seq 50); do [ -s "$out/view_url.txt" ] && break; sleep 0.1; done
+  [ -s "$out/view_url.txt" ] || { echo "demo: socc-view did not start: $(cat "$out/view.log")" >&2; exit 1; }
+  echo "demo: live view of the runs: $(cat "$out/view_url.txt")  (Foxglove: ws://127.0.0.1:$view_port/foxglove)" >&2
+fi
 sim=(--scene street --trajectory figure8 --distortion --seed "$seed" --realism "$realism")
 "$root/build/sim/socc-sim" --out "$out/seq" --frames "$frames" "${sim[@]}"
 
@@ -47,8 +67,8 @@ done
 echo "demo: two robots, one map" >&2
 # Its PASS/FAIL compares aligned ATE with each robot alone; the demo reports it, it does not gate.
 bash scripts/demo_multirobot.sh --robots 2 --frames $((frames / 2)) --seed "$seed" \
-  --trajectory figure8 --distortion --realism "$realism" --build "$root/build" --out "$out/two_robots" \
-  >"$out/two_robots.md" || true
+  --trajectory figure8 --distortion --realism "$realism" --build "$root/build" \
+  --out "$out/two_robots" "${multirobot_url[@]}" >"$out/two_robots.md" || true
 
 SOCC_REALISM="$realism" python3 - "$out" "${variants[@]}" <<'PY'
 import json, os, re, sys
@@ -75,3 +95,7 @@ print(f"Map images: {out}/socc/map_class.png, {out}/socc/map_occupancy.png (one 
       f"and GT), {out}/two_robots/map_class.png (both robots over the GT). Per-method tables, "
       f"plots and frames.csv: {out}/<method>/.")
 PY
+
+if ((view)) && [ -t 0 ]; then
+  read -r -p "demo: socc-view still shows the last run at $(cat "$out/view_url.txt"); press Enter to stop it " _
+fi

@@ -25,12 +25,14 @@
 #   --distortion socc-sim moves the sensor during each sweep (per-point times; deskewed)
 #   --realism L  socc-sim error models (default kitti: as real KITTI data; none: exact)
 #   --relocalize robots 1..N-1 join the map without start poses (see above)
+#   --lcm-url U  the LCM URL of the run with all robots (e.g. one socc-view listens on;
+#                default: a private port); the runs alone always use private ports
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,27p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 robots=3 frames=25 build="$root/build" out="$root/out/multirobot" seed=1 scene=street speed=9
-relocalize=0 realism=kitti
+relocalize=0 realism=kitti together_url=""
 sim_extra=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -45,6 +47,7 @@ while [ $# -gt 0 ]; do
     --distortion) sim_extra+=(--distortion); shift ;;
     --realism) realism="$2"; shift 2 ;;
     --relocalize) relocalize=1; shift ;;
+    --lcm-url) together_url="$2"; shift 2 ;;
     -h|--help) usage 0 ;;
     *) echo "demo_multirobot: unknown argument $1" >&2; usage 2 ;;
   esac
@@ -75,8 +78,8 @@ new_url() {  # private multicast port per server; ttl=0 keeps the traffic on thi
 }
 cli() { "$build/tools/socc-cli" --lcm-url "$url" --client-id demo_mr "$@"; }
 server_pid=""
-start_server() {  # start_server LOG: a fresh map_server on a new port
-  url="$(new_url)"
+start_server() {  # start_server LOG [URL]: a fresh map_server on URL (default: a new port)
+  url="${2:-$(new_url)}"
   "$build/map_server/map_server" --lcm-url "$url" --quiet >"$1" 2>&1 &
   server_pid=$!
   for _ in $(seq 50); do
@@ -129,7 +132,7 @@ evaluate() {  # evaluate I DIR
 }
 
 # --- N robots at the same time in one map --------------------------------------------------
-start_server "$out/server_together.log"
+start_server "$out/server_together.log" "$together_url"
 if ((relocalize)); then
   log "a mapping robot drives the whole sequence first (GT start)"
   mkdir -p "$out/mapper"

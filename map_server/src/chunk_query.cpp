@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "map_impl.hpp"
+#include "occupied_test.hpp"
 #include "region.hpp"
 #include "socc/chunk_features.hpp"
 #include "socc/map/voxel_features.hpp"
@@ -154,28 +155,6 @@ class QueryRegion {
   const ChunkQuery& q_;
   bool sphere_;
   double r2_;
-};
-
-// p_occ >= threshold without an exp per voxel: the log-odds against logit(threshold); a voxel
-// within rounding of that boundary is decided by its probability, as the threshold is defined.
-class OccupiedTest {
- public:
-  explicit OccupiedTest(double threshold) : threshold_(threshold) {
-    constexpr double kInf = std::numeric_limits<double>::infinity();
-    logit_ = threshold <= 0.0   ? -kInf
-             : threshold >= 1.0 ? kInf
-                                : std::log(threshold / (1.0 - threshold));
-  }
-  bool operator()(float log_odds) const {
-    if (log_odds > logit_ + kMargin) return true;
-    if (log_odds < logit_ - kMargin) return false;
-    return probability(log_odds) >= threshold_;
-  }
-
- private:
-  static constexpr double kMargin = 1e-6;
-  double threshold_;
-  double logit_;
 };
 
 // The blocks a delta may leave out: unchanged since the held answer and with every voxel centre

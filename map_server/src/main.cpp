@@ -11,16 +11,19 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "service/auth_gate.hpp"
 #include "service/map_service.hpp"
 #include "service/request_gate.hpp"
 #include "service/request_router.hpp"
 #include "service/service_config.hpp"
+#include "service/view_stream.hpp"
 #include "socc/channels.hpp"
 #include "socc/large_message_heap.hpp"
 #include "socc/lcm_url.hpp"
 #include "socc/version.hpp"
+#include "socc/wall_clock.hpp"
 
 namespace {
 
@@ -39,6 +42,7 @@ struct Options {
   std::string key_file;
   bool auth_queries = false;
   double status_period = 1.0;
+  double view_period = 0.5;
   bool quiet = false;
   bool ignore_corrupt_snapshot = false;
 };
@@ -154,6 +158,17 @@ bool handleGroup(lcm::LCM& lcm, socc::service::RequestRouter& router) {
   return true;
 }
 
+// Publishes the view stream's messages of one period on SOCC/MAP_DELTA.
+void publishView(lcm::LCM& lcm, socc::service::ViewStream& view,
+                 const socc::service::MapService& service) {
+  for (socc::map_delta_t& delta : view.next(service.map(), socc::nowMicros())) {
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(delta.getEncodedSize()));
+    delta.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    lcm.publish(std::string(socc::channels::kMapDelta), bytes.data(),
+                static_cast<unsigned>(bytes.size()));
+  }
+}
+
 // Handles requests until a stop signal, publishing the status and writing periodic snapshots
 // in between. Returns 0, or 1 when LCM fails.
 int serve(lcm::LCM& lcm, socc::service::RequestRouter& router, socc::service::MapService& service,
@@ -162,7 +177,10 @@ int serve(lcm::LCM& lcm, socc::service::RequestRouter& router, socc::service::Ma
   const auto status_period = std::chrono::duration<double>(options.status_period);
   const auto snapshot_period = std::chrono::duration<double>(options.snapshot_period);
   const bool periodic_snapshots = !options.snapshot_dir.empty() && options.snapshot_period > 0;
+  const auto view_period = std::chrono::duration<double>(options.view_period);
+  socc::service::ViewStream view;
   auto next_status = Clock::now();
+  auto next_view = Clock::now();
   auto next_snapshot = Clock::now() + snapshot_period;
   while (sigtimedwait(&stop_signals, nullptr, &no_wait) < 0) {
     if (!handleGroup(lcm, router)) {
@@ -173,6 +191,10 @@ int serve(lcm::LCM& lcm, socc::service::RequestRouter& router, socc::service::Ma
     if (options.status_period > 0 && now >= next_status) {
       router.publishStatus();
       next_status = now + std::chrono::duration_cast<Clock::duration>(status_period);
+    }
+    if (options.view_period > 0 && now >= next_view) {
+      publishView(lcm, view, service);
+      next_view = now + std::chrono::duration_cast<Clock::duration>(view_period);
     }
     if (periodic_snapshots && now >= next_snapshot) {
       try {
@@ -267,6 +289,11 @@ int main(int argc, char** argv) {
                "with a key, also require signed GET_CHUNK, GET_STATS, GET_ROBOT_POSE and RENDER");
   app.add_option("--status-period", options.status_period,
                  "seconds between map_stats_t on SOCC/STATUS (0 = off)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--view-period", options.view_period,
+                 "seconds between map_delta_t on SOCC/MAP_DELTA: changed blocks and a background "
+                 "refresh for live views (socc-view, docs/view.md); 0 = off")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--quiet", options.quiet, "no log output except errors");

@@ -4,6 +4,7 @@
 //   replies    SOCC/<SERVICE>/REP/<client_id>
 //   status     SOCC/STATUS            (map_stats_t, 1 Hz)
 //   scans      SOCC/SCAN/<robot_id>   (scan_t, from drivers or lcm-logplayer)
+//   view       SOCC/MAP_DELTA         (map_delta_t: changed blocks for live views, socc-view)
 #include <array>
 #include <string>
 #include <string_view>
@@ -24,6 +25,7 @@ inline constexpr std::array<std::string_view, 8> kServices = {
     kIntegrate, kGetChunk, kGetStats, kGetRobotPose, kMapCommand, kRender, kRobotStatus, kLocalize};
 
 inline constexpr std::string_view kStatus = "SOCC/STATUS";
+inline constexpr std::string_view kMapDelta = "SOCC/MAP_DELTA";
 
 /// The default LCM URL: UDP multicast that never leaves this machine (ttl=0).
 inline constexpr std::string_view kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0";

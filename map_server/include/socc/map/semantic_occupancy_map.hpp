@@ -86,6 +86,17 @@ struct ChunkVoxels {
   std::array<std::vector<std::int32_t>, 3> free_index;  // kFree
 };
 
+/// The occupied voxels of some blocks (the live view's stream, map_delta_t): block b (key
+/// block_key[b], a block index) holds the next block_voxels[b] voxels; local is the voxel's
+/// index in its block (x * 64 + y * 8 + z for 8-voxel blocks).
+struct BlockVoxels {
+  std::vector<std::array<std::int32_t, 3>> block_key;
+  std::vector<std::int32_t> block_voxels;
+  std::vector<std::int16_t> local;
+  std::vector<std::uint8_t> occupancy;  // round(p_occ * 255)
+  std::vector<std::uint8_t> label;
+};
+
 struct MapStats {
   std::int64_t num_voxels = 0;
   std::int64_t num_occupied = 0;
@@ -118,6 +129,15 @@ class SemanticOccupancyMap {
   /// for a malformed query (non-finite values, negative radius, box_min > box_max, threshold
   /// outside [0, 1], negative limit).
   ChunkVoxels queryChunk(const ChunkQuery& query) const;
+
+  /// Keys of the blocks whose occupied voxels (at the map's threshold) may have changed after
+  /// map version `since` (all blocks for since < 0), in key order.
+  std::vector<std::array<std::int32_t, 3>> blocksChangedSince(std::int64_t since) const;
+  /// The occupied voxels (at the map's threshold) of the given blocks; a block that does not
+  /// exist (any more) is listed with no voxels.
+  BlockVoxels occupiedInBlocks(const std::vector<std::array<std::int32_t, 3>>& keys) const;
+  /// Voxels along a block's edge.
+  static int blockDim();
 
   /// p_occ of the voxel holding p, or -1 when that voxel was never observed (unknown).
   double occupancyAt(const Eigen::Vector3d& p) const;
