@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 #include <unistd.h>
+#include <zstd.h>
 
 #include <cstring>
 
@@ -149,8 +150,11 @@ INSTANTIATE_TEST_SUITE_P(Bags, IndependentWriter,
                          });
 
 // A ROS 2 .db3 bag of PointCloud2: the tables as rosbag2's sqlite3 storage creates them, holding
-// the CDR messages @mcap/core's serializer wrote into clouds_none.mcap.
-TEST(IndependentCdrInDb3, PointCloudsReadBackBitIdentical) {
+// the CDR messages @mcap/core's serializer wrote into clouds_none.mcap, as they are and (param
+// true) each compressed to a zstd frame as rosbag2's compression_mode "message" stores them.
+class IndependentCdrInDb3 : public testing::TestWithParam<bool> {};
+
+TEST_P(IndependentCdrInDb3, PointCloudsReadBackBitIdentical) {
   SOCC_REQUIRE_DATA(test::sharedData() / "kitti_00_first16");
   const std::filesystem::path mcap = kFixtures / "clouds_none.mcap";
   ASSERT_TRUE(std::filesystem::exists(mcap)) << mcap << " missing: run sensors.bag_writers";
@@ -178,7 +182,12 @@ TEST(IndependentCdrInDb3, PointCloudsReadBackBitIdentical) {
     sqlite3_prepare_v2(db, "INSERT INTO messages (topic_id, timestamp, data) VALUES (1, ?, ?)", -1,
                        &insert, nullptr);
     sqlite3_bind_int64(insert, 1, m->stamp_ns);
-    sqlite3_bind_blob(insert, 2, m->data.data(), static_cast<int>(m->data.size()), SQLITE_STATIC);
+    std::vector<std::uint8_t> blob = m->data;
+    if (GetParam()) {
+      blob.resize(ZSTD_compressBound(m->data.size()));
+      blob.resize(ZSTD_compress(blob.data(), blob.size(), m->data.data(), m->data.size(), 1));
+    }
+    sqlite3_bind_blob(insert, 2, blob.data(), static_cast<int>(blob.size()), SQLITE_STATIC);
     EXPECT_EQ(sqlite3_step(insert), SQLITE_DONE);
     sqlite3_finalize(insert);
   }
@@ -194,6 +203,8 @@ TEST(IndependentCdrInDb3, PointCloudsReadBackBitIdentical) {
     EXPECT_EQ(s.stamp_ns, kStamp0 + i * 1'000'000'000LL);
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Db3, IndependentCdrInDb3, testing::Values(false, true));
 
 }  // namespace
 }  // namespace socc::sensors::bags

@@ -35,9 +35,11 @@ std::vector<fs::path> ros2BagFiles(const fs::path& folder) {
     try {
       const YAML::Node info = YAML::LoadFile(metadata.string())["rosbag2_bagfile_information"];
       const std::string compression = info["compression_format"].as<std::string>("");
-      if (!compression.empty()) {
-        throw std::runtime_error(metadata.string() + ": compressed ROS 2 bags (" + compression +
-                                 ") are not supported");
+      const std::string mode = info["compression_mode"].as<std::string>("");
+      // Per-message zstd is decompressed by the .db3 reader; whole compressed files are not read.
+      if (!compression.empty() && !(compression == "zstd" && mode == "message")) {
+        throw std::runtime_error(metadata.string() + ": ROS 2 bags compressed with " + compression +
+                                 " in mode " + mode + " are not supported (only zstd per message)");
       }
       for (const YAML::Node& f : info["relative_file_paths"])
         files.push_back(folder / f.as<std::string>());

@@ -1,5 +1,6 @@
 // ROS 2 bags in SQLite (.db3): the tables topics (id, name, type, serialization_format) and
-// messages (topic_id, timestamp [ns], data), read through libsqlite3, read-only.
+// messages (topic_id, timestamp [ns], data), read through libsqlite3, read-only. A blob that is
+// a zstd frame (rosbag2's compression_mode "message") is decompressed.
 #include <sqlite3.h>
 
 #include <memory>
@@ -7,6 +8,7 @@
 #include <unordered_map>
 
 #include "bags/bag_reader.hpp"
+#include "bags/decompress.hpp"
 
 namespace socc::sensors::bags {
 
@@ -60,14 +62,27 @@ class Db3Reader : public BagReader {
       m.topic = topic->second;
       m.stamp_ns = sqlite3_column_int64(messages_.get(), 1);
       const auto* blob = static_cast<const std::uint8_t*>(sqlite3_column_blob(messages_.get(), 2));
-      m.data.assign(blob, blob + sqlite3_column_bytes(messages_.get(), 2));
-      return m;
+      const ByteView data(blob, static_cast<std::size_t>(sqlite3_column_bytes(messages_.get(), 2)));
+      if (!isZstdFrame(data)) {
+        m.data.assign(data.data, data.data + data.size);
+        return m;
+      }
+      try {  // rosbag2's compression_mode "message": each blob is one zstd frame
+        m.data = decompressZstdFrame(data);
+        return m;
+      } catch (const FormatError& e) {
+        if (bad_frames_++ == 0) first_bad_frame_ = e.what();
+      }
     }
     return std::nullopt;
   }
 
   std::string problems() const override {
     std::string p = problems_;
+    if (bad_frames_ > 0) {
+      p += std::to_string(bad_frames_) +
+           " compressed messages that do not decompress (first: " + first_bad_frame_ + ")\n";
+    }
     if (unknown_topic_ > 0) {
       p += std::to_string(unknown_topic_) + " messages of topic ids not in the topics table\n";
     }
@@ -134,6 +149,8 @@ class Db3Reader : public BagReader {
   StatementPtr messages_;
   std::string problems_;
   std::uint64_t unknown_topic_ = 0;
+  std::uint64_t bad_frames_ = 0;
+  std::string first_bad_frame_;
 };
 
 }  // namespace

@@ -90,6 +90,19 @@ std::vector<std::uint8_t> decompress(const std::string& compression, ByteView co
   return out;
 }
 
+std::vector<std::uint8_t> decompressZstdFrame(ByteView frame) {
+  const unsigned long long size = ZSTD_getFrameContentSize(frame.data, frame.size);
+  if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN) {
+    throw FormatError("zstd frame without its content size");
+  }
+  return decompress("zstd", frame, size);
+}
+
+bool isZstdFrame(ByteView bytes) {
+  return bytes.size >= 4 && bytes.data[0] == 0x28 && bytes.data[1] == 0xB5 &&
+         bytes.data[2] == 0x2F && bytes.data[3] == 0xFD;
+}
+
 std::uint32_t crc32Of(ByteView bytes) {
   uLong crc = crc32(0L, Z_NULL, 0);
   std::size_t done = 0;

@@ -15,6 +15,12 @@ namespace socc::sensors::bags {
 std::vector<std::uint8_t> decompress(const std::string& compression, ByteView compressed,
                                      std::uint64_t uncompressed_size);
 
+/// A whole zstd frame that records its content size (rosbag2's per-message compression).
+std::vector<std::uint8_t> decompressZstdFrame(ByteView frame);
+
+/// True when bytes start with the zstd frame magic (28 B5 2F FD); CDR starts with 00.
+bool isZstdFrame(ByteView bytes);
+
 /// CRC-32 (ISO-HDLC, as zlib and MCAP compute it).
 std::uint32_t crc32Of(ByteView bytes);
 
