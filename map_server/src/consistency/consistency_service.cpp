@@ -143,8 +143,11 @@ void ConsistencyService::process(Pending pending) {
   if (travelled < next_attempt) return;
   const std::vector<Candidate> candidates = findCandidates(keyframes_, query, estimates_, params_);
   if (candidates.empty()) return;
+  const auto verify_start = std::chrono::steady_clock::now();
   const std::optional<Closure> closure = verifyCandidate(keyframes_, query, candidates, estimates_,
                                                          params_, map_config_, odom_config_);
+  const double verify_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - verify_start).count();
   PoseEdge edge;
   bool consistent = false;
   OptimizationSummary summary;
@@ -158,6 +161,7 @@ void ConsistencyService::process(Pending pending) {
   }
   std::lock_guard<std::mutex> lock(mutex_);
   ++stats_.recognition.attempts;
+  stats_.recognition.seconds += verify_seconds;
   if (!closure) {
     ++stats_.recognition.refused;
     return;
@@ -273,11 +277,12 @@ void ConsistencyService::write(const std::filesystem::path& dir) const {
   const ConsistencyStats s = stats();
   std::ofstream st(dir / "stats.txt");
   st << "robots " << s.robots << "\nkeyframes " << s.keyframes << "\nattempts "
-     << s.recognition.attempts << "\nclosures " << s.recognition.verified << "\nrefused "
-     << s.recognition.refused << "\ninconsistent " << s.recognition.inconsistent
-     << "\noptimizations " << s.optimizations << "\nlast_optimization_s " << s.last_optimization_s
-     << "\nmax_correction_s " << s.max_correction_s << "\nkeyframe_bytes " << s.keyframe_bytes
-     << "\ntravelled_m " << s.travelled << '\n';
+     << s.recognition.attempts << "\nclosures " << s.recognition.verified << "\nverify_s "
+     << s.recognition.seconds << "\nrefused " << s.recognition.refused << "\ninconsistent "
+     << s.recognition.inconsistent << "\noptimizations " << s.optimizations
+     << "\nlast_optimization_s " << s.last_optimization_s << "\nmax_correction_s "
+     << s.max_correction_s << "\nkeyframe_bytes " << s.keyframe_bytes << "\ntravelled_m "
+     << s.travelled << '\n';
   if (!kf || !cl || !st) throw std::runtime_error("cannot write " + dir.string());
 }
 

@@ -30,6 +30,7 @@ struct RecognitionTally {
   int verified = 0;      // closures accepted
   int refused = 0;       // attempts whose candidates all failed verification
   int inconsistent = 0;  // verified closures the pose graph refused (addConsistentEdge)
+  double seconds = 0.0;  // spent verifying
 };
 
 /// Candidate keyframes for keyframes[query] with a guess of the query's pose in each candidate's
