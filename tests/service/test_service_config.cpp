@@ -34,6 +34,20 @@ TEST(ServerConfig, RelativePathsResolveBesideTheFile) {
   EXPECT_TRUE(loadServerConfig(server).key_file.empty());  // no key: unauthenticated
 }
 
+TEST(ServerConfig, ShippedFileStatesTheConsistencyDefaults) {
+  const auto shipped = std::filesystem::path(__FILE__).parent_path() / "../../map_server/config";
+  const consistency::ConsistencyParams defaults;
+  const consistency::ConsistencyParams read =
+      loadServerConfig(shipped / "server.yaml").consistency;
+  EXPECT_EQ(read.enabled, defaults.enabled);
+  EXPECT_EQ(read.keyframe_distance, defaults.keyframe_distance);
+  EXPECT_EQ(read.keyframe_voxel, defaults.keyframe_voxel);
+  EXPECT_EQ(read.min_loop_travel, defaults.min_loop_travel);
+  EXPECT_EQ(read.search_radius, defaults.search_radius);
+  EXPECT_EQ(read.drift_share, defaults.drift_share);
+  EXPECT_EQ(read.max_descriptor_distance, defaults.max_descriptor_distance);
+}
+
 TEST(ServerConfig, ErrorsNameTheFileAndTheKey) {
   test::TempDir dir;
   const auto server = dir.path() / "server.yaml";
