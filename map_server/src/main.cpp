@@ -45,6 +45,8 @@ struct Options {
   double view_period = 0.5;
   bool quiet = false;
   bool ignore_corrupt_snapshot = false;
+  bool consistency = false;
+  std::string consistency_dir;
 };
 
 // Moves a damaged durable file out of the way (never deletes it: it may be rescued by hand).
@@ -114,6 +116,8 @@ std::optional<socc::service::ServerConfig> serverConfig(const Options& options) 
   if (!options.file_dir.empty()) config.file_dir = options.file_dir;
   if (!options.key_file.empty()) config.key_file = options.key_file;
   config.auth_queries = config.auth_queries || options.auth_queries;
+  config.consistency.enabled = config.consistency.enabled || options.consistency ||
+                               !options.consistency_dir.empty();
   const auto auth = socc::lcmAuthFor(config.key_file.string());
   if (const std::string why = socc::checkLcmUrl(options.lcm_url, auth); !why.empty()) {
     std::cerr << "map_server: " << why << '\n';
@@ -166,6 +170,19 @@ void publishView(lcm::LCM& lcm, socc::service::ViewStream& view,
     delta.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
     lcm.publish(std::string(socc::channels::kMapDelta), bytes.data(),
                 static_cast<unsigned>(bytes.size()));
+  }
+}
+
+// --consistency-dir: the consistency service's keyframes, closures and figures, once every
+// keyframe received is processed.
+void writeConsistency(socc::service::MapService& service, const Options& options) {
+  socc::consistency::ConsistencyService* consistency = service.consistency();
+  if (consistency == nullptr || options.consistency_dir.empty()) return;
+  consistency->flush();
+  try {
+    consistency->write(options.consistency_dir);
+  } catch (const std::exception& e) {
+    std::cerr << "map_server: " << e.what() << '\n';
   }
 }
 
@@ -242,6 +259,7 @@ int run(const Options& options) {
   if (const int rc = serve(lcm, router, service, options, stop_signals); rc != 0) return rc;
   router.commit();
   if (!options.snapshot_dir.empty()) service.checkpoint();
+  writeConsistency(service, options);
   if (!options.quiet) std::cerr << "map_server: stopped\n";
   return 0;
 }
@@ -300,6 +318,12 @@ int main(int argc, char** argv) {
   app.add_flag("--ignore-corrupt-snapshot", options.ignore_corrupt_snapshot,
                "start with an empty map when the snapshot or journal cannot be restored "
                "(the damaged files are moved aside, not deleted)");
+  app.add_flag("--consistency", options.consistency,
+               "loop closure and robot-to-robot alignment over a pose graph of keyframes "
+               "(docs/consistency.md; consistency.enabled of --config)");
+  app.add_option("--consistency-dir", options.consistency_dir,
+                 "with --consistency: write keyframes.txt (odometry and optimized poses), "
+                 "closures.txt and stats.txt here at exit (implies --consistency)");
   CLI11_PARSE(app, argc, argv);
 
   try {

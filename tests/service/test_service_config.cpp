@@ -22,11 +22,30 @@ TEST(ServerConfig, RelativePathsResolveBesideTheFile) {
   EXPECT_EQ(c.file_dir, "maps");  // resolved by map_server against its working directory
   EXPECT_TRUE(c.auth_queries);
   EXPECT_EQ(c.limits.max_robots, 8);
+  EXPECT_FALSE(c.consistency.enabled);  // off unless asked for (docs/consistency.md)
+
+  std::ofstream(server) << "consistency:\n  enabled: true\n  keyframe_distance: 5\n";
+  EXPECT_TRUE(loadServerConfig(server).consistency.enabled);
+  EXPECT_EQ(loadServerConfig(server).consistency.keyframe_distance, 5.0);
 
   std::ofstream(server) << "key_file: /etc/socc/map.key\n";
   EXPECT_EQ(loadServerConfig(server).key_file, "/etc/socc/map.key");
   std::ofstream(server) << "";
   EXPECT_TRUE(loadServerConfig(server).key_file.empty());  // no key: unauthenticated
+}
+
+TEST(ServerConfig, ShippedFileStatesTheConsistencyDefaults) {
+  const auto shipped = std::filesystem::path(__FILE__).parent_path() / "../../map_server/config";
+  const consistency::ConsistencyParams defaults;
+  const consistency::ConsistencyParams read =
+      loadServerConfig(shipped / "server.yaml").consistency;
+  EXPECT_EQ(read.enabled, defaults.enabled);
+  EXPECT_EQ(read.keyframe_distance, defaults.keyframe_distance);
+  EXPECT_EQ(read.keyframe_voxel, defaults.keyframe_voxel);
+  EXPECT_EQ(read.min_loop_travel, defaults.min_loop_travel);
+  EXPECT_EQ(read.search_radius, defaults.search_radius);
+  EXPECT_EQ(read.drift_share, defaults.drift_share);
+  EXPECT_EQ(read.max_descriptor_distance, defaults.max_descriptor_distance);
 }
 
 TEST(ServerConfig, ErrorsNameTheFileAndTheKey) {
@@ -49,6 +68,10 @@ TEST(ServerConfig, ErrorsNameTheFileAndTheKey) {
             at + "limits.robot_chunk_rate must be >= 0");
   EXPECT_EQ(error("limits:\n  robot_integrate_rate: 0\n"), "accepted");  // 0: no limit
   EXPECT_EQ(error("plausibility:\n  speed: 3\n"), at + "unknown key 'plausibility.speed'");
+  EXPECT_EQ(error("consistency:\n  keyframe_distance: 0\n"),
+            at + "consistency.keyframe_distance must be > 0");
+  EXPECT_EQ(error("consistency:\n  max_descriptor_distance: 2\n"),
+            at + "consistency.max_descriptor_distance must be in [0, 1]");
   EXPECT_EQ(error("limits:\n  max_robots: many\n"),
             at + "key 'limits.max_robots': bad value 'many' (expected an integer)");
   // The grid file reports its own name.

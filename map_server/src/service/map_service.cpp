@@ -26,7 +26,10 @@ LabeledCloud toCloud(const integrate_request_t& request) {
 }  // namespace
 
 MapService::MapService(const ServerConfig& config)
-    : config_(config), map_(config.map), localizer_(config.localization) {}
+    : config_(config), map_(config.map), localizer_(config.localization) {
+  if (config.consistency.enabled)
+    consistency_ = std::make_unique<consistency::ConsistencyService>(config.consistency, config.map);
+}
 
 integrate_reply_t MapService::integrate(const integrate_request_t& request,
                                         const std::uint8_t* received, std::size_t received_size) {
@@ -71,6 +74,7 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
   }
   const map::IntegrationResult result = map_.integrate(pose, cloud);
   robots_.recordIntegration(robot_id, request.seq, request.scan_utime, request.sensor_pose);
+  if (consistency_) consistency_->observe(robot_id, request.seq, request.scan_utime, pose, cloud);
   ++integrations_;
   const auto now = std::chrono::steady_clock::now();
   recent_integrations_.push_back(now);

@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 
+#include "consistency_service.hpp"
 #include "global_localizer.hpp"
 #include "journal.hpp"
 #include "robot_registry.hpp"
@@ -80,6 +81,8 @@ class MapService {
   const ServerConfig& config() const { return config_; }
   const RobotRegistry& robots() const { return robots_; }
   std::int64_t integrations() const { return integrations_; }
+  /// The consistency service (docs/consistency.md); null unless config.consistency.enabled.
+  consistency::ConsistencyService* consistency() { return consistency_.get(); }
 
   // Durability -------------------------------------------------------------------------------
   /// Restores state: snapshot (if given) then replays the journal (if it exists), then starts
@@ -125,6 +128,7 @@ class MapService {
   std::unique_ptr<Journal> journal_;
   auth::ReplayGuard* replay_guard_ = nullptr;  // not owned (the AuthGate's); null without a key
   localization::GlobalLocalizer localizer_;
+  std::unique_ptr<consistency::ConsistencyService> consistency_;  // last: its thread reads nothing else
 };
 
 }  // namespace socc::service

@@ -30,6 +30,13 @@ std::string validate(const ServerConfig& c) {
   if (!(l.robot_chunk_rate >= 0.0)) return "limits.robot_chunk_rate must be >= 0";
   if (!(p.linear_slack >= 0.0)) return "plausibility.linear_slack must be >= 0";
   if (!(p.angular_slack >= 0.0)) return "plausibility.angular_slack must be >= 0";
+  const consistency::ConsistencyParams& k = c.consistency;
+  if (!(k.keyframe_distance > 0.0)) return "consistency.keyframe_distance must be > 0";
+  if (!(k.keyframe_voxel > 0.0)) return "consistency.keyframe_voxel must be > 0";
+  if (!(k.min_loop_travel >= 0.0)) return "consistency.min_loop_travel must be >= 0";
+  if (!(k.search_radius >= 0.0)) return "consistency.search_radius must be >= 0";
+  if (!(k.max_descriptor_distance >= 0.0 && k.max_descriptor_distance <= 1.0))
+    return "consistency.max_descriptor_distance must be in [0, 1]";
   return {};
 }
 
@@ -56,6 +63,16 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
       {"linear_slack", &p.linear_slack},
       {"angular_slack", &p.angular_slack},
   };
+  consistency::ConsistencyParams& k = config.consistency;
+  const YamlFields consistency = {
+      {"enabled", &k.enabled},
+      {"keyframe_distance", &k.keyframe_distance},
+      {"keyframe_voxel", &k.keyframe_voxel},
+      {"min_loop_travel", &k.min_loop_travel},
+      {"search_radius", &k.search_radius},
+      {"drift_share", &k.drift_share},
+      {"max_descriptor_distance", &k.max_descriptor_distance},
+  };
   // Paths are kept as given until the file is read, so relative ones resolve against it.
   std::optional<std::string> map_config, file_dir, key_file;
   loadYamlFields(file, "server config",
@@ -64,7 +81,8 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
                   {"key_file", &key_file},
                   {"auth_queries", &config.auth_queries},
                   {"limits", &limits},
-                  {"plausibility", &plausibility}},
+                  {"plausibility", &plausibility},
+                  {"consistency", &consistency}},
                  [&config] { return validate(config); });
   const auto beside = [&file](const std::filesystem::path& path) {
     return path.is_relative() ? file.parent_path() / path : path;

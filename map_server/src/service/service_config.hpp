@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 
+#include "consistency_params.hpp"
 #include "global_localizer.hpp"
 #include "socc/map/map_config.hpp"
 
@@ -38,6 +39,8 @@ struct ServerConfig {
   ServiceLimits limits;
   PlausibilityLimits plausibility;
   localization::LocalizerParams localization;  // LOCALIZE search (docs/relocalization.md)
+  // Loop closure and robot-to-robot alignment (docs/consistency.md); off by default.
+  consistency::ConsistencyParams consistency;
   // MAP_COMMAND paths (save/load/export) are resolved inside this directory, so a client
   // cannot make the server read or write arbitrary files.
   std::filesystem::path file_dir = ".";
@@ -47,7 +50,7 @@ struct ServerConfig {
 };
 
 /// Loads server.yaml: optional `map_config` and `key_file` (relative to this file), `file_dir`,
-/// `auth_queries`, `limits:` and `plausibility:` keys. Unknown keys, bad or out-of-range values
+/// `auth_queries`, `limits:`, `plausibility:` and `consistency:` keys. Unknown keys, bad or out-of-range values
 /// throw std::runtime_error naming the file and the key (socc/yaml_fields.hpp).
 ServerConfig loadServerConfig(const std::filesystem::path& file);
 

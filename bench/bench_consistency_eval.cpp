@@ -1,0 +1,200 @@
+// bench_consistency_eval: scores what map_server --consistency-dir wrote (keyframes.txt,
+// closures.txt, stats.txt) against the sequence's ground truth; one markdown row per figure and
+// a last line that sums it up. Used by scripts/bench_consistency.sh (docs/consistency.md).
+// Exit 1 when a target is missed: wrong closures > 0, map-frame ATE not --min-gain times lower
+// than the odometry's, revisits mapped twice > --max-doubled.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "socc/kitti_io.hpp"
+
+namespace {
+
+struct KeyframeRow {
+  std::string robot;
+  long seq = 0;
+  Eigen::Isometry3d odom = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d optimized = Eigen::Isometry3d::Identity();
+};
+
+struct ClosureRow {
+  std::string robot_a, robot_b;
+  long seq_a = 0, seq_b = 0;
+  Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();
+};
+
+Eigen::Isometry3d readPose(std::istream& in) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) in >> m(r, c);
+  Eigen::Isometry3d pose(m);
+  return pose;
+}
+
+std::vector<KeyframeRow> readKeyframes(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error("cannot read " + file);
+  std::vector<KeyframeRow> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    KeyframeRow row;
+    if (!(s >> row.robot >> row.seq)) continue;
+    row.odom = readPose(s);
+    row.optimized = readPose(s);
+    if (s) rows.push_back(row);
+  }
+  return rows;
+}
+
+std::vector<ClosureRow> readClosures(const std::string& file) {
+  std::ifstream in(file);
+  std::vector<ClosureRow> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    ClosureRow row;
+    if (!(s >> row.robot_a >> row.seq_a >> row.robot_b >> row.seq_b)) continue;
+    row.relative = readPose(s);
+    if (s) rows.push_back(row);
+  }
+  return rows;
+}
+
+std::map<std::string, double> readStats(const std::string& file) {
+  std::ifstream in(file);
+  std::map<std::string, double> stats;
+  std::string key;
+  double value = 0.0;
+  while (in >> key >> value) stats[key] = value;
+  return stats;
+}
+
+double angle(const Eigen::Isometry3d& t) {
+  return Eigen::AngleAxisd(t.linear()).angle();
+}
+
+double rmse(const std::vector<double>& e) {
+  double s = 0.0;
+  for (const double v : e) s += v * v;
+  return e.empty() ? 0.0 : std::sqrt(s / static_cast<double>(e.size()));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "bench_consistency_eval: scores map_server --consistency-dir output against the "
+      "ground truth (docs/consistency.md)"};
+  std::string dir, gt_file;
+  double min_gain = 5.0, max_doubled = 0.0, wrong_m = 1.0, wrong_deg = 3.0, doubled_m = 0.5;
+  double revisit_m = 4.0, revisit_travel = 50.0;
+  app.add_option("--dir", dir, "map_server --consistency-dir")->required();
+  app.add_option("--gt", gt_file, "ground truth, KITTI layout, LiDAR frame, line = seq")
+      ->required();
+  app.add_option("--min-gain", min_gain, "target: ATE after at least this many times lower")
+      ->capture_default_str();
+  app.add_option("--max-doubled", max_doubled, "target: share of revisits mapped twice")
+      ->capture_default_str();
+  app.add_option("--wrong-m", wrong_m, "a closure this far from the truth is wrong [m]")
+      ->capture_default_str();
+  app.add_option("--wrong-deg", wrong_deg, "... or turned this far from it [deg]")
+      ->capture_default_str();
+  app.add_option("--doubled-m", doubled_m,
+                 "a revisit whose relative pose errs by more than this maps its surfaces twice [m]")
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  try {
+    const socc::Poses gt = socc::readKittiPoses(gt_file);
+    const std::vector<KeyframeRow> keyframes = readKeyframes(dir + "/keyframes.txt");
+    const std::vector<ClosureRow> closures = readClosures(dir + "/closures.txt");
+    std::map<std::string, double> stats = readStats(dir + "/stats.txt");
+    const auto truth = [&gt](long seq) -> const Eigen::Isometry3d& {
+      if (seq < 0 || static_cast<std::size_t>(seq) >= gt.size())
+        throw std::runtime_error("seq " + std::to_string(seq) + " beyond the ground truth");
+      return gt[static_cast<std::size_t>(seq)];
+    };
+    std::vector<double> before, after;
+    std::vector<double> travelled(keyframes.size(), 0.0);
+    for (std::size_t i = 0; i < keyframes.size(); ++i) {
+      const KeyframeRow& k = keyframes[i];
+      before.push_back((k.odom.translation() - truth(k.seq).translation()).norm());
+      after.push_back((k.optimized.translation() - truth(k.seq).translation()).norm());
+      if (i > 0 && keyframes[i - 1].robot == k.robot)
+        travelled[i] =
+            travelled[i - 1] +
+            (truth(k.seq).translation() - truth(keyframes[i - 1].seq).translation()).norm();
+    }
+    int wrong = 0;
+    for (const ClosureRow& c : closures) {
+      const Eigen::Isometry3d error =
+          (truth(c.seq_a).inverse() * truth(c.seq_b)).inverse() * c.relative;
+      if (error.translation().norm() > wrong_m || angle(error) * 180.0 / M_PI > wrong_deg) {
+        ++wrong;
+        std::fprintf(stderr, "wrong closure %s %ld -> %s %ld: %.2f m %.2f deg\n", c.robot_a.c_str(),
+                     c.seq_a, c.robot_b.c_str(), c.seq_b, error.translation().norm(),
+                     angle(error) * 180.0 / M_PI);
+      }
+    }
+    // Revisits: keyframe pairs the truth puts within revisit_m of each other after at least
+    // revisit_travel of path (or of two robots). Their surfaces are mapped twice when the
+    // estimate's relative pose errs by more than doubled_m.
+    int revisits = 0, doubled_before = 0, doubled_after = 0;
+    for (std::size_t j = 0; j < keyframes.size(); ++j)
+      for (std::size_t i = 0; i < j; ++i) {
+        const KeyframeRow& a = keyframes[i];
+        const KeyframeRow& b = keyframes[j];
+        const bool same = a.robot == b.robot;
+        if (same && travelled[j] - travelled[i] < revisit_travel) continue;
+        const Eigen::Isometry3d truth_ab = truth(a.seq).inverse() * truth(b.seq);
+        if (truth_ab.translation().norm() > revisit_m) continue;
+        ++revisits;
+        const auto err = [&truth_ab](const Eigen::Isometry3d& pa, const Eigen::Isometry3d& pb) {
+          return (truth_ab.inverse() * (pa.inverse() * pb)).translation().norm();
+        };
+        doubled_before += err(a.odom, b.odom) > doubled_m ? 1 : 0;
+        doubled_after += err(a.optimized, b.optimized) > doubled_m ? 1 : 0;
+      }
+    const double km = stats["travelled_m"] / 1000.0;
+    const double ate_before = rmse(before), ate_after = rmse(after);
+    const double gain = ate_after > 0.0 ? ate_before / ate_after : INFINITY;
+    const double share_before = revisits ? static_cast<double>(doubled_before) / revisits : 0.0;
+    const double share_after = revisits ? static_cast<double>(doubled_after) / revisits : 0.0;
+    const bool pass = wrong == 0 && gain >= min_gain && share_after <= max_doubled;
+    std::printf("| figure | odometry alone | with consistency | target |\n|---|---|---|---|\n");
+    std::printf("| keyframes / path | %zu / %.2f km | | |\n", keyframes.size(), km);
+    std::printf("| map-frame ATE RMSE (keyframes) | %.3f m | %.3f m (%.1fx lower) | >= %.0fx |\n",
+                ate_before, ate_after, gain, min_gain);
+    std::printf("| map-frame ATE max | %.3f m | %.3f m | |\n",
+                before.empty() ? 0.0 : *std::max_element(before.begin(), before.end()),
+                after.empty() ? 0.0 : *std::max_element(after.begin(), after.end()));
+    std::printf(
+        "| revisits mapped twice (> %.1f m) | %d of %d (%.0f %%) | %d of %d (%.0f %%) | <= %.0f %% "
+        "|\n",
+        doubled_m, doubled_before, revisits, 100.0 * share_before, doubled_after, revisits,
+        100.0 * share_after, 100.0 * max_doubled);
+    std::printf("| closures verified / attempts | | %d / %.0f | |\n",
+                static_cast<int>(closures.size()), stats["attempts"]);
+    std::printf("| wrong closures (> %.1f m or %.0f deg) | | %d | 0 |\n", wrong_m, wrong_deg,
+                wrong);
+    std::printf("| time to correct a loop (max) | | %.2f s | |\n", stats["max_correction_s"]);
+    std::printf("| keyframe memory | | %.1f MB/km | |\n",
+                km > 0.0 ? stats["keyframe_bytes"] / 1e6 / km : 0.0);
+    std::printf(
+        "%s: ATE %.3f -> %.3f m (%.1fx), %d wrong closures, revisits mapped twice "
+        "%.0f %% -> %.0f %%\n",
+        pass ? "PASS" : "FAIL", ate_before, ate_after, gain, wrong, 100.0 * share_before,
+        100.0 * share_after);
+    return pass ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_consistency_eval: %s\n", e.what());
+    return 2;
+  }
+}

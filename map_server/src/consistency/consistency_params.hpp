@@ -1,0 +1,50 @@
+#pragma once
+// Settings of the consistency service (docs/consistency.md; `consistency:` in server.yaml).
+#include <cstddef>
+
+#include "scan_context.hpp"
+
+namespace socc::consistency {
+
+struct ConsistencyParams {
+  bool enabled = false;  // off by default: the grid is not corrected yet (docs/consistency.md)
+
+  // Keyframes: a robot's integration becomes one when it moved or turned this much since its
+  // last keyframe.
+  double keyframe_distance = 3.0;  // [m]
+  double keyframe_angle = 0.5;     // [rad]
+  double keyframe_voxel = 0.4;     // [m] the keyframe's scan is downsampled to this grid
+  double keyframe_range = 60.0;    // [m] farther points are not kept
+  ScanContextParams descriptor;
+
+  // Candidates: a robot's own keyframe only after it travelled this far since (a loop, not the
+  // last few metres of its path).
+  double min_loop_travel = 50.0;  // [m]
+  // Around the estimated position: base radius plus this share of the path travelled between
+  // the two keyframes (odometry drift), at most max_search_radius.
+  double search_radius = 8.0;  // [m]
+  double drift_share = 0.02;
+  double max_search_radius = 40.0;       // [m]
+  double max_descriptor_distance = 0.3;  // Scan Context distance of a place candidate
+  int descriptor_candidates = 2;         // best ring-key matches compared in full
+  // After a verified closure, the robot's next attempt waits until it travelled this far.
+  double closure_spacing = 6.0;  // [m]
+  int submap_neighbours = 2;     // keyframes on each side of the candidate in its submap
+  double chunk_radius = 60.0;    // [m] registration target around the guess
+
+  // Edge uncertainties: odometry per metre travelled (plus a floor), loop closures fixed.
+  double odometry_sigma_t = 0.02;          // [m] + per metre below
+  double odometry_sigma_t_per_m = 0.01;    // [m/m]
+  double odometry_sigma_r = 0.002;         // [rad] + per metre below
+  double odometry_sigma_r_per_m = 0.0005;  // [rad/m]
+  double loop_sigma_t = 0.1;               // [m]
+  double loop_sigma_r = 0.01;              // [rad]
+  // A verified closure must also agree with the graph: the optimized graph with it may cost at
+  // most this much more (sum of squared Mahalanobis errors; chi-square of 6 dof: 22.5 at
+  // p = 0.999) than without it.
+  double max_closure_chi2 = 30.0;
+  double joined_prior_sigma_t = 1.0;   // [m] first keyframe of a robot after the first
+  double joined_prior_sigma_r = 0.05;  // [rad]
+};
+
+}  // namespace socc::consistency

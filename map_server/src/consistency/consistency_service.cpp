@@ -1,0 +1,289 @@
+#include "consistency_service.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <stdexcept>
+
+#include "socc/odom/relocalization.hpp"
+
+namespace socc::consistency {
+namespace {
+
+double angleBetween(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
+}
+
+std::vector<Eigen::Vector3f> keyframePoints(const LabeledCloud& cloud,
+                                            const ConsistencyParams& params) {
+  LabeledCloud near;
+  const float max2 = static_cast<float>(params.keyframe_range * params.keyframe_range);
+  for (const Eigen::Vector3f& p : cloud.points)
+    if (p.squaredNorm() <= max2) near.points.push_back(p);
+  constexpr std::size_t kMaxPoints = 60'000;
+  return odom::localizationPoints(near, params.keyframe_voxel, kMaxPoints);
+}
+
+// Interpolates between two corrections (translation linear, rotation slerp).
+Eigen::Isometry3d blend(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double s) {
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.translation() = (1.0 - s) * a.translation() + s * b.translation();
+  out.linear() = Eigen::Quaterniond(a.linear())
+                     .slerp(s, Eigen::Quaterniond(b.linear()))
+                     .normalized()
+                     .toRotationMatrix();
+  return out;
+}
+
+void writePose(std::ostream& out, const Eigen::Isometry3d& pose) {
+  const Eigen::Matrix<double, 3, 4> m = pose.matrix().topRows<3>();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) out << ' ' << m(r, c);
+}
+
+}  // namespace
+
+ConsistencyService::ConsistencyService(const ConsistencyParams& params,
+                                       const map::MapConfig& map_config,
+                                       const odom::OdomConfig& odom_config)
+    : params_(params), map_config_(map_config), odom_config_(odom_config) {
+  worker_ = std::thread([this] { run(); });
+}
+
+ConsistencyService::~ConsistencyService() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  worker_.join();
+}
+
+void ConsistencyService::observe(const std::string& robot, std::int64_t seq, std::int64_t utime,
+                                 const Eigen::Isometry3d& pose, const LabeledCloud& cloud) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto [it, added] = robots_.try_emplace(robot);
+  RobotTrack& track = it->second;
+  if (added) {
+    track.index = static_cast<int>(robot_names_.size());
+    robot_names_.push_back(robot);
+  }
+  if (track.last_pose)
+    track.travelled += (pose.translation() - track.last_pose->translation()).norm();
+  track.last_pose = pose;
+  if (track.last_keyframe_pose &&
+      (track.last_keyframe_pose->translation() - pose.translation()).norm() <
+          params_.keyframe_distance &&
+      angleBetween(*track.last_keyframe_pose, pose) < params_.keyframe_angle)
+    return;
+  track.last_keyframe_pose = pose;
+  Pending pending;
+  pending.keyframe.robot = track.index;
+  pending.keyframe.robot_kf = track.keyframes++;
+  pending.keyframe.seq = seq;
+  pending.keyframe.utime = utime;
+  pending.keyframe.odom_pose = pose;
+  pending.keyframe.travelled = track.travelled;
+  pending.cloud.points = cloud.points;  // labels and times play no part
+  pending.robot = robot;
+  pending.arrived = std::chrono::steady_clock::now();
+  queue_.push_back(std::move(pending));
+  wake_.notify_one();
+}
+
+void ConsistencyService::flush() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  idle_.wait(lock, [this] { return queue_.empty() && !busy_; });
+}
+
+void ConsistencyService::run() {
+  for (;;) {
+    Pending next;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+      if (stopping_) return;
+      next = std::move(queue_.front());
+      queue_.pop_front();
+      busy_ = true;
+    }
+    try {
+      process(std::move(next));
+    } catch (const std::exception&) {
+      // A keyframe that cannot be processed is dropped; the map and the graph stay as they were.
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      busy_ = false;
+    }
+    idle_.notify_all();
+  }
+}
+
+void ConsistencyService::process(Pending pending) {
+  Keyframe& kf = pending.keyframe;
+  kf.points = keyframePoints(pending.cloud, params_);
+  kf.descriptor = ScanContext(kf.points, params_.descriptor);
+  int query = 0;
+  double travelled = 0.0;
+  double next_attempt = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    RobotTrack& track = robots_.at(pending.robot);
+    kf.id = static_cast<int>(keyframes_.size());
+    addToGraph(kf, track);
+    track.keyframe_ids.push_back(kf.id);
+    track.keyframe_seqs.push_back(kf.seq);
+    keyframes_.push_back(std::move(kf));
+    stats_.keyframe_bytes += keyframes_.back().bytes();
+    query = keyframes_.back().id;
+    travelled = keyframes_.back().travelled;
+    next_attempt = track.next_attempt_travel;
+  }
+  // Only this thread changes keyframes_ and estimates_: reading them unlocked is safe here.
+  if (travelled < next_attempt) return;
+  const std::vector<Candidate> candidates = findCandidates(keyframes_, query, estimates_, params_);
+  if (candidates.empty()) return;
+  const auto verify_start = std::chrono::steady_clock::now();
+  const std::optional<Closure> closure = verifyCandidate(keyframes_, query, candidates, estimates_,
+                                                         params_, map_config_, odom_config_);
+  const double verify_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - verify_start).count();
+  PoseEdge edge;
+  bool consistent = false;
+  OptimizationSummary summary;
+  if (closure) {
+    edge.from = closure->from;
+    edge.to = closure->to;
+    edge.relative = closure->relative;
+    edge.information = isotropicInformation(params_.loop_sigma_t, params_.loop_sigma_r);
+    // graph_ is the worker's alone: optimized without holding the lock.
+    consistent = graph_.addConsistentEdge(edge, params_.max_closure_chi2, nullptr, &summary);
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++stats_.recognition.attempts;
+  stats_.recognition.seconds += verify_seconds;
+  if (!closure) {
+    ++stats_.recognition.refused;
+    return;
+  }
+  if (!consistent) {
+    ++stats_.recognition.inconsistent;
+    return;
+  }
+  ++stats_.recognition.verified;
+  closures_.push_back(*closure);
+  robots_.at(pending.robot).next_attempt_travel = travelled + params_.closure_spacing;
+  for (std::size_t i = 0; i < graph_.size(); ++i) estimates_[i] = graph_.pose(static_cast<int>(i));
+  ++stats_.optimizations;
+  stats_.last_optimization_s = summary.seconds;
+  stats_.max_correction_s = std::max(
+      stats_.max_correction_s,
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - pending.arrived).count());
+}
+
+void ConsistencyService::addToGraph(const Keyframe& kf, const RobotTrack& track) {
+  // The new node continues from its predecessor's optimized pose (the correction so far).
+  Eigen::Isometry3d estimate = kf.odom_pose;
+  if (!track.keyframe_ids.empty()) {
+    const Keyframe& previous = keyframes_[static_cast<std::size_t>(track.keyframe_ids.back())];
+    const Eigen::Isometry3d relative = previous.odom_pose.inverse() * kf.odom_pose;
+    estimate = estimates_[static_cast<std::size_t>(previous.id)] * relative;
+    const double distance = kf.travelled - previous.travelled;
+    PoseEdge edge;
+    edge.from = previous.id;
+    edge.to = kf.id;
+    edge.relative = relative;
+    edge.information =
+        isotropicInformation(params_.odometry_sigma_t + params_.odometry_sigma_t_per_m * distance,
+                             params_.odometry_sigma_r + params_.odometry_sigma_r_per_m * distance);
+    graph_.addEdge(edge);
+  }
+  graph_.addNode(estimate);
+  estimates_.push_back(estimate);
+  if (track.keyframe_ids.empty()) {
+    PosePrior prior;
+    prior.node = kf.id;
+    prior.pose = kf.odom_pose;
+    prior.fixed = kf.robot == 0;  // the first robot holds the map frame
+    prior.information =
+        isotropicInformation(params_.joined_prior_sigma_t, params_.joined_prior_sigma_r);
+    graph_.addPrior(prior);
+  }
+}
+
+Eigen::Isometry3d ConsistencyService::corrected(const std::string& robot, std::int64_t seq,
+                                                const Eigen::Isometry3d& pose) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = robots_.find(robot);
+  if (it == robots_.end() || it->second.keyframe_seqs.empty()) return pose;
+  const std::vector<std::int64_t>& seqs = it->second.keyframe_seqs;
+  const auto correction = [&](std::size_t i) {
+    const Keyframe& k = keyframes_[static_cast<std::size_t>(it->second.keyframe_ids[i])];
+    return estimates_[static_cast<std::size_t>(k.id)] * k.odom_pose.inverse();
+  };
+  const auto after = std::upper_bound(seqs.begin(), seqs.end(), seq);
+  if (after == seqs.begin()) return pose;
+  const std::size_t i = static_cast<std::size_t>(after - seqs.begin()) - 1;
+  if (after == seqs.end()) return correction(i) * pose;
+  const double s = static_cast<double>(seq - seqs[i]) / static_cast<double>(*after - seqs[i]);
+  return blend(correction(i), correction(i + 1), s) * pose;
+}
+
+ConsistencyStats ConsistencyService::stats() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ConsistencyStats out = stats_;
+  out.keyframes = static_cast<int>(keyframes_.size());
+  out.pending = static_cast<int>(queue_.size());
+  out.robots = static_cast<int>(robots_.size());
+  out.travelled = 0.0;
+  for (const auto& [name, track] : robots_) out.travelled += track.travelled;
+  return out;
+}
+
+std::vector<Closure> ConsistencyService::closures() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return closures_;
+}
+
+std::vector<ConsistencyService::KeyframePose> ConsistencyService::keyframePoses() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<KeyframePose> out;
+  for (const Keyframe& k : keyframes_)
+    out.push_back({robot_names_[static_cast<std::size_t>(k.robot)], k.seq, k.odom_pose,
+                   estimates_[static_cast<std::size_t>(k.id)]});
+  return out;
+}
+
+void ConsistencyService::write(const std::filesystem::path& dir) const {
+  std::filesystem::create_directories(dir);
+  std::ofstream kf(dir / "keyframes.txt");
+  kf.precision(9);
+  for (const KeyframePose& k : keyframePoses()) {
+    kf << k.robot << ' ' << k.seq;
+    writePose(kf, k.odom_pose);
+    writePose(kf, k.optimized);
+    kf << '\n';
+  }
+  const std::vector<KeyframePose> poses = keyframePoses();
+  std::ofstream cl(dir / "closures.txt");
+  cl.precision(9);
+  for (const Closure& c : closures()) {
+    const KeyframePose& a = poses[static_cast<std::size_t>(c.from)];
+    const KeyframePose& b = poses[static_cast<std::size_t>(c.to)];
+    cl << a.robot << ' ' << a.seq << ' ' << b.robot << ' ' << b.seq;
+    writePose(cl, c.relative);
+    cl << ' ' << c.fitness << ' ' << c.free << ' ' << (c.by_descriptor ? 1 : 0) << '\n';
+  }
+  const ConsistencyStats s = stats();
+  std::ofstream st(dir / "stats.txt");
+  st << "robots " << s.robots << "\nkeyframes " << s.keyframes << "\nattempts "
+     << s.recognition.attempts << "\nclosures " << s.recognition.verified << "\nverify_s "
+     << s.recognition.seconds << "\nrefused " << s.recognition.refused << "\ninconsistent "
+     << s.recognition.inconsistent << "\noptimizations " << s.optimizations
+     << "\nlast_optimization_s " << s.last_optimization_s << "\nmax_correction_s "
+     << s.max_correction_s << "\nkeyframe_bytes " << s.keyframe_bytes << "\ntravelled_m "
+     << s.travelled << '\n';
+  if (!kf || !cl || !st) throw std::runtime_error("cannot write " + dir.string());
+}
+
+}  // namespace socc::consistency

@@ -1,0 +1,123 @@
+#pragma once
+// The consistency service of map_server (docs/consistency.md): keyframes of every robot's
+// integrations, place recognition between them (revisits and encounters, each verified), and a
+// pose graph over all keyframes optimized after each verified closure. It runs beside the map
+// on its own thread: observe() only decides whether an integration is a keyframe and copies its
+// points; downsampling, descriptors, verification and optimization happen in the background.
+//
+// What it corrects today is the estimate of every keyframe (and, through them, of every
+// integration): corrected(). The grid itself is not re-integrated yet.
+#include <Eigen/Geometry>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "consistency_params.hpp"
+#include "keyframe.hpp"
+#include "place_recognition.hpp"
+#include "pose_graph.hpp"
+#include "socc/map/map_config.hpp"
+#include "socc/odom/odom_config.hpp"
+#include "socc/point_cloud.hpp"
+
+namespace socc::consistency {
+
+struct ConsistencyStats {
+  int robots = 0;
+  int keyframes = 0;
+  int pending = 0;  // keyframes waiting for the worker
+  RecognitionTally recognition;
+  int optimizations = 0;
+  double last_optimization_s = 0.0;
+  double max_correction_s = 0.0;  // keyframe arrival to its closure's optimized poses
+  std::size_t keyframe_bytes = 0;
+  double travelled = 0.0;  // [m] sum over robots
+};
+
+class ConsistencyService {
+ public:
+  ConsistencyService(const ConsistencyParams& params, const map::MapConfig& map_config,
+                     const odom::OdomConfig& odom_config = {});
+  ~ConsistencyService();
+  ConsistencyService(const ConsistencyService&) = delete;
+  ConsistencyService& operator=(const ConsistencyService&) = delete;
+
+  /// An applied integration of robot: a keyframe when it moved far enough since its last one.
+  void observe(const std::string& robot, std::int64_t seq, std::int64_t utime,
+               const Eigen::Isometry3d& pose, const LabeledCloud& cloud);
+
+  /// Blocks until every observed keyframe is processed (tests, the benchmark, shutdown).
+  void flush();
+
+  /// pose (robot's integration at seq) moved by the correction of the robot's keyframes around
+  /// seq; pose unchanged before the robot's first keyframe or for unknown robots.
+  Eigen::Isometry3d corrected(const std::string& robot, std::int64_t seq,
+                              const Eigen::Isometry3d& pose) const;
+
+  ConsistencyStats stats() const;
+  std::vector<Closure> closures() const;
+
+  struct KeyframePose {
+    std::string robot;
+    std::int64_t seq = 0;
+    Eigen::Isometry3d odom_pose = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d optimized = Eigen::Isometry3d::Identity();
+  };
+  std::vector<KeyframePose> keyframePoses() const;
+
+  /// Writes keyframes.txt (robot seq odom[12] optimized[12]), closures.txt (robot seq robot seq
+  /// relative[12] fitness free) and stats.txt into dir.
+  void write(const std::filesystem::path& dir) const;
+
+ private:
+  struct Pending {
+    Keyframe keyframe;
+    LabeledCloud cloud;
+    std::string robot;
+    std::chrono::steady_clock::time_point arrived;
+  };
+  struct RobotTrack {
+    int index = 0;
+    std::optional<Eigen::Isometry3d> last_keyframe_pose;
+    std::optional<Eigen::Isometry3d> last_pose;
+    double travelled = 0.0;
+    int keyframes = 0;
+    double next_attempt_travel = 0.0;  // closure_spacing after the last closure
+    std::vector<int> keyframe_ids;     // filled by the worker
+    std::vector<std::int64_t> keyframe_seqs;
+  };
+
+  void run();
+  void process(Pending pending);
+  void addToGraph(const Keyframe& keyframe, const RobotTrack& track);
+
+  ConsistencyParams params_;
+  map::MapConfig map_config_;
+  odom::OdomConfig odom_config_;
+
+  mutable std::mutex mutex_;  // everything below
+  std::condition_variable wake_;
+  std::condition_variable idle_;
+  std::deque<Pending> queue_;
+  bool busy_ = false;
+  bool stopping_ = false;
+  std::map<std::string, RobotTrack> robots_;
+  std::vector<std::string> robot_names_;
+  std::vector<Keyframe> keyframes_;
+  std::vector<Eigen::Isometry3d> estimates_;  // optimized keyframe poses
+  PoseGraph graph_;  // the worker's alone (nodes added under the lock, optimized without)
+  std::vector<Closure> closures_;
+  ConsistencyStats stats_;
+
+  std::thread worker_;  // last: started after everything it uses
+};
+
+}  // namespace socc::consistency

@@ -1,0 +1,30 @@
+#pragma once
+// A keyframe: what the consistency service keeps of one integrated scan to find the place again
+// and to register against it later. Compact: the scan downsampled to a coarse voxel grid, its
+// pose as integrated (the robot's odometry in the map frame) and its place descriptor.
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scan_context.hpp"
+
+namespace socc::consistency {
+
+struct Keyframe {
+  int id = 0;        // index in the service's keyframe list (= pose graph node)
+  int robot = 0;     // index of the robot (order of first appearance)
+  int robot_kf = 0;  // index among the robot's own keyframes
+  std::int64_t seq = 0;
+  std::int64_t utime = 0;
+  Eigen::Isometry3d odom_pose = Eigen::Isometry3d::Identity();  // map_T_sensor as integrated
+  double travelled = 0.0;               // [m] the robot's path length up to this keyframe
+  std::vector<Eigen::Vector3f> points;  // sensor frame, voxel-downsampled
+  ScanContext descriptor;
+
+  std::size_t bytes() const {
+    return sizeof(Keyframe) + points.capacity() * sizeof(Eigen::Vector3f) + descriptor.bytes();
+  }
+};
+
+}  // namespace socc::consistency

@@ -1,0 +1,185 @@
+#include "pose_graph.hpp"
+
+#include <ceres/ceres.h>
+#include <ceres/manifold.h>
+
+#include <Eigen/Cholesky>
+#include <chrono>
+#include <stdexcept>
+
+namespace socc::consistency {
+namespace {
+
+Matrix6d sqrtInformation(const Matrix6d& information) {
+  // Upper factor U with U^T U = information, so that |U r|^2 is the Mahalanobis error.
+  return information.llt().matrixU();
+}
+
+// Residual of a relative pose: the measured from_T_to against the estimate, translation and
+// twice the vector part of the rotation error, weighed by the square root of the information.
+struct RelativePoseError {
+  RelativePoseError(const Eigen::Isometry3d& measured, const Matrix6d& sqrt_information)
+      : t_measured(measured.translation()),
+        q_measured(measured.linear()),
+        sqrt_information(sqrt_information) {}
+
+  template <typename T>
+  bool operator()(const T* t_a, const T* q_a, const T* t_b, const T* q_b, T* residual) const {
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> ta(t_a), tb(t_b);
+    const Eigen::Map<const Eigen::Quaternion<T>> qa(q_a), qb(q_b);
+    const Eigen::Quaternion<T> qa_inv = qa.conjugate();
+    const Eigen::Matrix<T, 3, 1> t_ab = qa_inv * (tb - ta);
+    const Eigen::Quaternion<T> q_ab = qa_inv * qb;
+    const Eigen::Quaternion<T> dq = q_measured.template cast<T>().conjugate() * q_ab;
+    Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
+    r.template head<3>() = t_ab - t_measured.template cast<T>();
+    r.template tail<3>() = T(2.0) * dq.vec();
+    r.applyOnTheLeft(sqrt_information.template cast<T>());
+    return true;
+  }
+
+  Eigen::Vector3d t_measured;
+  Eigen::Quaterniond q_measured;
+  Matrix6d sqrt_information;
+};
+
+struct AbsolutePoseError {
+  AbsolutePoseError(const Eigen::Isometry3d& prior, const Matrix6d& sqrt_information)
+      : t_prior(prior.translation()), q_prior(prior.linear()), sqrt_information(sqrt_information) {}
+
+  template <typename T>
+  bool operator()(const T* t_p, const T* q_p, T* residual) const {
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(t_p);
+    const Eigen::Map<const Eigen::Quaternion<T>> q(q_p);
+    const Eigen::Quaternion<T> dq = q_prior.template cast<T>().conjugate() * q;
+    Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
+    r.template head<3>() = t - t_prior.template cast<T>();
+    r.template tail<3>() = T(2.0) * dq.vec();
+    r.applyOnTheLeft(sqrt_information.template cast<T>());
+    return true;
+  }
+
+  Eigen::Vector3d t_prior;
+  Eigen::Quaterniond q_prior;
+  Matrix6d sqrt_information;
+};
+
+}  // namespace
+
+Matrix6d isotropicInformation(double sigma_t, double sigma_r) {
+  Matrix6d information = Matrix6d::Zero();
+  information.diagonal() << Eigen::Vector3d::Constant(1.0 / (sigma_t * sigma_t)),
+      Eigen::Vector3d::Constant(1.0 / (sigma_r * sigma_r));
+  return information;
+}
+
+int PoseGraph::addNode(const Eigen::Isometry3d& pose) {
+  poses_.push_back(pose);
+  return static_cast<int>(poses_.size()) - 1;
+}
+
+double PoseGraph::edgeError(const PoseEdge& edge) const {
+  const RelativePoseError error(edge.relative, sqrtInformation(edge.information));
+  const Eigen::Isometry3d& a = pose(edge.from);
+  const Eigen::Isometry3d& b = pose(edge.to);
+  const Eigen::Vector3d ta = a.translation(), tb = b.translation();
+  const Eigen::Quaterniond qa(a.linear()), qb(b.linear());
+  Eigen::Matrix<double, 6, 1> r;
+  error(ta.data(), qa.coeffs().data(), tb.data(), qb.coeffs().data(), r.data());
+  return r.squaredNorm();
+}
+
+double PoseGraph::chi2() const {
+  double sum = 0.0;
+  for (const PoseEdge& e : edges_) sum += edgeError(e);
+  for (const PosePrior& p : priors_) {
+    if (p.fixed) continue;
+    const AbsolutePoseError error(p.pose, sqrtInformation(p.information));
+    const Eigen::Vector3d t = pose(p.node).translation();
+    const Eigen::Quaterniond q(pose(p.node).linear());
+    Eigen::Matrix<double, 6, 1> r;
+    error(t.data(), q.coeffs().data(), r.data());
+    sum += r.squaredNorm();
+  }
+  return sum;
+}
+
+bool PoseGraph::addConsistentEdge(const PoseEdge& edge, double max_chi2, double* chi2_increase,
+                                  OptimizationSummary* summary) {
+  const double before = chi2();
+  PoseGraph trial = *this;
+  trial.addEdge(edge);
+  const OptimizationSummary s = trial.optimize();
+  const double increase = trial.chi2() - before;
+  if (chi2_increase) *chi2_increase = increase;
+  if (summary) *summary = s;
+  if (!(increase <= max_chi2)) return false;
+  *this = std::move(trial);
+  return true;
+}
+
+OptimizationSummary PoseGraph::optimize(int max_iterations) {
+  const auto start = std::chrono::steady_clock::now();
+  const int n = static_cast<int>(poses_.size());
+  const auto check = [n](int node) {
+    if (node < 0 || node >= n)
+      throw std::logic_error("pose graph: no node " + std::to_string(node));
+  };
+  std::vector<Eigen::Vector3d> t(poses_.size());
+  std::vector<Eigen::Quaterniond> q(poses_.size());
+  for (std::size_t i = 0; i < poses_.size(); ++i) {
+    t[i] = poses_[i].translation();
+    q[i] = Eigen::Quaterniond(poses_[i].linear()).normalized();
+  }
+  ceres::Problem problem;
+  ceres::Manifold* quaternion = new ceres::EigenQuaternionManifold;  // owned by the problem
+  const auto addBlocks = [&](int node) {
+    problem.AddParameterBlock(t[node].data(), 3);
+    problem.AddParameterBlock(q[node].coeffs().data(), 4, quaternion);
+  };
+  for (int i = 0; i < n; ++i) addBlocks(i);
+  for (const PoseEdge& e : edges_) {
+    check(e.from);
+    check(e.to);
+    auto* cost = new ceres::AutoDiffCostFunction<RelativePoseError, 6, 3, 4, 3, 4>(
+        new RelativePoseError(e.relative, sqrtInformation(e.information)));
+    problem.AddResidualBlock(cost, nullptr, t[e.from].data(), q[e.from].coeffs().data(),
+                             t[e.to].data(), q[e.to].coeffs().data());
+  }
+  for (const PosePrior& p : priors_) {
+    check(p.node);
+    if (p.fixed) {
+      t[p.node] = p.pose.translation();
+      q[p.node] = Eigen::Quaterniond(p.pose.linear()).normalized();
+      problem.SetParameterBlockConstant(t[p.node].data());
+      problem.SetParameterBlockConstant(q[p.node].coeffs().data());
+      continue;
+    }
+    auto* cost = new ceres::AutoDiffCostFunction<AbsolutePoseError, 6, 3, 4>(
+        new AbsolutePoseError(p.pose, sqrtInformation(p.information)));
+    problem.AddResidualBlock(cost, nullptr, t[p.node].data(), q[p.node].coeffs().data());
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  options.max_num_iterations = max_iterations;
+  options.num_threads = 1;
+  options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+
+  for (int i = 0; i < n; ++i) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = q[i].normalized().toRotationMatrix();
+    pose.translation() = t[i];
+    poses_[i] = pose;
+  }
+  OptimizationSummary out;
+  out.converged = summary.termination_type == ceres::CONVERGENCE;
+  out.iterations = static_cast<int>(summary.iterations.size());
+  out.initial_cost = summary.initial_cost;
+  out.final_cost = summary.final_cost;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace socc::consistency

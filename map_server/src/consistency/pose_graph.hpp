@@ -1,0 +1,81 @@
+#pragma once
+// The pose graph over the keyframes of all robots, optimized by Ceres (a maintained solver, not
+// our own). Nodes are keyframe poses in the shared map frame. Odometry edges join a robot's
+// consecutive keyframes with the relative pose of their integrations; loop (one robot) and
+// encounter (two robots) edges come from verified registrations. A closure must also agree
+// with the graph (addConsistentEdge): one whose optimized graph costs more than a chi-square
+// bound over the graph without it contradicts the odometry and the other closures and is
+// dropped, so a wrong edge that slipped through verification does not bend the map. Each
+// robot's first keyframe has a prior at its integrated pose: the first robot's holds the map
+// frame, the others' are weak (they joined at a relocalized pose, an estimate like any other).
+#include <Eigen/Geometry>
+#include <vector>
+
+namespace socc::consistency {
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+struct PoseEdge {
+  int from = 0;
+  int to = 0;
+  Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();  // from_T_to
+  Matrix6d information = Matrix6d::Identity();  // translation first, rotation (rad) second
+};
+
+struct PosePrior {
+  int node = 0;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  Matrix6d information = Matrix6d::Identity();
+  bool fixed = false;  // the node is held at pose (the map frame's anchor)
+};
+
+struct OptimizationSummary {
+  bool converged = false;
+  int iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  double seconds = 0.0;
+};
+
+/// Information of a relative pose with standard deviations sigma_t [m] and sigma_r [rad].
+Matrix6d isotropicInformation(double sigma_t, double sigma_r);
+
+class PoseGraph {
+ public:
+  /// Adds a node; returns its index.
+  int addNode(const Eigen::Isometry3d& pose);
+  void addEdge(const PoseEdge& edge) { edges_.push_back(edge); }
+  void addPrior(const PosePrior& prior) { priors_.push_back(prior); }
+
+  /// Optimizes all nodes from their current poses. Throws std::logic_error on an edge or prior
+  /// naming a node that does not exist.
+  OptimizationSummary optimize(int max_iterations = 50);
+
+  std::size_t size() const { return poses_.size(); }
+  const Eigen::Isometry3d& pose(int node) const {
+    return poses_.at(static_cast<std::size_t>(node));
+  }
+  void setPose(int node, const Eigen::Isometry3d& pose) {
+    poses_.at(static_cast<std::size_t>(node)) = pose;
+  }
+  const std::vector<PoseEdge>& edges() const { return edges_; }
+
+  /// Adds edge when the graph optimized with it costs at most max_chi2 (sum of squared
+  /// Mahalanobis errors) more than without it; then the poses are the optimized ones. Otherwise
+  /// the graph is left as it was and false is returned. chi2_increase: the increase measured.
+  bool addConsistentEdge(const PoseEdge& edge, double max_chi2, double* chi2_increase = nullptr,
+                         OptimizationSummary* summary = nullptr);
+
+  /// Sum of squared Mahalanobis errors of all edges and priors at the current poses.
+  double chi2() const;
+
+  /// Squared Mahalanobis error of an edge at the current poses (for reporting outliers).
+  double edgeError(const PoseEdge& edge) const;
+
+ private:
+  std::vector<Eigen::Isometry3d> poses_;
+  std::vector<PoseEdge> edges_;
+  std::vector<PosePrior> priors_;
+};
+
+}  // namespace socc::consistency

@@ -1,0 +1,99 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "pose_graph.hpp"
+
+namespace socc::consistency {
+namespace {
+
+Eigen::Isometry3d planar(double x, double y, double yaw) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  t.translation() = Eigen::Vector3d(x, y, 0.0);
+  return t;
+}
+
+// A circle of n poses (radius 20 m), measured by odometry that turns 0.5 % too much.
+struct Circle {
+  std::vector<Eigen::Isometry3d> truth, odometry;
+};
+Circle circle(int n) {
+  Circle c;
+  const double step = 2.0 * M_PI / n;
+  for (int i = 0; i <= n; ++i)
+    c.truth.push_back(
+        planar(20.0 * std::sin(i * step), 20.0 - 20.0 * std::cos(i * step), i * step));
+  c.odometry.push_back(c.truth[0]);
+  for (int i = 1; i <= n; ++i) {
+    Eigen::Isometry3d rel = c.truth[i - 1].inverse() * c.truth[i];
+    rel.linear() = Eigen::AngleAxisd(step * 1.05, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    c.odometry.push_back(c.odometry.back() * rel);
+  }
+  return c;
+}
+
+PoseGraph odometryGraph(const Circle& c) {
+  PoseGraph g;
+  for (const auto& p : c.odometry) g.addNode(p);
+  for (std::size_t i = 1; i < c.odometry.size(); ++i)
+    g.addEdge({static_cast<int>(i - 1), static_cast<int>(i),
+               c.odometry[i - 1].inverse() * c.odometry[i], isotropicInformation(0.05, 0.02)});
+  g.addPrior({0, c.truth[0], Matrix6d::Identity(), true});
+  return g;
+}
+
+double maxError(const PoseGraph& g, const Circle& c) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < c.truth.size(); ++i)
+    worst = std::max(worst,
+                     (g.pose(static_cast<int>(i)).translation() - c.truth[i].translation()).norm());
+  return worst;
+}
+
+TEST(PoseGraph, LoopEdgeClosesTheCircle) {
+  const Circle c = circle(40);
+  PoseGraph g = odometryGraph(c);
+  const double before = maxError(g, c);
+  // The last pose is the first: a loop edge says so.
+  OptimizationSummary s;
+  double increase = 0.0;
+  ASSERT_TRUE(
+      g.addConsistentEdge({0, 40, Eigen::Isometry3d::Identity(), isotropicInformation(0.05, 0.005)},
+                          30.0, &increase, &s))
+      << increase;
+  EXPECT_TRUE(s.converged);
+  EXPECT_LT(s.final_cost, s.initial_cost);
+  const double after = maxError(g, c);
+  EXPECT_GT(before, 5.0);
+  EXPECT_LT(after, before / 5.0) << before;
+  EXPECT_TRUE(g.pose(0).isApprox(c.truth[0]));  // the anchor holds
+}
+
+TEST(PoseGraph, WrongLoopEdgeIsRefused) {
+  const Circle c = circle(40);
+  PoseGraph g = odometryGraph(c);
+  ASSERT_TRUE(g.addConsistentEdge(
+      {0, 40, Eigen::Isometry3d::Identity(), isotropicInformation(0.05, 0.005)}, 30.0));
+  const double right = maxError(g, c);
+  // Wrong closures: pose 20 (the far side, 40 m away) claimed to be 1 m from pose 0, and pose
+  // 30 claimed 3 m from pose 10 (28 m apart).
+  double increase = 0.0;
+  EXPECT_FALSE(g.addConsistentEdge(
+      {0, 20, planar(1.0, 0.0, 0.0), isotropicInformation(0.05, 0.005)}, 30.0, &increase));
+  EXPECT_GT(increase, 30.0);
+  EXPECT_FALSE(g.addConsistentEdge(
+      {10, 30, planar(3.0, 0.0, 0.0), isotropicInformation(0.05, 0.005)}, 30.0));
+  EXPECT_EQ(g.edges().size(), 41u);
+  EXPECT_DOUBLE_EQ(maxError(g, c), right);  // left as it was
+}
+
+TEST(PoseGraph, BadNodeThrows) {
+  PoseGraph g;
+  g.addNode(Eigen::Isometry3d::Identity());
+  g.addEdge({0, 3, Eigen::Isometry3d::Identity(), Matrix6d::Identity()});
+  EXPECT_THROW(g.optimize(), std::logic_error);
+}
+
+}  // namespace
+}  // namespace socc::consistency
