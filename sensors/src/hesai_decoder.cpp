@@ -114,14 +114,20 @@ class HesaiDecoder final : public ScanDecoder {
   static int azimuthStep(int from, int to) { return (to - from + 36000) % 36000; }
   int relative(int azimuth) const { return (azimuth - cut_ + 36000) % 36000; }
 
+  // Nothing but packets that are not this model's from the start: the configuration is wrong
+  // (or the stream is not this sensor's); decoding none of them, say so.
   void refuseIfOnlyForeign(const Packet& packet, const std::string& why) {
     if (stats_.packets > 0) return;
     const std::string other = detectHesaiModel(packet.data.data(), packet.data.size());
-    if (other.empty() || other == layout_.model) return;
-    if (++foreign_models_ < kHesaiForeignBeforeRefusal) return;
-    throw std::runtime_error("the sensor was configured as " + layout_.model +
-                             " but its packets are " + why + "; use --sensor " + other +
-                             " with that model's calibration");
+    if (!other.empty() && other != layout_.model) ++foreign_models_;
+    if (++undecodable_ < kHesaiForeignBeforeRefusal) return;
+    if (foreign_models_ * 2 > undecodable_)
+      throw std::runtime_error("the sensor was configured as " + layout_.model +
+                               " but its packets are " + why + "; use --sensor " + other +
+                               " with that model's calibration");
+    throw std::runtime_error("none of the first " + std::to_string(undecodable_) +
+                             " packets is a " + layout_.model + " packet (the last: " + why +
+                             "): check --sensor and the port");
   }
 
   struct Return {
@@ -222,7 +228,8 @@ class HesaiDecoder final : public ScanDecoder {
   std::optional<std::int64_t> last_time_ns_;
   bool started_at_cut_ = false;
   double missing_deg_ = 0.0;
-  std::uint64_t foreign_models_ = 0;
+  std::uint64_t foreign_models_ = 0;  // of those, packets of another Hesai model
+  std::uint64_t undecodable_ = 0;     // packets before the first decoded one
 };
 
 }  // namespace

@@ -312,6 +312,17 @@ TEST_F(HesaiBadInput, PacketsOfAnotherModelAreRefused) {
   }
   EXPECT_TRUE(scans.empty());
   EXPECT_EQ(detectHesaiModel(other.packets[0].data), "pandar40p");
+  // A stream of no Hesai model at all: refused too, after as many packets.
+  decoder = makeHesaiDecoder(config);
+  Packet junk;
+  junk.data.assign(1206, 0x5a);
+  try {
+    for (int i = 0; i < 60; ++i) decoder->feed(junk, scans);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("none of the first 50 packets"), std::string::npos)
+        << e.what();
+  }
   EXPECT_EQ(detectHesaiModel(st.packets[0].data), "pandarxt32");
 }
 
