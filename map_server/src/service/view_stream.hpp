@@ -26,7 +26,7 @@ inline constexpr int kOccupancyStep = 16;
 
 struct ViewStreamBudget {
   std::size_t changed_voxels = 65536;  // per period, changed blocks (at least one block)
-  std::size_t refresh_voxels = 16384;  // per period, the background refresh
+  std::size_t refresh_voxels = 8192;   // per period, the background refresh
   std::size_t message_voxels = 32768;  // per message: splits a period's voxels (UDP loss)
 };
 

@@ -31,7 +31,7 @@ try {
 }
 const controls = renderer ? new OrbitControls(camera, renderer.domElement) : null;
 // For the console and tests (not part of the page's state): the scene's objects.
-Object.defineProperty(state, 'three', { value: { scene, camera, controls }, enumerable: false });
+Object.defineProperty(state, 'three', { value: { scene, camera, controls, renderer }, enumerable: false });
 scene.add(new THREE.AxesHelper(5));
 
 const voxels = new VoxelLayer(scene, palette);
