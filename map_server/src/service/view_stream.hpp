@@ -4,10 +4,10 @@
 // at that moment (a block changed by many integrations in between is sent once), within a
 // voxel budget per period; what does not fit stays pending. A block is sent only when a view
 // would show the change: a voxel appeared or vanished, changed class, or its occupancy moved
-// to another sixteenth (kOccupancyStep); re-observing a wall does not resend it. Alongside, a background refresh
-// cycles through every block with a smaller budget, so a view that starts late (or lost a
-// multicast message) fills in. Transport-free: the caller publishes the messages.
-// Not thread-safe: called from the server's single thread, between requests.
+// to another sixteenth (kOccupancyStep); re-observing a wall does not resend it. Alongside, a
+// background refresh cycles through every block with a smaller budget, so a view that starts late
+// (or lost a multicast message) fills in. Transport-free: the caller publishes the messages. Not
+// thread-safe: called from the server's single thread, between requests.
 #include <array>
 #include <cstddef>
 #include <cstdint>

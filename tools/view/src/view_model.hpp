@@ -62,9 +62,9 @@ struct ModelListener {
 
 class ViewModel {
  public:
-  static constexpr double kTrajectoryStep = 0.25;      // [m] between kept trajectory points
+  static constexpr double kTrajectoryStep = 0.25;        // [m] between kept trajectory points
   static constexpr std::size_t kMaxTrajectory = 200000;  // points per robot
-  static constexpr std::size_t kMaxScanPoints = 4000;  // kept of each robot's latest scan
+  static constexpr std::size_t kMaxScanPoints = 4000;    // kept of each robot's latest scan
 
   /// Empty when applied, else why the message was refused (inconsistent counts).
   std::string applyDelta(const map_delta_t& delta);
