@@ -68,7 +68,11 @@ install(FILES ${PROJECT_SOURCE_DIR}/odom_client/config/default.yaml
 find_program(SOCC_HELP2MAN help2man)
 if(SOCC_HELP2MAN)
   set(_socc_pages)
-  foreach(exe map_server odom_client socc-cli socc-eval socc-sim socc-to-lcmlog socc-loadtest)
+  set(_socc_man_exes map_server odom_client socc-cli socc-eval socc-sim socc-to-lcmlog socc-loadtest)
+  if(TARGET socc-view)
+    list(APPEND _socc_man_exes socc-view)
+  endif()
+  foreach(exe ${_socc_man_exes})
     set(_page ${PROJECT_BINARY_DIR}/man/${exe}.1)
     add_custom_command(OUTPUT ${_page}
       COMMAND ${SOCC_HELP2MAN} --no-info --no-discard-stderr --name "${exe} (socc)"

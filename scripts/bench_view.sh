@@ -11,17 +11,23 @@
 #   the stalled client delays nobody: the page client got at least 90 % of what a page loading
 #   the finished map gets, and socc-view's RSS stays <= 300 MiB
 #
+# --page-voxels N: then the page's level of detail on a synthetic map of N voxels
+# (bench/view/page_lod.cjs: a stand-in bridge, headless Chromium; target: at most 1.5 M points
+# drawn from the overview camera).
+#
 # Usage: scripts/bench_view.sh [--build DIR] [--robots "1 2"] [--frames N] [--view-period S]
+#                              [--page-voxels N]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build=$root/build counts="1 2" frames=30 view_period=0.5
+build=$root/build counts="1 2" frames=30 view_period=0.5 page_voxels=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
     --robots) counts=$2; shift 2 ;;
     --frames) frames=$2; shift 2 ;;
     --view-period) view_period=$2; shift 2 ;;
-    -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --page-voxels) page_voxels=$2; shift 2 ;;
+    -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench_view: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -50,8 +56,10 @@ ticks() { awk '{ print $14 + $15 }' "/proc/$1/stat"; }  # utime + stime of a pro
 hz=$(getconf CLK_TCK)
 max_robots=0
 for r in $counts; do ((r > max_robots)) && max_robots=$r; done
-echo "bench_view: socc-sim, $((max_robots * frames)) frames" >&2
-"$sim_bin" --out "$work/sim" --frames $((max_robots * frames)) --seed 7 --quiet >/dev/null
+if ((max_robots > 0)); then
+  echo "bench_view: socc-sim, $((max_robots * frames)) frames" >&2
+  "$sim_bin" --out "$work/sim" --frames $((max_robots * frames)) --seed 7 --quiet >/dev/null
+fi
 
 metric() { sed -n "s/.*\"$2\":\([0-9]*\).*/\1/p" <<<"$1"; }
 missed=0
@@ -122,8 +130,14 @@ for robots in $counts; do
   rows+=("$row")
   [[ $row == *MISSED* ]] && missed=1
 done
-echo "| robots | scans | run s | scans/s | voxels | MAP_DELTA KiB/scan | to page KiB/scan | socc-view CPU ms/scan | map_server CPU ms/scan | page got / fresh load | socc-view RSS MiB | targets |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
-printf '%s\n' "${rows[@]}"
-echo "targets: MAP_DELTA <= 40 KiB/scan, to page <= 30 KiB/scan, socc-view CPU <= 5 ms/scan, page got >= 90 % of a fresh load despite a stalled client, RSS <= 300 MiB"
+if ((max_robots > 0)); then
+  echo "| robots | scans | run s | scans/s | voxels | MAP_DELTA KiB/scan | to page KiB/scan | socc-view CPU ms/scan | map_server CPU ms/scan | page got / fresh load | socc-view RSS MiB | targets |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+  printf '%s\n' "${rows[@]}"
+  echo "targets: MAP_DELTA <= 40 KiB/scan, to page <= 30 KiB/scan, socc-view CPU <= 5 ms/scan, page got >= 90 % of a fresh load despite a stalled client, RSS <= 300 MiB"
+fi
+if ((page_voxels > 0)); then
+  echo "bench_view: the page with $page_voxels voxels" >&2
+  node "$root/bench/view/page_lod.cjs" "$build/tools/view/web" --voxels "$page_voxels" || missed=1
+fi
 exit "$missed"

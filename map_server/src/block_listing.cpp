@@ -34,7 +34,8 @@ BlockVoxels SemanticOccupancyMap::occupiedInBlocks(
       const VoxelStats* stats = block->statsOf(local);
       const double p = probability(block->log_odds[local]);
       out.local.push_back(static_cast<std::int16_t>(local));
-      out.occupancy.push_back(static_cast<std::uint8_t>(roundHalfAway(std::clamp(p, 0.0, 1.0) * 255.0)));
+      out.occupancy.push_back(
+          static_cast<std::uint8_t>(roundHalfAway(std::clamp(p, 0.0, 1.0) * 255.0)));
       out.label.push_back(stats != nullptr ? stats->label : std::uint8_t{0});
       ++n;
     }
@@ -43,6 +44,8 @@ BlockVoxels SemanticOccupancyMap::occupiedInBlocks(
   return out;
 }
 
-int SemanticOccupancyMap::blockDim() { return kBlockDim; }
+int SemanticOccupancyMap::blockDim() {
+  return kBlockDim;
+}
 
 }  // namespace socc::map

@@ -103,6 +103,12 @@ async function screenshotPixels(page, png) {
       if (s.webgl && !(pixels.robots3d[id] >= 5)) fail(`robot ${id}: not drawn in 3D (${pixels.robots3d[id]} pixels)`);
     }
     if (!s.webgl) console.log('NOTE: WebGL unavailable in this Chromium: 3D pixels not checked');
+    // Colour by occupancy: every tile is rebuilt, the top-down layer redrawn.
+    const builtBefore = s.tilesBuilt;
+    await page.check('input[name=colour][value=occupancy]');
+    await page.waitForFunction((n) => window.soccView.colourMode === 'occupancy' &&
+      window.soccView.pendingTiles === 0 && window.soccView.tilesBuilt > n, builtBefore, { timeout: 20000 });
+    console.log('colour by occupancy: tiles rebuilt');
   } finally {
     await browser.close();
     fs.rmSync(userDataDir, { recursive: true, force: true });

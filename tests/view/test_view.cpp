@@ -118,15 +118,16 @@ TEST(PageProtocol, BlocksMessageLayout) {
     return 0;
   });
   std::vector<std::uint8_t> out;
-  const std::size_t taken =
-      model.read([&](const view::ViewModel& m) { return view::page::blocks(m, keys, 0, 1 << 20, out); });
+  const std::size_t taken = model.read(
+      [&](const view::ViewModel& m) { return view::page::blocks(m, keys, 0, 1 << 20, out); });
   EXPECT_EQ(taken, keys.size());
   std::uint32_t n = 0;
   std::memcpy(&n, out.data() + 4, 4);
   EXPECT_EQ(out[0], view::page::kBlocks);
   EXPECT_EQ(n, keys.size());
   // 8 header bytes, 14 per block, 4 per voxel.
-  EXPECT_EQ(out.size(), 8 + 14 * keys.size() + 4 * static_cast<std::size_t>(map.stats().num_occupied));
+  EXPECT_EQ(out.size(),
+            8 + 14 * keys.size() + 4 * static_cast<std::size_t>(map.stats().num_occupied));
 }
 
 TEST(FoxgloveProtocol, MessageDataFrameAndPointCloud) {
@@ -144,8 +145,8 @@ TEST(FoxgloveProtocol, MessageDataFrameAndPointCloud) {
   service::ViewStream stream;
   view::ViewModel model;
   for (const map_delta_t& m : stream.next(map, 1)) model.applyDelta(m);
-  const auto cloud = nlohmann::json::parse(model.read(
-      [](const view::ViewModel& m) { return view::foxglove::voxels(m, 1, 0); }));
+  const auto cloud = nlohmann::json::parse(
+      model.read([](const view::ViewModel& m) { return view::foxglove::voxels(m, 1, 0); }));
   EXPECT_EQ(cloud["frame_id"], "map");
   EXPECT_EQ(cloud["point_stride"], 16);
   // base64 of 16 bytes per occupied voxel

@@ -53,7 +53,8 @@ int run(const Options& options) {
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);  // before any thread starts
 
-  if (const std::string why = socc::checkLcmUrl(options.lcm_url, socc::lcmAuthFor(options.key_file));
+  if (const std::string why =
+          socc::checkLcmUrl(options.lcm_url, socc::lcmAuthFor(options.key_file));
       !why.empty()) {
     std::cerr << "socc-view: " << why << '\n';
     return 2;

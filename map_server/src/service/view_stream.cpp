@@ -6,7 +6,7 @@ namespace socc::service {
 namespace {
 
 map_delta_t deltaHeader(const map::SemanticOccupancyMap& map, std::int8_t kind,
-                       std::int64_t utime) {
+                        std::int64_t utime) {
   map_delta_t m{};
   m.utime = utime;
   m.epoch = map.epoch();

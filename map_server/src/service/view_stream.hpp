@@ -4,10 +4,10 @@
 // at that moment (a block changed by many integrations in between is sent once), within a
 // voxel budget per period; what does not fit stays pending. A block is sent only when a view
 // would show the change: a voxel appeared or vanished, changed class, or its occupancy moved
-// to another sixteenth (kOccupancyStep); re-observing a wall does not resend it. Alongside, a background refresh
-// cycles through every block with a smaller budget, so a view that starts late (or lost a
-// multicast message) fills in. Transport-free: the caller publishes the messages.
-// Not thread-safe: called from the server's single thread, between requests.
+// to another sixteenth (kOccupancyStep); re-observing a wall does not resend it. Alongside, a
+// background refresh cycles through every block with a smaller budget, so a view that starts late
+// (or lost a multicast message) fills in. Transport-free: the caller publishes the messages. Not
+// thread-safe: called from the server's single thread, between requests.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -26,7 +26,7 @@ inline constexpr int kOccupancyStep = 16;
 
 struct ViewStreamBudget {
   std::size_t changed_voxels = 65536;  // per period, changed blocks (at least one block)
-  std::size_t refresh_voxels = 16384;  // per period, the background refresh
+  std::size_t refresh_voxels = 8192;   // per period, the background refresh
   std::size_t message_voxels = 32768;  // per message: splits a period's voxels (UDP loss)
 };
 

@@ -12,7 +12,9 @@ constexpr auto kMinInterval = std::chrono::milliseconds(100);
 ClientSession::ClientSession(ViewModel& model, FrameWriter writer)
     : model_(model), writer_(std::move(writer)) {}
 
-ClientSession::~ClientSession() { stop(); }
+ClientSession::~ClientSession() {
+  stop();
+}
 
 void ClientSession::start() {
   model_.addListener(this);

@@ -13,7 +13,7 @@ namespace {
 
 using nlohmann::json;
 
-constexpr int kUint8 = 1;    // foxglove.PackedElementField numeric types
+constexpr int kUint8 = 1;  // foxglove.PackedElementField numeric types
 constexpr int kFloat32 = 7;
 constexpr std::size_t kPointStride = 16;  // x y z float32, red green blue alpha uint8
 
@@ -21,14 +21,18 @@ json stamp(std::uint64_t ns) {
   return {{"sec", ns / 1000000000u}, {"nsec", ns % 1000000000u}};
 }
 
-json vec3(double x, double y, double z) { return {{"x", x}, {"y", y}, {"z", z}}; }
+json vec3(double x, double y, double z) {
+  return {{"x", x}, {"y", y}, {"z", z}};
+}
 json identityPose() {
   return {{"position", vec3(0, 0, 0)}, {"orientation", {{"x", 0}, {"y", 0}, {"z", 0}, {"w", 1}}}};
 }
 json poseOf(const RobotView& r) {
   return {{"position", vec3(r.translation[0], r.translation[1], r.translation[2])},
           {"orientation",
-           {{"x", r.quaternion[1]}, {"y", r.quaternion[2]}, {"z", r.quaternion[3]},
+           {{"x", r.quaternion[1]},
+            {"y", r.quaternion[2]},
+            {"z", r.quaternion[3]},
             {"w", r.quaternion[0]}}}};
 }
 json color(double r, double g, double b, double a = 1.0) {
@@ -62,12 +66,13 @@ void putPoint(std::vector<std::uint8_t>& data, float x, float y, float z, Rgb c)
 json pointCloud(std::uint64_t ns, const std::vector<std::uint8_t>& data) {
   json fields = json::array();
   const char* names[] = {"x", "y", "z"};
-  for (int i = 0; i < 3; ++i) fields.push_back({{"name", names[i]}, {"offset", 4 * i}, {"type", kFloat32}});
+  for (int i = 0; i < 3; ++i)
+    fields.push_back({{"name", names[i]}, {"offset", 4 * i}, {"type", kFloat32}});
   const char* colours[] = {"red", "green", "blue", "alpha"};
   for (int i = 0; i < 4; ++i)
     fields.push_back({{"name", colours[i]}, {"offset", 12 + i}, {"type", kUint8}});
-  return {{"timestamp", stamp(ns)}, {"frame_id", "map"},   {"pose", identityPose()},
-          {"point_stride", kPointStride}, {"fields", fields}, {"data", base64(data)}};
+  return {{"timestamp", stamp(ns)},       {"frame_id", "map"}, {"pose", identityPose()},
+          {"point_stride", kPointStride}, {"fields", fields},  {"data", base64(data)}};
 }
 
 // JSON Schemas of the messages as sent (Foxglove picks the panel by schema name; the schema
@@ -75,16 +80,20 @@ json pointCloud(std::uint64_t ns, const std::vector<std::uint8_t>& data) {
 json objectSchema(const std::string& title, const json& properties) {
   return {{"title", title}, {"type", "object"}, {"properties", properties}};
 }
-const json kTime = {{"type", "object"},
-                    {"properties", {{"sec", {{"type", "integer"}}}, {"nsec", {{"type", "integer"}}}}}};
+const json kTime = {
+    {"type", "object"},
+    {"properties", {{"sec", {{"type", "integer"}}}, {"nsec", {{"type", "integer"}}}}}};
 const json kObject = {{"type", "object"}};
 const json kArray = {{"type", "array"}};
 const json kString = {{"type", "string"}};
 
 std::string pointCloudSchema() {
   return objectSchema("foxglove.PointCloud",
-                      {{"timestamp", kTime}, {"frame_id", kString}, {"pose", kObject},
-                       {"point_stride", {{"type", "integer"}}}, {"fields", kArray},
+                      {{"timestamp", kTime},
+                       {"frame_id", kString},
+                       {"pose", kObject},
+                       {"point_stride", {{"type", "integer"}}},
+                       {"fields", kArray},
                        {"data", {{"type", "string"}, {"contentEncoding", "base64"}}}})
       .dump();
 }
@@ -92,15 +101,18 @@ std::string sceneUpdateSchema() {
   return objectSchema("foxglove.SceneUpdate", {{"deletions", kArray}, {"entities", kArray}}).dump();
 }
 std::string frameTransformSchema() {
-  return objectSchema("foxglove.FrameTransform",
-                      {{"timestamp", kTime}, {"parent_frame_id", kString},
-                       {"child_frame_id", kString}, {"translation", kObject}, {"rotation", kObject}})
+  return objectSchema("foxglove.FrameTransform", {{"timestamp", kTime},
+                                                  {"parent_frame_id", kString},
+                                                  {"child_frame_id", kString},
+                                                  {"translation", kObject},
+                                                  {"rotation", kObject}})
       .dump();
 }
 
 json channel(Channel id, const char* topic, const char* schema_name, const std::string& schema) {
-  return {{"id", id},          {"topic", topic},   {"encoding", "json"},
-          {"schemaName", schema_name}, {"schema", schema}, {"schemaEncoding", "jsonschema"}};
+  return {{"id", id},           {"topic", topic},
+          {"encoding", "json"}, {"schemaName", schema_name},
+          {"schema", schema},   {"schemaEncoding", "jsonschema"}};
 }
 
 Rgb labelColor(std::uint8_t label) {
@@ -123,8 +135,10 @@ std::string advertise() {
   json channels = json::array();
   channels.push_back(channel(kVoxels, "/map/voxels", "foxglove.PointCloud", pointCloudSchema()));
   channels.push_back(channel(kScans, "/robots/scans", "foxglove.PointCloud", pointCloudSchema()));
-  channels.push_back(channel(kRobots, "/robots/markers", "foxglove.SceneUpdate", sceneUpdateSchema()));
-  channels.push_back(channel(kTransforms, "/tf", "foxglove.FrameTransform", frameTransformSchema()));
+  channels.push_back(
+      channel(kRobots, "/robots/markers", "foxglove.SceneUpdate", sceneUpdateSchema()));
+  channels.push_back(
+      channel(kTransforms, "/tf", "foxglove.FrameTransform", frameTransformSchema()));
   channels.push_back(channel(kStats, "/map/stats", "socc.MapStats",
                              objectSchema("socc.MapStats", json::object()).dump()));
   return json{{"op", "advertise"}, {"channels", channels}}.dump();
@@ -142,7 +156,8 @@ std::vector<std::uint8_t> messageData(std::uint32_t subscription, std::uint64_t 
 
 std::string voxels(const ViewModel& model, std::uint64_t time_ns, std::size_t max_points) {
   const auto total = static_cast<std::size_t>(model.voxelCount());
-  const std::size_t stride = max_points == 0 ? 1 : std::max<std::size_t>(1, (total + max_points - 1) / max_points);
+  const std::size_t stride =
+      max_points == 0 ? 1 : std::max<std::size_t>(1, (total + max_points - 1) / max_points);
   const double s = model.voxelSize();
   const int dim = model.blockDim();
   std::vector<std::uint8_t> data;
@@ -175,34 +190,37 @@ std::string robots(const ViewModel& model, std::uint64_t time_ns) {
     json points = json::array();
     for (const auto& p : r.trajectory) points.push_back(vec3(p[0], p[1], p[2]));
     const json c = stateColor(r.tracking_state);
-    json arrow = {{"pose", poseOf(r)},     {"shaft_length", 2.0}, {"shaft_diameter", 0.4},
-                  {"head_length", 1.0},    {"head_diameter", 1.0}, {"color", c}};
+    json arrow = {{"pose", poseOf(r)},  {"shaft_length", 2.0},  {"shaft_diameter", 0.4},
+                  {"head_length", 1.0}, {"head_diameter", 1.0}, {"color", c}};
     json line = {{"type", 0},  // LINE_STRIP
-                 {"pose", identityPose()}, {"thickness", 0.3}, {"scale_invariant", false},
-                 {"points", points},       {"color", c},       {"colors", json::array()},
-                 {"indices", json::array()}};
-    json text = {{"pose", poseOf(r)},
-                 {"billboard", true},
-                 {"font_size", 14},
-                 {"scale_invariant", true},
+                 {"pose", identityPose()},
+                 {"thickness", 0.3},
+                 {"scale_invariant", false},
+                 {"points", points},
                  {"color", c},
-                 {"text", id + " " + rpc::trackingStateName(r.tracking_state)}};
-    entities.push_back({{"timestamp", stamp(time_ns)},
-                        {"frame_id", "map"},
-                        {"id", "robot/" + id},
-                        {"lifetime", stamp(0)},
-                        {"frame_locked", false},
-                        {"metadata", json::array({{{"key", "tracking"},
-                                                   {"value", rpc::trackingStateName(r.tracking_state)}},
-                                                  {{"key", "reason"}, {"value", r.tracking_reason}}})},
-                        {"arrows", json::array({arrow})},
-                        {"cubes", json::array()},
-                        {"spheres", json::array()},
-                        {"cylinders", json::array()},
-                        {"lines", json::array({line})},
-                        {"triangles", json::array()},
-                        {"texts", json::array({text})},
-                        {"models", json::array()}});
+                 {"colors", json::array()},
+                 {"indices", json::array()}};
+    json text = {
+        {"pose", poseOf(r)}, {"billboard", true},
+        {"font_size", 14},   {"scale_invariant", true},
+        {"color", c},        {"text", id + " " + rpc::trackingStateName(r.tracking_state)}};
+    entities.push_back(
+        {{"timestamp", stamp(time_ns)},
+         {"frame_id", "map"},
+         {"id", "robot/" + id},
+         {"lifetime", stamp(0)},
+         {"frame_locked", false},
+         {"metadata",
+          json::array({{{"key", "tracking"}, {"value", rpc::trackingStateName(r.tracking_state)}},
+                       {{"key", "reason"}, {"value", r.tracking_reason}}})},
+         {"arrows", json::array({arrow})},
+         {"cubes", json::array()},
+         {"spheres", json::array()},
+         {"cylinders", json::array()},
+         {"lines", json::array({line})},
+         {"triangles", json::array()},
+         {"texts", json::array({text})},
+         {"models", json::array()}});
   }
   return json{{"deletions", json::array()}, {"entities", entities}}.dump();
 }

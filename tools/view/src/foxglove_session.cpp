@@ -63,22 +63,29 @@ namespace {
 // Shortest time between two messages of a channel (index = channel id).
 std::chrono::milliseconds minInterval(std::uint32_t channel) {
   switch (channel) {
-    case foxglove::kVoxels: return std::chrono::milliseconds(2000);
-    case foxglove::kScans: return std::chrono::milliseconds(500);
-    case foxglove::kRobots: return std::chrono::milliseconds(1000);
-    default: return std::chrono::milliseconds(0);
+    case foxglove::kVoxels:
+      return std::chrono::milliseconds(2000);
+    case foxglove::kScans:
+      return std::chrono::milliseconds(500);
+    case foxglove::kRobots:
+      return std::chrono::milliseconds(1000);
+    default:
+      return std::chrono::milliseconds(0);
   }
 }
 }  // namespace
 
-std::vector<std::string> FoxgloveSession::payloads(std::uint32_t channel,
-                                                   std::uint64_t ns) const {
+std::vector<std::string> FoxgloveSession::payloads(std::uint32_t channel, std::uint64_t ns) const {
   return model_.read([&](const ViewModel& m) -> std::vector<std::string> {
     switch (channel) {
-      case foxglove::kVoxels: return {foxglove::voxels(m, ns, kMaxVoxelPoints)};
-      case foxglove::kScans: return {foxglove::scans(m, ns)};
-      case foxglove::kRobots: return {foxglove::robots(m, ns)};
-      case foxglove::kTransforms: return foxglove::transforms(m, ns);
+      case foxglove::kVoxels:
+        return {foxglove::voxels(m, ns, kMaxVoxelPoints)};
+      case foxglove::kScans:
+        return {foxglove::scans(m, ns)};
+      case foxglove::kRobots:
+        return {foxglove::robots(m, ns)};
+      case foxglove::kTransforms:
+        return foxglove::transforms(m, ns);
       default: {
         std::string stats = page::stats(m);
         if (stats.empty()) return {};

@@ -25,8 +25,7 @@ LcmFeed::LcmFeed(const std::string& url, ViewModel& model) : lcm_(url), model_(m
   lcm_t* raw = lcm_.getUnderlyingLCM();
   lcm_subscribe(raw, std::string(channels::kMapDelta).c_str(), &LcmFeed::onDelta, this);
   lcm_subscribe(raw, std::string(channels::kStatus).c_str(), &LcmFeed::onStatus, this);
-  lcm_subscribe(raw, channels::request(channels::kIntegrate).c_str(), &LcmFeed::onIntegrate,
-                this);
+  lcm_subscribe(raw, channels::request(channels::kIntegrate).c_str(), &LcmFeed::onIntegrate, this);
   thread_ = std::thread([this] { run(); });
 }
 

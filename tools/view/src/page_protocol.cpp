@@ -43,7 +43,9 @@ std::string hello(const ViewModel& model) {
       .dump();
 }
 
-std::string reset() { return json{{"type", "reset"}}.dump(); }
+std::string reset() {
+  return json{{"type", "reset"}}.dump();
+}
 
 std::string stats(const ViewModel& model) {
   if (!model.stats()) return {};

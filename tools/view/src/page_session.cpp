@@ -27,9 +27,8 @@ bool PageSession::send(Dirty& dirty) {
     scan_sent_.clear();
     dirty.robots = true;
   }
-  const bool new_geometry = model_.read([this](const ViewModel& m) {
-    return m.voxelSize() != voxel_size_;
-  });
+  const bool new_geometry =
+      model_.read([this](const ViewModel& m) { return m.voxelSize() != voxel_size_; });
   if (new_geometry) {
     if (!greet()) return false;
     dirty.robots = dirty.stats = true;
@@ -47,9 +46,8 @@ bool PageSession::sendBlocks(const std::set<BlockKey>& dirty) {
   const std::vector<BlockKey> keys(dirty.begin(), dirty.end());
   std::vector<std::uint8_t> message;
   for (std::size_t first = 0; first < keys.size() && !stopping();) {
-    first += model_.read([&](const ViewModel& m) {
-      return page::blocks(m, keys, first, kMessageBytes, message);
-    });
+    first += model_.read(
+        [&](const ViewModel& m) { return page::blocks(m, keys, first, kMessageBytes, message); });
     if (!write(true, message.data(), message.size())) return false;
   }
   return true;

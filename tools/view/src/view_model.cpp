@@ -96,10 +96,13 @@ std::string ViewModel::applyDelta(const map_delta_t& d) {
   return {};
 }
 
-RobotView& ViewModel::robot(const std::string& id) {
+RobotView* ViewModel::robot(const std::string& id) {
+  const auto it = robots_.find(id);
+  if (it != robots_.end()) return &it->second;
+  if (robots_.size() >= kMaxRobots) return nullptr;
   RobotView& r = robots_[id];
   r.id = id;
-  return r;
+  return &r;
 }
 
 void ViewModel::extendTrajectory(RobotView& r) {
@@ -118,7 +121,9 @@ void ViewModel::applyStats(const map_stats_t& stats) {
   const std::lock_guard<std::mutex> lock(mutex_);
   stats_ = stats;
   for (const robot_state_t& s : stats.robots) {
-    RobotView& r = robot(s.robot_id);
+    RobotView* known = robot(s.robot_id);
+    if (known == nullptr) continue;
+    RobotView& r = *known;
     r.tracking_state = s.tracking_state;
     r.tracking_reason = s.tracking_reason;
     r.integrations = s.integrations;
@@ -157,7 +162,9 @@ void ViewModel::applyIntegrate(const integrate_request_t& q) {
     for (int a = 0; a < 3; ++a) scan.push_back(static_cast<float>(p[a]));
   }
   const std::lock_guard<std::mutex> lock(mutex_);
-  RobotView& r = robot(q.header.client_id);
+  RobotView* known = robot(q.header.client_id);
+  if (known == nullptr) return;
+  RobotView& r = *known;
   if (q.seq < r.scan_seq) return;  // a retry or reordering: keep the newer one
   r.scan_seq = q.seq;
   r.scan = std::move(scan);

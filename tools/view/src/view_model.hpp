@@ -62,9 +62,10 @@ struct ModelListener {
 
 class ViewModel {
  public:
-  static constexpr double kTrajectoryStep = 0.25;      // [m] between kept trajectory points
+  static constexpr double kTrajectoryStep = 0.25;        // [m] between kept trajectory points
   static constexpr std::size_t kMaxTrajectory = 200000;  // points per robot
-  static constexpr std::size_t kMaxScanPoints = 6000;  // kept of each robot's latest scan
+  static constexpr std::size_t kMaxScanPoints = 4000;    // kept of each robot's latest scan
+  static constexpr std::size_t kMaxRobots = 256;         // more ids (hostile senders) ignored
 
   /// Empty when applied, else why the message was refused (inconsistent counts).
   std::string applyDelta(const map_delta_t& delta);
@@ -93,7 +94,8 @@ class ViewModel {
   std::int64_t deltasReceived() const { return deltas_received_; }
 
  private:
-  RobotView& robot(const std::string& id);
+  /// The robot's entry, created if there is room (nullptr when kMaxRobots are known).
+  RobotView* robot(const std::string& id);
   static void extendTrajectory(RobotView& robot);
 
   mutable std::mutex mutex_;

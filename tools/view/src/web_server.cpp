@@ -43,11 +43,16 @@ WebServer::WebServer(const WebServerOptions& options, ViewModel& model)
   const std::string ports = options.bind + ":" + std::to_string(options.port);
   // Each WebSocket client holds one worker thread while connected, plus room for page loads.
   const std::string threads = std::to_string(options.max_clients + 4);
-  const char* config[] = {"listening_ports", ports.c_str(),
-                          "document_root", options.web_root.c_str(),
-                          "num_threads", threads.c_str(),
-                          "enable_directory_listing", "no",
-                          "websocket_timeout_ms", "3600000",
+  const char* config[] = {"listening_ports",
+                          ports.c_str(),
+                          "document_root",
+                          options.web_root.c_str(),
+                          "num_threads",
+                          threads.c_str(),
+                          "enable_directory_listing",
+                          "no",
+                          "websocket_timeout_ms",
+                          "3600000",
                           nullptr};
   mg_callbacks callbacks{};
   context_ = mg_start(&callbacks, this, config);
@@ -110,8 +115,9 @@ void WebServer::ready(mg_connection* conn, void* self) {
   auto* server = static_cast<WebServer*>(self);
   std::unique_ptr<ClientSession> session;
   if (isFoxglove(conn))
-    session = std::make_unique<FoxgloveSession>(server->model_, writerFor(conn, server->bytes_sent_),
-                                                std::to_string(server->next_session_++));
+    session =
+        std::make_unique<FoxgloveSession>(server->model_, writerFor(conn, server->bytes_sent_),
+                                          std::to_string(server->next_session_++));
   else
     session = std::make_unique<PageSession>(server->model_, writerFor(conn, server->bytes_sent_));
   session->start();

@@ -10,7 +10,7 @@ import { TopDown } from './topdown.js';
 import { VoxelLayer } from './voxel_layer.js';
 
 const state = { connected: false, hello: null, stats: null, messages: 0, bytes: 0, frames: 0,
-                webgl: false, voxels: 0, blocks: 0, robots: {}, tilesBuilt: 0, scaleBarMetres: 0 };
+                webgl: false, colourMode: 'class', voxels: 0, blocks: 0, robots: {}, tilesBuilt: 0, scaleBarMetres: 0 };
 window.soccView = state;
 
 const palette = new Palette();
@@ -31,7 +31,7 @@ try {
 }
 const controls = renderer ? new OrbitControls(camera, renderer.domElement) : null;
 // For the console and tests (not part of the page's state): the scene's objects.
-Object.defineProperty(state, 'three', { value: { scene, camera, controls }, enumerable: false });
+Object.defineProperty(state, 'three', { value: { scene, camera, controls, renderer }, enumerable: false });
 scene.add(new THREE.AxesHelper(5));
 
 const voxels = new VoxelLayer(scene, palette);
@@ -154,7 +154,12 @@ function connect() {
 }
 
 for (const input of document.querySelectorAll('input[name=colour]'))
-  input.addEventListener('change', () => { voxels.setMode(input.value); topdown.clear(); for (const b of voxels.blocks.values()) topdown.blockChanged(b.key); });
+  input.addEventListener('change', () => {
+    voxels.setMode(input.value);
+    state.colourMode = input.value;
+    topdown.clear();
+    for (const b of voxels.blocks.values()) topdown.blockChanged(b.key);
+  });
 
 function frameCamera() {
   const b = voxels.bounds;

@@ -1,12 +1,14 @@
 // The map's occupied voxels in 3D, with level of detail. Blocks (8^3 voxels) are grouped into
-// tiles of TILE^3 blocks; each tile is a THREE.LOD of point clouds at full, half and quarter
-// resolution (a coarse point stands for the occupied voxels of its 2^3 or 4^3 cell), so far
-// tiles draw 8-64x fewer points and a map of millions of voxels stays fluid. Changed tiles are
-// rebuilt within a time budget per frame.
+// tiles of TILE^3 blocks (32 m at 0.5 m voxels: few draw calls); each tile is a THREE.LOD of
+// point clouds at full, half and quarter resolution (a coarse point stands for the occupied
+// voxels of its 2^3 or 4^3 cell), shown from LEVEL_DISTANCE voxel sizes away, so far tiles draw
+// 4-16x fewer points and a map of millions of voxels stays fluid. Changed tiles are rebuilt
+// within a time budget per frame.
 import * as THREE from 'three';
 
-const TILE = 4;
-const LEVELS = [1, 2, 4];  // voxel merge factor per level
+const TILE = 8;
+const LEVELS = [1, 2, 4];            // voxel merge factor per level
+const LEVEL_DISTANCE = [0, 120, 320];  // from the tile's centre, in voxel sizes (60 m, 160 m)
 
 function keyOf(x, y, z) { return `${x},${y},${z}`; }
 
@@ -147,7 +149,7 @@ export class VoxelLayer {
       geometry.computeBoundingSphere();
       const material = new THREE.PointsMaterial({ size: 0.9 * factor * s, sizeAttenuation: true,
                                                   vertexColors: true });
-      lod.addLevel(new THREE.Points(geometry, material), [0, 5, 12][level] * tileEdge);
+      lod.addLevel(new THREE.Points(geometry, material), LEVEL_DISTANCE[level] * s);
     });
     const [tx, ty, tz] = tk.split(',').map(Number);
     // LOD distances are measured to the object's origin: the tile's centre.
