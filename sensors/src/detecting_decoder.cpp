@@ -19,6 +19,7 @@ class DetectingDecoder final : public ScanDecoder {
   }
   const DecodeStats& stats() const override { return inner_ ? inner_->stats() : none_; }
   std::string model() const override { return inner_ ? inner_->model() : "(not detected yet)"; }
+  std::string notes() const override { return inner_ ? inner_->notes() : std::string(); }
 
  private:
   std::unique_ptr<ScanDecoder> decoderFor(const Packet& packet) const {
