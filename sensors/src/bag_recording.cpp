@@ -4,9 +4,11 @@
 
 #include <stdexcept>
 
+#include "bags/bag_packet_source.hpp"
 #include "bags/bag_reader.hpp"
 #include "bags/bag_scan_streams.hpp"
 #include "bags/bag_topics.hpp"
+#include "socc/sensors/decoded_scan_stream.hpp"
 
 namespace socc::sensors {
 
@@ -33,7 +35,7 @@ std::unique_ptr<ScanStream> openBag(const fs::path& file, const RecordingOptions
     return std::make_unique<bags::PointCloudScanStream>(std::move(reader), topic, source);
   }
   std::unique_ptr<ScanDecoder> decoder = makeDecoder(options.sensor);
-  return std::make_unique<bags::PacketScanStream>(
+  return std::make_unique<DecodedScanStream>(
       std::make_unique<bags::BagPacketSource>(std::move(reader), topic), std::move(decoder),
       source);
 }

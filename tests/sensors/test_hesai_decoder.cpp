@@ -6,9 +6,12 @@
 #include <cmath>
 #include <filesystem>
 
+#include "bags/bag_reader.hpp"
+#include "bags/bag_topics.hpp"
+#include "bags/ros_messages.hpp"
 #include "cloud_match.hpp"
+#include "pcd_reference.hpp"
 #include "socc/sensors/hesai_decoder.hpp"
-#include "vendor_test_io.hpp"
 
 namespace socc::sensors {
 namespace {
@@ -31,9 +34,25 @@ SensorConfig xt32Config() {
   return config;
 }
 
+/// The packets of each PandarScan message of a bag, through the library's bag reader; one vector
+/// per message, since nebula's reference cloud is the sweep completed within one message.
+std::vector<std::vector<Packet>> pandarScanMessages(const fs::path& bag) {
+  std::unique_ptr<bags::BagReader> reader = bags::openBagReader(bag);
+  const std::size_t topic = bags::chooseTopic(*reader, "", bag);
+  const bags::TopicInfo info = reader->topics()[topic];
+  reader->select(topic);
+  std::vector<std::vector<Packet>> messages;
+  while (std::optional<bags::BagMessage> m = reader->next()) {
+    bags::appendPackets(bags::messageKind(info.type), bags::ByteView(m->data),
+                        info.encoding.value(), m->stamp_ns, messages.emplace_back());
+  }
+  EXPECT_EQ(reader->problems(), "") << bag;
+  return messages;
+}
+
 TEST(HesaiXt32, MatchesNebulaReferenceCloud) {
   SKIP_WITHOUT_SHARED_DATA();
-  const auto messages = test_io::readDb3PandarScans(xt32Folder() / "1673400677802009732_0.db3");
+  const auto messages = pandarScanMessages(xt32Folder() / "1673400677802009732_0.db3");
   ASSERT_EQ(messages.size(), 4u);
   auto decoder = makeHesaiDecoder(xt32Config());
   // nebula's reference is the sweep its decoder completed while decoding the 4th message.
@@ -69,7 +88,7 @@ TEST(HesaiXt32, MatchesNebulaReferenceCloud) {
   // Reference in Hesai's frame (x right, y forward); ours has x forward, y left.
   std::vector<Eigen::Vector3f> reference;
   for (const auto& p :
-       test_io::readBinaryPcdXyz(xt32Folder() / "ground_truth_1673400678101968885.pcd"))
+       test::readBinaryXyzPcd(xt32Folder() / "ground_truth_1673400678101968885.pcd"))
     reference.emplace_back(p.y(), -p.x(), p.z());
   const double ours_near = test_io::NearestPoints(reference).fractionWithin(scan.points, 0.01f);
   const double reference_near =

@@ -12,7 +12,7 @@
 
 #include "cloud_match.hpp"
 #include "socc/sensors/ouster_decoder.hpp"
-#include "vendor_test_io.hpp"
+#include "socc/sensors/pcap_source.hpp"
 
 namespace socc::sensors {
 namespace {
@@ -127,14 +127,23 @@ CloudRegistration registerClouds(const std::vector<Eigen::Vector3f>& source,
   return r;
 }
 
+/// The UDP payloads to `port` of a capture, through the library's pcap source.
+std::vector<Packet> udpPayloads(const fs::path& pcap, std::uint16_t port) {
+  const std::unique_ptr<PacketSource> source = openPcap(pcap, port);
+  std::vector<Packet> packets;
+  while (std::optional<Packet> p = source->next()) packets.push_back(std::move(*p));
+  EXPECT_EQ(source->problems(), "") << pcap;
+  return packets;
+}
+
 TEST(OusterOs1_128, LowBandwidthCaptureDecodesThreeCompleteFrames) {
   if (!fs::exists(fs::path(SOCC_SHARED_DATA_DIR))) GTEST_SKIP() << "no shared data";
   const fs::path pcap = osFolder() / "OS-1-128_v2.3.0_1024x10_lb_n3.pcap";
-  std::vector<Packet> packets = test_io::readPcapUdp(pcap, 7502);
+  std::vector<Packet> packets = udpPayloads(pcap, 7502);
   ASSERT_EQ(packets.size(), 192u);
   EXPECT_EQ(packets.front().data.size(), 8448u);
   // The IMU packets (port 7503) mixed in, by capture time: skipped, never decoded.
-  std::vector<Packet> imu = test_io::readPcapUdp(pcap, 7503);
+  std::vector<Packet> imu = udpPayloads(pcap, 7503);
   EXPECT_EQ(imu.size(), 30u);
   packets.insert(packets.end(), imu.begin(), imu.end());
   std::stable_sort(packets.begin(), packets.end(),

@@ -7,10 +7,7 @@
 
 #include "pcd_reference.hpp"
 #include "raw_sensor_data.hpp"
-#include "socc/sensors/bag_recording.hpp"
-#include "socc/sensors/decoded_scan_stream.hpp"
 #include "socc/sensors/recording.hpp"
-#include "temporary_db3_packets.hpp"
 
 namespace socc::sensors {
 namespace {
@@ -31,10 +28,7 @@ RecordingOptions nebulaSettings() {
 
 std::unique_ptr<ScanStream> openVlp32cBag(const RecordingOptions& o) {
   const std::filesystem::path db3 = test::vlp32cDir() / "1713492677464078412_0.db3";
-  if (isBag(db3)) return openRecording(db3, o);
-  // TEMPORARY until the bag reader is merged (temporary_db3_packets.hpp).
-  return std::make_unique<DecodedScanStream>(std::make_unique<test::TemporaryDb3Packets>(db3),
-                                             makeDecoder(o.sensor), "db3");
+  return openRecording(db3, o);
 }
 
 TEST(VelodyneVlp32c, MatchesNebulasReferenceCloud) {

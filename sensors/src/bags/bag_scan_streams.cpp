@@ -1,7 +1,5 @@
 #include "bags/bag_scan_streams.hpp"
 
-#include <vector>
-
 #include "bags/pointcloud2_scan.hpp"
 
 namespace socc::sensors::bags {
@@ -45,44 +43,6 @@ std::string PointCloudScanStream::problems() const {
     p += std::to_string(untimed_) + " clouds without point times (first: " + first_time_problem_ +
          ")\n";
   }
-  return p;
-}
-
-PacketScanStream::PacketScanStream(std::unique_ptr<PacketSource> packets,
-                                   std::unique_ptr<ScanDecoder> decoder, std::string source)
-    : packets_(std::move(packets)), decoder_(std::move(decoder)), source_(std::move(source)) {}
-
-std::optional<SensorScan> PacketScanStream::next() {
-  std::vector<SensorScan> out;
-  while (ready_.empty() && !ended_) {
-    if (const std::optional<Packet> p = packets_->next()) {
-      decoder_->feed(*p, out);
-    } else {
-      decoder_->flush(out);
-      ended_ = true;
-    }
-    for (SensorScan& s : out) ready_.push_back(std::move(s));
-    out.clear();
-  }
-  if (ready_.empty()) return std::nullopt;
-  SensorScan s = std::move(ready_.front());
-  ready_.pop_front();
-  s.seq = seq_++;
-  if (s.source.empty()) s.source = source_;
-  return s;
-}
-
-std::string PacketScanStream::problems() const {
-  std::string p = packets_->problems();
-  const DecodeStats& st = decoder_->stats();
-  const auto line = [&p](std::uint64_t n, const char* what) {
-    if (n > 0) p += std::to_string(n) + " " + what + "\n";
-  };
-  line(st.foreign, "packets of another model or sensor skipped");
-  line(st.malformed, "malformed packets skipped");
-  line(st.late, "late (reordered) packets skipped");
-  line(st.gaps, "gaps of lost packets");
-  line(st.partial_scans, "incomplete sweeps");
   return p;
 }
 

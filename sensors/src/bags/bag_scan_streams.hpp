@@ -1,13 +1,11 @@
 #pragma once
-// The two ways a bag topic becomes scans: a PointCloud2 topic one scan per message, a packet
-// topic through a ScanDecoder.
-#include <deque>
+// A PointCloud2 bag topic as scans, one scan per message (a packet topic goes through
+// BagPacketSource and DecodedScanStream).
 #include <memory>
 #include <string>
 
-#include "bags/bag_packet_source.hpp"
 #include "bags/bag_reader.hpp"
-#include "socc/sensors/scan_decoder.hpp"
+#include "socc/sensors/sensor_scan.hpp"
 
 namespace socc::sensors::bags {
 
@@ -30,24 +28,6 @@ class PointCloudScanStream : public ScanStream {
   std::uint64_t empty_ = 0;
   std::uint64_t untimed_ = 0;
   std::string first_time_problem_;
-};
-
-class PacketScanStream : public ScanStream {
- public:
-  PacketScanStream(std::unique_ptr<PacketSource> packets, std::unique_ptr<ScanDecoder> decoder,
-                   std::string source);
-
-  std::optional<SensorScan> next() override;
-  /// The packet source's problems and the decoder's counts of skipped packets and sweeps.
-  std::string problems() const override;
-
- private:
-  std::unique_ptr<PacketSource> packets_;
-  std::unique_ptr<ScanDecoder> decoder_;
-  std::string source_;
-  std::deque<SensorScan> ready_;
-  bool ended_ = false;
-  std::int64_t seq_ = 0;
 };
 
 }  // namespace socc::sensors::bags
