@@ -17,6 +17,7 @@
 #include <fstream>
 #include <thread>
 
+#include "socc/large_message_heap.hpp"
 #include "socc/sensors/decoded_scan_stream.hpp"
 #include "socc/sensors/pcap_source.hpp"
 #include "socc/sensors/sensor_config.hpp"
@@ -138,6 +139,7 @@ int main(int argc, char** argv) {
   app.add_option("--port", port, "loopback UDP port of the live test")->capture_default_str();
   app.add_option("--vlp16-pcap", vlp16_pcap, "the real VLP-16 capture (skipped when absent)");
   CLI11_PARSE(app, argc, argv);
+  socc::keepHeapForLargeMessages();  // as socc-lidar and odom_client: sweeps are megabytes
 
   std::vector<Row> rows;
   // 1. HDL-64E decoding.

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "socc/channels.hpp"
+#include "socc/large_message_heap.hpp"
 #include "socc/lcm_url.hpp"
 #include "socc/rpc/client_id.hpp"
 #include "socc/sensors/decoded_scan_stream.hpp"
@@ -181,6 +182,7 @@ int main(int argc, char** argv) {
   Args args;
   addOptions(app, args);
   CLI11_PARSE(app, argc, argv);
+  socc::keepHeapForLargeMessages();  // sweeps and their scan_t are megabytes, 10-20 a second
   if (!args.live && args.pcap.empty() && args.bag.empty()) {
     std::cerr << "socc-lidar: no input: give --live, --pcap <file> or --bag <file>\n";
     return 2;
