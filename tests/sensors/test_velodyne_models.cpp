@@ -97,8 +97,9 @@ INSTANTIATE_TEST_SUITE_P(Manuals, VelodyneModels,
                          ::testing::Values(test::hdl32e(), test::vlp32c(), test::vlp16(false),
                                            test::vlp16(true), test::hdl64e(), test::vls128(false),
                                            test::vls128(true)),
-                         [](const auto& info) {
-                           return info.param.model + (info.param.mode == 0x39 ? "_dual" : "");
+                         [](const ::testing::TestParamInfo<test::ModelCase>& param_info) {
+                           const test::ModelCase& m = param_info.param;
+                           return m.model + (m.mode == 0x39 ? "_dual" : "");
                          });
 
 }  // namespace

@@ -65,8 +65,9 @@ TEST_F(SoccToLcmlogCli, RecordingToLog) {
     EXPECT_EQ(s.num_labels, 0);
     EXPECT_NEAR(*std::max_element(s.time.begin(), s.time.end()), 0.05, 0.003);  // a 20 Hz turn
     EXPECT_GE(events[i].timestamp, s.utime);  // logged when the sweep ends
-    if (i > 0)
+    if (i > 0) {
       EXPECT_NEAR(static_cast<double>(s.utime - events[i - 1].scan.utime), 50'000.0, 2'000.0);
+    }
   }
   EXPECT_EQ(run((dir / "vlp-16-test-90deg-1-50-frames.pcap").string() + " -o " + log.string() +
                 " -q --sensor hdl32e"),
