@@ -269,7 +269,7 @@ std::string packetSeed(char selector, const std::vector<std::vector<std::uint8_t
   return seed;
 }
 
-void sensorSeeds(SeedWriter& w) {
+void vendorSensorSeeds(SeedWriter& w) {
   namespace tp = socc::sensors::test_packets;
   const auto unit = [](int block, int laser) {
     return tp::HesaiUnit{static_cast<std::uint16_t>(1000 + 10 * laser + block), 40};
@@ -311,6 +311,90 @@ void sensorSeeds(SeedWriter& w) {
     w.bytes("fuzz_ouster_decoder", std::string(profiles[p]) + "_json",
             std::string(1, static_cast<char>(4 + 5 * p)) + tp::ousterMetadata(spec, p % 2));
   }
+
+// A VLP-16 stream of a 10 Hz turn: 12 blocks FF EE with azimuths, 32 echoes each, stamp and
+// factory bytes (the VLP-16 manual's layout).
+std::string vlp16Packets(int count) {
+  std::string all;
+  for (int k = 0; k < count; ++k) {
+    std::string p(1206, '\0');
+    const double stamp_us = 1e6 + k * 1327.104;
+    for (int b = 0; b < 12; ++b) {
+      const auto az =
+          static_cast<std::uint16_t>(static_cast<long>(0.36 * (stamp_us + 110.592 * b)) % 36000);
+      p[100 * b] = static_cast<char>(0xFF);
+      p[100 * b + 1] = static_cast<char>(0xEE);
+      p[100 * b + 2] = static_cast<char>(az & 0xFF);
+      p[100 * b + 3] = static_cast<char>(az >> 8);
+      for (int c = 0; c < 32; ++c) {
+        const std::uint16_t raw = static_cast<std::uint16_t>(2000 + 7 * c);
+        p[100 * b + 4 + 3 * c] = static_cast<char>(raw & 0xFF);
+        p[100 * b + 5 + 3 * c] = static_cast<char>(raw >> 8);
+        p[100 * b + 6 + 3 * c] = static_cast<char>(c * 5);
+      }
+    }
+    const auto stamp = static_cast<std::uint32_t>(stamp_us);
+    std::memcpy(p.data() + 1200, &stamp, 4);
+    p[1204] = 0x37;
+    p[1205] = 0x22;
+    all += p;
+  }
+  return all;
+}
+
+// A classic pcap (little endian, microseconds, Ethernet) of UDP datagrams to port 2368.
+std::string pcapOf(const std::string& packets, std::size_t packet_size) {
+  std::string f;
+  auto u32 = [&f](std::uint32_t v) { f.append(reinterpret_cast<const char*>(&v), 4); };
+  auto u16 = [&f](std::uint16_t v) { f.append(reinterpret_cast<const char*>(&v), 2); };
+  u32(0xA1B2C3D4);
+  u16(2);
+  u16(4);
+  u32(0);
+  u32(0);
+  u32(65535);
+  u32(1);  // Ethernet
+  for (std::size_t at = 0; at + packet_size <= packets.size(); at += packet_size) {
+    const std::size_t frame = 14 + 20 + 8 + packet_size;
+    u32(1'700'000'000);
+    u32(static_cast<std::uint32_t>(at / packet_size * 1327));
+    u32(static_cast<std::uint32_t>(frame));
+    u32(static_cast<std::uint32_t>(frame));
+    std::string e(14, '\0');
+    e[12] = 0x08;
+    std::string ip(20, '\0');
+    ip[0] = 0x45;
+    ip[2] = static_cast<char>((20 + 8 + packet_size) >> 8);
+    ip[3] = static_cast<char>((20 + 8 + packet_size) & 0xFF);
+    ip[8] = 64;
+    ip[9] = 17;
+    std::string udp(8, '\0');
+    udp[0] = 0x09, udp[1] = 0x40, udp[2] = 0x09, udp[3] = 0x40;  // 2368 -> 2368
+    udp[4] = static_cast<char>((8 + packet_size) >> 8);
+    udp[5] = static_cast<char>((8 + packet_size) & 0xFF);
+    f += e + ip + udp + packets.substr(at, packet_size);
+  }
+  return f;
+}
+
+void velodyneSensorSeeds(SeedWriter& w) {
+  const std::string stream = vlp16Packets(24);
+  w.selected("fuzz_velodyne_decoder", 0, "vlp16", stream);
+  w.selected("fuzz_velodyne_decoder", 3, "detect", stream);
+  w.selected("fuzz_velodyne_decoder", 0x24, "vlp16_partial_strongest", stream);
+  w.bytes("fuzz_pcap_source", "vlp16.pcap", pcapOf(vlp16Packets(8), 1206));
+  w.selected("fuzz_velodyne_calibration", 0, "veloview.xml",
+             "<?xml version=\"1.0\"?>\n<boost_serialization><DB><distLSB_>0.2</distLSB_><enabled_>"
+             "<count>2</count><item>1</item><item>1</item></enabled_><points_><count>2</count>"
+             "<item><px><id_>0</id_><rotCorrection_>0</rotCorrection_><vertCorrection_>-15"
+             "</vertCorrection_><distCorrection_>0</distCorrection_></px></item><item><px><id_>1"
+             "</id_><rotCorrection_>1.4</rotCorrection_><vertCorrection_>1</vertCorrection_></px>"
+             "</item></points_></DB></boost_serialization>\n");
+  w.selected(
+      "fuzz_velodyne_calibration", 1, "ros.yaml",
+      "lasers:\n  - {laser_id: 0, rot_correction: 0.0, vert_correction: -0.26}\n"
+      "  - {laser_id: 1, rot_correction: 0.02, vert_correction: 0.017, dist_correction: 0.01}\n"
+      "num_lasers: 2\ndistance_resolution: 0.002\n");
 }
 
 }  // namespace
@@ -326,7 +410,8 @@ int main(int argc, char** argv) {
     SeedWriter w(dir);
     requestSeeds(w);
     fileSeeds(w);
-    sensorSeeds(w);
+    vendorSensorSeeds(w);
+    velodyneSensorSeeds(w);
     for (const socc::fuzz::BagSeed& s : socc::fuzz::bagSeeds(dir)) {
       w.bytes(s.harness, s.name, s.content);
     }

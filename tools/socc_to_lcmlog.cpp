@@ -1,12 +1,16 @@
-// socc-to-lcmlog: converts a KITTI-layout directory or a directory of PCD files into an LCM
-// log of socc::scan_t messages, to be replayed with lcm-logplayer (see docs/lcm.md).
+// socc-to-lcmlog: converts a KITTI-layout directory, a directory of PCD files or a recording
+// (pcap capture, ROS bag: docs/sensors.md) into an LCM log of socc::scan_t messages, to be
+// replayed with lcm-logplayer (see docs/lcm.md).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 
 #include "socc/channels.hpp"
 #include "socc/rpc/client_id.hpp"
+#include "socc/sensors/recording.hpp"
+#include "socc/tools/recording_log_writer.hpp"
 #include "socc/tools/scan_directory.hpp"
 #include "socc/tools/scan_log_writer.hpp"
 #include "socc/version.hpp"
@@ -19,16 +23,28 @@ int main(int argc, char** argv) {
       "Input: a KITTI-layout directory (velodyne/*.bin, optional labels/*.label mapped to the\n"
       "20 classes, optional point_times/*.bin with per-point times [s]) or a directory of\n"
       "*.pcd files (x y z, optional intensity and label). Scan times come from times.txt\n"
-      "(one line per frame, seconds) when present, otherwise from --rate."};
+      "(one line per frame, seconds) when present, otherwise from --rate.\n"
+      "Or a recording: a pcap capture of LiDAR packets or a ROS bag (.bag, .db3, .mcap),\n"
+      "decoded with --sensor / --calibration (docs/sensors.md); scans keep the recording's\n"
+      "times and the sensor's per-point times."};
   app.set_version_flag("--version", socc::versionLine("socc-to-lcmlog"));
   std::string input;
   std::string output;
   socc::tools::ScanLogOptions options;
   options.start_utime = socc::nowMicros();
   bool quiet = false;
-  app.add_option("input", input, "KITTI sequence directory or directory of .pcd files")
+  app.add_option("input", input,
+                 "KITTI sequence directory, directory of .pcd files, or a recording file")
       ->required()
-      ->check(CLI::ExistingDirectory);
+      ->check(CLI::ExistingPath);
+  socc::sensors::RecordingOptions recording;
+  std::string calibration;
+  app.add_option("--sensor", recording.sensor.model,
+                 "recordings of packets: the sensor model (default: detected)");
+  app.add_option("--calibration", calibration, "recordings: the sensor's calibration file")
+      ->check(CLI::ExistingFile);
+  app.add_option("--topic", recording.topic, "bags: the topic to read");
+  app.add_option("--port", recording.port, "pcap: UDP destination port of the LiDAR data (0: any)");
   app.add_option("-o,--output", output, "LCM log file to write (overwritten)")->required();
   app.add_option("-r,--robot-id", options.robot_id, "robot id: channel SOCC/SCAN/<robot-id>")
       ->capture_default_str();
@@ -46,8 +62,16 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const socc::tools::ScanDirectory dir = socc::tools::openScanDirectory(input);
-    const socc::tools::ScanLogSummary s = socc::tools::writeScanLog(dir, output, options);
+    socc::tools::ScanLogSummary s;
+    if (std::filesystem::is_directory(input)) {
+      s = socc::tools::writeScanLog(socc::tools::openScanDirectory(input), output, options);
+    } else {
+      recording.sensor.calibration = calibration;
+      const std::unique_ptr<socc::sensors::ScanStream> stream =
+          socc::sensors::openRecording(input, recording);
+      s = socc::tools::writeRecordingLog(*stream, output, options.robot_id, options.progress);
+      std::cerr << stream->problems();
+    }
     std::printf("wrote %zu scans (%zu points) on %s to %s, utime %lld..%lld\n", s.scans, s.points,
                 socc::channels::scan(options.robot_id).c_str(), output.c_str(),
                 static_cast<long long>(s.first_utime), static_cast<long long>(s.last_utime));

@@ -15,6 +15,7 @@
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/odom_runner.hpp"
 #include "socc/pose_conversion.hpp"
+#include "socc/sensors/sensor_config.hpp"
 #include "socc/version.hpp"
 
 namespace fs = std::filesystem;
@@ -39,7 +40,36 @@ struct Args {
   double frame_period = 0.0;  // --frame-period; 0: the config's frame_period
   std::int64_t first = 0, last = -1;
   double idle_timeout_s = 5.0;
+  // --pcap / --bag: a recording read through socc_sensors (docs/sensors.md).
+  std::string pcap, bag, topic, sensor, calibration;
+  std::uint16_t port = 0;
 };
+
+// Recordings of a real sensor: the inputs beside --kitti / --pcd-dir / --live.
+std::vector<CLI::Option*> addRecordingOptions(CLI::App& app, Args& a) {
+  auto* pcap = app.add_option("--pcap", a.pcap, "pcap capture of LiDAR packets (docs/sensors.md)")
+                   ->check(CLI::ExistingFile);
+  auto* bag = app.add_option("--bag", a.bag,
+                             "ROS 1 .bag, ROS 2 .db3 (or its folder) or .mcap: PointCloud2 or "
+                             "packet topics (docs/sensors.md)")
+                  ->check(CLI::ExistingPath);
+  app.add_option("--topic", a.topic, "--bag: the topic to read (default: the only LiDAR topic)")
+      ->needs(bag);
+  std::string models;
+  for (const std::string& m : socc::sensors::supportedModels())
+    models += (models.empty() ? "" : ", ") + m;
+  app.add_option("--sensor", a.sensor,
+                 "--pcap / packet topics: the sensor model (" + models +
+                     "); default: detected from the packets");
+  app.add_option("--calibration", a.calibration,
+                 "the sensor's calibration: VeloView .xml or ROS velodyne .yaml, Ouster metadata "
+                 ".json, Hesai angle-correction .csv; default: the model's nominal angles")
+      ->check(CLI::ExistingFile);
+  app.add_option("--port", a.port, "--pcap: UDP destination port of the LiDAR data (0: any)")
+      ->capture_default_str()
+      ->needs(pcap);
+  return {pcap, bag};
+}
 
 void addOptions(CLI::App& app, Args& a) {
   auto* in_opt = app.add_option(
@@ -52,6 +82,9 @@ void addOptions(CLI::App& app, Args& a) {
                    "read socc::scan_t from SOCC/SCAN/<robot-id> over LCM (e.g. lcm-logplayer)");
   in_opt->excludes(pcd_opt, live_opt);
   pcd_opt->excludes(live_opt);
+  const std::vector<CLI::Option*> recording = addRecordingOptions(app, a);
+  for (CLI::Option* r : recording) r->excludes(in_opt)->excludes(pcd_opt)->excludes(live_opt);
+  recording[0]->excludes(recording[1]);
   app.add_option("--robot-id", a.robot_id, "robot / client id (several robots share one map)")
       ->capture_default_str();
   app.add_option("--lcm-url", a.lcm_url,
@@ -88,7 +121,7 @@ void addOptions(CLI::App& app, Args& a) {
                  "without times.txt, PCD/PLY files without stamps in their names); overrides "
                  "frame_period of --config")
       ->check(CLI::PositiveNumber);
-  app.add_option("--first-frame", a.first, "first frame index of a directory input")
+  app.add_option("--first-frame", a.first, "first frame index of a directory or recording input")
       ->capture_default_str();
   app.add_option("--last-frame", a.last, "last frame index (inclusive); -1 = all")
       ->capture_default_str();
@@ -120,8 +153,9 @@ PoseHint parseHint(const Args& a) {
 }
 
 void checkArgs(const Args& a) {
-  if (a.input.empty() && a.pcd_dir.empty() && !a.live)
-    throw std::runtime_error("no input: give --kitti <dir>, --pcd-dir <dir> or --live");
+  if (a.input.empty() && a.pcd_dir.empty() && !a.live && a.pcap.empty() && a.bag.empty())
+    throw std::runtime_error(
+        "no input: give --kitti <dir>, --pcd-dir <dir>, --pcap <file>, --bag <file> or --live");
   if (const std::string why = socc::checkLcmUrl(a.lcm_url, socc::lcmAuthFor(a.key_file));
       !why.empty())
     throw std::runtime_error("--lcm-url " + a.lcm_url + ": " + why);
@@ -184,6 +218,15 @@ void resumeFromServer(socc::rpc::MapClient& client, Args& a, const OdomConfig& c
 std::unique_ptr<ScanSource> openSource(const Args& a, const OdomConfig& config) {
   if (!a.input.empty())
     return readAhead(openKittiDirectory(a.input, {a.first, a.last}, config.frame_period));
+  if (!a.pcap.empty() || !a.bag.empty()) {
+    socc::sensors::RecordingOptions options;
+    options.sensor.model = a.sensor;
+    options.sensor.calibration = a.calibration;
+    options.topic = a.topic;
+    options.port = a.port;
+    return readAhead(
+        openRecordingScans(a.pcap.empty() ? a.bag : a.pcap, options, {a.first, a.last}));
+  }
   if (!a.pcd_dir.empty())
     return readAhead(openPointCloudDirectory(a.pcd_dir, {a.first, a.last}, config.frame_period));
   auto source = openLcmScans(a.scan_lcm_url.empty() ? a.lcm_url : a.scan_lcm_url, a.robot_id,

@@ -28,7 +28,11 @@ std::string DecodedScanStream::problems() const {
   const std::string notes = decoder_->notes();
   if (!notes.empty()) s += name_ + ": " + notes + "\n";
   const std::string counts = describeDecodeStats(decoder_->stats());
-  if (!counts.empty()) s += name_ + ": " + counts;
+  for (std::size_t at = 0; at < counts.size();) {
+    const std::size_t end = counts.find('\n', at);
+    s += name_ + ": " + counts.substr(at, end - at) + "\n";
+    at = end == std::string::npos ? counts.size() : end + 1;
+  }
   return s;
 }
 
@@ -40,7 +44,7 @@ std::string describeDecodeStats(const DecodeStats& st) {
   line(st.foreign, "packets of another sensor or not LiDAR data (skipped)");
   line(st.malformed, "malformed packets (skipped)");
   line(st.late, "late or duplicate packets (skipped)");
-  line(st.gaps, "packets lost (gaps in the sensor's time stamps)");
+  line(st.gaps, "packets lost (gaps in the azimuth)");
   line(st.partial_scans, "incomplete sweeps (first / last of the recording, or lost packets)");
   return s;
 }

@@ -6,7 +6,7 @@ namespace socc::sensors {
 namespace {
 constexpr std::size_t kMaxPending = 64;
 constexpr std::int64_t kTimeoutNs = 1'000'000'000;
-constexpr std::uint32_t kMaxDatagram = 65535;
+constexpr std::uint32_t kMaxIpDatagram = 65535;
 }  // namespace
 
 void IpReassembly::expire(std::int64_t now_ns) {
@@ -24,7 +24,7 @@ std::optional<std::vector<std::uint8_t>> IpReassembly::add(const Fragment& f) {
   expire(f.time_ns);
   const std::uint32_t end = f.offset + static_cast<std::uint32_t>(f.size);
   const Key key{f.source, f.destination, f.id, f.protocol};
-  if (end > kMaxDatagram || (f.more && f.size % 8 != 0)) {
+  if (end > kMaxIpDatagram || (f.more && f.size % 8 != 0)) {
     if (pending_.erase(key) > 0) ++abandoned_;
     ++abandoned_;
     return std::nullopt;

@@ -5,39 +5,37 @@
 namespace socc::sensors {
 
 void SweepBuilder::reserve(std::size_t points) {
-  scan_.points.reserve(points);
-  scan_.intensity.reserve(points);
-  scan_.ring.reserve(points);
-  scan_.return_index.reserve(points);
-  times_ns_.reserve(points);
+  if (points <= times_ns_.size()) return;
+  points_.resize(points);
+  intensity_.resize(points);
+  times_ns_.resize(points);
+  ring_.resize(points);
+  return_index_.resize(points);
 }
 
 void SweepBuilder::finish(bool complete, std::int64_t clock_offset_ns, std::vector<SensorScan>& out,
                           DecodeStats& stats) {
   const bool whole = complete && complete_;
-  if (!scan_.points.empty() && (whole || keep_partial_)) {
-    const std::int64_t stamp = *std::min_element(times_ns_.begin(), times_ns_.end());
-    scan_.stamp_ns = stamp + clock_offset_ns;
-    scan_.time.resize(times_ns_.size());
-    for (std::size_t i = 0; i < times_ns_.size(); ++i)
-      scan_.time[i] = static_cast<float>(static_cast<double>(times_ns_[i] - stamp) * 1e-9);
-    scan_.complete = whole;
-    scan_.seq = next_seq_++;
-    const std::size_t capacity = scan_.points.size();
-    out.push_back(std::move(scan_));
-    ++stats.scans;
-    if (!whole) ++stats.partial_scans;
-    scan_ = SensorScan{};
-    times_ns_.clear();
-    reserve(capacity);
-  } else {
-    scan_.points.clear();
-    scan_.intensity.clear();
-    scan_.ring.clear();
-    scan_.return_index.clear();
-    times_ns_.clear();
-  }
   complete_ = true;
+  const std::size_t n = n_;
+  n_ = 0;
+  if (n == 0 || !(whole || keep_partial_)) return;
+  const auto end = static_cast<std::ptrdiff_t>(n);
+  const std::int64_t stamp = *std::min_element(times_ns_.begin(), times_ns_.begin() + end);
+  SensorScan scan;
+  scan.points.assign(points_.begin(), points_.begin() + end);
+  scan.intensity.assign(intensity_.begin(), intensity_.begin() + end);
+  scan.ring.assign(ring_.begin(), ring_.begin() + end);
+  scan.return_index.assign(return_index_.begin(), return_index_.begin() + end);
+  scan.time.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    scan.time[i] = static_cast<float>(static_cast<double>(times_ns_[i] - stamp) * 1e-9);
+  scan.stamp_ns = stamp + clock_offset_ns;
+  scan.complete = whole;
+  scan.seq = next_seq_++;
+  out.push_back(std::move(scan));
+  ++stats.scans;
+  if (!whole) ++stats.partial_scans;
 }
 
 }  // namespace socc::sensors

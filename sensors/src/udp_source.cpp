@@ -18,9 +18,9 @@
 namespace socc::sensors {
 namespace {
 
-constexpr std::size_t kMaxDatagram = 65536;
+constexpr std::size_t kMaxUdpPayload = 65536;
 
-[[noreturn]] void fail(const std::string& what) {
+[[noreturn]] void failWith(const std::string& what) {
   throw std::runtime_error(what + ": " + std::strerror(errno));
 }
 
@@ -33,7 +33,7 @@ in_addr parseAddress(const std::string& text, const char* what) {
 
 in_addr interfaceAddress(const std::string& name) {
   ifaddrs* list = nullptr;
-  if (getifaddrs(&list) != 0) fail("getifaddrs");
+  if (getifaddrs(&list) != 0) failWith("getifaddrs");
   in_addr found{};
   bool ok = false;
   for (ifaddrs* i = list; i != nullptr; i = i->ifa_next)
@@ -50,9 +50,9 @@ in_addr interfaceAddress(const std::string& name) {
 
 class UdpSource final : public PacketSource {
  public:
-  explicit UdpSource(const UdpOptions& o) : options_(o), buffer_(kMaxDatagram) {
+  explicit UdpSource(const UdpOptions& o) : options_(o), buffer_(kMaxUdpPayload) {
     fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-    if (fd_ < 0) fail("socket");
+    if (fd_ < 0) failWith("socket");
     try {
       setUp();
     } catch (...) {
@@ -73,7 +73,7 @@ class UdpSource final : public PacketSource {
       if (left.count() < 0) return std::nullopt;
       const int r = ::poll(&p, 1, static_cast<int>(left.count()));
       if (r < 0 && errno == EINTR) continue;
-      if (r < 0) fail("poll");
+      if (r < 0) failWith("poll");
       if (r == 0) return std::nullopt;
       if (std::optional<Packet> packet = receive()) return packet;
     }
@@ -106,15 +106,15 @@ class UdpSource final : public PacketSource {
       join.imr_interface = options_.interface.empty() ? in_addr{htonl(INADDR_ANY)}
                                                       : interfaceAddress(options_.interface);
       if (::setsockopt(fd_, IPPROTO_IP, IP_ADD_MEMBERSHIP, &join, sizeof join) != 0)
-        fail("joining multicast group " + options_.multicast_group);
+        failWith("joining multicast group " + options_.multicast_group);
     } else if (!options_.interface.empty()) {
       if (::setsockopt(fd_, SOL_SOCKET, SO_BINDTODEVICE, options_.interface.c_str(),
                        static_cast<socklen_t>(options_.interface.size())) != 0)
-        fail("binding to interface " + options_.interface +
-             " (needs CAP_NET_RAW; or give --address)");
+        failWith("binding to interface " + options_.interface +
+                 " (needs CAP_NET_RAW; or give --address)");
     }
     if (::bind(fd_, reinterpret_cast<const sockaddr*>(&local), sizeof local) != 0)
-      fail("binding UDP " + options_.address + ":" + std::to_string(options_.port));
+      failWith("binding UDP " + options_.address + ":" + std::to_string(options_.port));
   }
 
   std::optional<Packet> receive() {
@@ -131,7 +131,7 @@ class UdpSource final : public PacketSource {
     const ssize_t n = ::recvmsg(fd_, &msg, MSG_DONTWAIT);
     if (n < 0) {
       if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return std::nullopt;
-      fail("recvmsg");
+      failWith("recvmsg");
     }
     Packet p;
     p.stamp_ns = -1;

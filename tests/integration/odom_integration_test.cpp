@@ -113,6 +113,56 @@ TEST_F(OdomEndToEnd, SixteenKittiFramesWriteEveryOutput) {
   EXPECT_EQ(stats.reply->stats.robots[0].last_seq, 15);
 }
 
+// A real recording mapped in one command: odom_client reads the VLP-16 capture (VeloView's test
+// data, about 50 turns at 20 Hz) through socc_sensors, with the sensor's per-point times, and
+// every complete sweep is registered and integrated healthy.
+TEST_F(OdomEndToEnd, Vlp16CaptureMapsWithNoLostOrUnhealthyFrame) {
+  const fs::path dir =
+      fs::path(SOCC_SHARED_DATA_DIR) / "raw_sensors" / "01_velodyne_vlp16_veloview";
+  ASSERT_TRUE(fs::exists(dir)) << dir;
+  const fs::path out = work_ / "vlp16";
+  const fs::path config = work_ / "vlp16.yaml";
+  std::ofstream(config) << "frame_period: 0.05\n";  // the capture's 20 Hz
+  socc::testing::ChildProcess c(
+      {SOCC_ODOM_CLIENT_BIN, "--pcap", (dir / "vlp-16-test-90deg-1-50-frames.pcap").string(),
+       "--sensor", "vlp16", "--calibration", (dir / "VLP-16.xml").string(), "--config",
+       config.string(), "--lcm-url", url_, "--robot-id", "vlp16", "--out-dir", out.string(),
+       "--quiet"},
+      out.string() + ".log");
+  const int rc = c.wait(std::chrono::seconds(120));
+  ASSERT_EQ(rc, 0) << readFile(out.string() + ".log");
+  std::ifstream csv(out / "frames.csv");
+  std::string header;
+  std::getline(csv, header);
+  std::vector<std::string> columns;
+  std::stringstream hs(header);
+  for (std::string col; std::getline(hs, col, ',');) columns.push_back(col);
+  const auto column = [&columns](const std::string& name) {
+    return static_cast<std::size_t>(std::find(columns.begin(), columns.end(), name) -
+                                    columns.begin());
+  };
+  const std::size_t points_col = column("points"), status_col = column("status");
+  ASSERT_LT(points_col, columns.size()) << header;
+  ASSERT_LT(status_col, columns.size()) << header;
+  int frames = 0;
+  for (std::string line; std::getline(csv, line);) {
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    for (std::string cell; std::getline(ls, cell, ',');) cells.push_back(cell);
+    ASSERT_GT(cells.size(), std::max(points_col, status_col)) << line;
+    EXPECT_GT(std::stol(cells[points_col]), 1000) << line;  // of ~13900 echoes, after preprocessing
+    EXPECT_TRUE(cells[status_col] == "ok" || cells[status_col] == "degenerate" ||
+                cells[status_col] == "retried")
+        << "frame " << frames << ": " << line;
+    ++frames;
+  }
+  EXPECT_EQ(frames, 50);  // the 50 complete turns; the partial first and last are not used
+  const auto stats = client_->getStats();
+  ASSERT_TRUE(stats.ok());
+  ASSERT_EQ(stats.reply->stats.num_robots, 1);
+  EXPECT_EQ(stats.reply->stats.robots[0].last_seq, 49);
+}
+
 // At the end of a run no frame registers against another chunk: the last Integrate, though one
 // that brings a chunk (16 frames, a chunk with every fourth), is the run's last request.
 TEST_F(OdomEndToEnd, TheRunEndsWithItsLastIntegrateNotWithAChunk) {

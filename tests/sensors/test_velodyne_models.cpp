@@ -15,14 +15,12 @@
 namespace socc::sensors {
 namespace {
 
-using namespace test;  // NOLINT: the model cases
-
 struct Decoded {
   std::vector<SensorScan> scans;
   DecodeStats stats;
 };
 
-Decoded decode(const ModelCase& m, const std::vector<Packet>& packets, SensorConfig config) {
+Decoded decode(const test::ModelCase& m, const std::vector<Packet>& packets, SensorConfig config) {
   config.model = m.model;
   config.keep_partial = true;
   if (m.needs_calibration) {
@@ -40,7 +38,7 @@ Decoded decode(const ModelCase& m, const std::vector<Packet>& packets, SensorCon
 
 // Every point where the manual puts it: its laser's elevation, its distance, its azimuth at its
 // firing time, and its time relative to the sweep's first point.
-void checkPoints(const ModelCase& m, const std::vector<Packet>& packets, const Decoded& d) {
+void checkPoints(const test::ModelCase& m, const std::vector<Packet>& packets, const Decoded& d) {
   std::size_t checked = 0;
   for (const SensorScan& s : d.scans) {
     double t0 = 0.0;
@@ -64,10 +62,11 @@ void checkPoints(const ModelCase& m, const std::vector<Packet>& packets, const D
       ASSERT_NEAR(s.time[i] * 1e6, fired - t0, 0.02)
           << m.model << " block " << b << " channel " << c;
       const double block_az =
-          std::lround(std::fmod(kHundredthsPerUs * (stamp + m.block_start(b)), 36000.0)) / 100.0;
+          std::lround(std::fmod(test::kHundredthsPerUs * (stamp + m.block_start(b)), 36000.0)) /
+          100.0;
       const double rot = m.rot_deg.empty() ? 0.0 : m.rot_deg[static_cast<std::size_t>(laser)];
       const double expected_az =
-          block_az + kHundredthsPerUs / 100.0 * (m.offset(b, c) - m.block_start(b)) - rot;
+          block_az + test::kHundredthsPerUs / 100.0 * (m.offset(b, c) - m.block_start(b)) - rot;
       const double az = std::atan2(-p.y(), p.x()) * 180.0 / M_PI;
       // The decoder measures the rotation from the block azimuths (whole hundredths).
       ASSERT_NEAR(std::remainder(az - expected_az, 360.0), 0.0, 0.02)
@@ -78,11 +77,11 @@ void checkPoints(const ModelCase& m, const std::vector<Packet>& packets, const D
   EXPECT_GT(checked, 0u);
 }
 
-class VelodyneModels : public ::testing::TestWithParam<ModelCase> {};
+class VelodyneModels : public ::testing::TestWithParam<test::ModelCase> {};
 
 TEST_P(VelodyneModels, PointsWhereTheManualPutsThem) {
-  const ModelCase& m = GetParam();
-  const std::vector<Packet> packets = makePackets(m, 200, 1'000'000'000u);
+  const test::ModelCase& m = GetParam();
+  const std::vector<Packet> packets = test::makePackets(m, 200, 1'000'000'000u);
   const Decoded d = decode(m, packets, SensorConfig{});
   EXPECT_EQ(d.stats.packets, packets.size());
   EXPECT_EQ(d.stats.gaps, 0u);
@@ -95,10 +94,12 @@ TEST_P(VelodyneModels, PointsWhereTheManualPutsThem) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Manuals, VelodyneModels,
-                         ::testing::Values(hdl32e(), vlp32c(), vlp16(false), vlp16(true), hdl64e(),
-                                           vls128(false), vls128(true)),
-                         [](const auto& info) {
-                           return info.param.model + (info.param.mode == 0x39 ? "_dual" : "");
+                         ::testing::Values(test::hdl32e(), test::vlp32c(), test::vlp16(false),
+                                           test::vlp16(true), test::hdl64e(), test::vls128(false),
+                                           test::vls128(true)),
+                         [](const ::testing::TestParamInfo<test::ModelCase>& param_info) {
+                           const test::ModelCase& m = param_info.param;
+                           return m.model + (m.mode == 0x39 ? "_dual" : "");
                          });
 
 }  // namespace

@@ -98,9 +98,10 @@ TEST(VelodyneVlp16, PointTimesFollowTheFiringTable) {
     for (std::size_t i = 1; i < s.size(); ++i) {
       ASSERT_GE(s.time[i], s.time[i - 1]) << "scan " << s.seq << " point " << i;
       const double dt_us = (s.time[i] - s.time[i - 1]) * 1e6;
-      if (s.ring[i] > s.ring[i - 1] && dt_us < 40.0)  // two lasers of one firing sequence
+      if (s.ring[i] > s.ring[i - 1] && dt_us < 40.0) {  // two lasers of one firing sequence
         ASSERT_NEAR(dt_us, 2.304 * (s.ring[i] - s.ring[i - 1]), 0.01)
             << "scan " << s.seq << " point " << i;
+      }
     }
   }
   // A whole turn at about 20 Hz, and consecutive sweeps follow each other without overlap.

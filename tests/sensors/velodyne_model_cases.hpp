@@ -46,7 +46,10 @@ inline std::vector<double> spread(int n, double lo, double hi) {
 
 // The manuals' facts, written out independently of sensors/src/velodyne/velodyne_model.cpp.
 inline ModelCase hdl32e() {
-  ModelCase m{"hdl32e", 0.002, 12 * 46.08};
+  ModelCase m;
+  m.model = "hdl32e";
+  m.resolution = 0.002;
+  m.period_us = 12 * 46.08;
   m.product = 0x21;
   m.flag = [](int) { return kUpper; };
   m.block_start = [](int b) { return 46.08 * b; };
@@ -60,7 +63,10 @@ inline ModelCase hdl32e() {
 }
 
 inline ModelCase vlp32c() {
-  ModelCase m{"vlp32c", 0.004, 12 * 55.296};
+  ModelCase m;
+  m.model = "vlp32c";
+  m.resolution = 0.004;
+  m.period_us = 12 * 55.296;
   m.product = 0x28;
   m.flag = [](int) { return kUpper; };
   m.block_start = [](int b) { return 55.296 * b; };
@@ -78,7 +84,10 @@ inline ModelCase vlp32c() {
 }
 
 inline ModelCase vlp16(bool dual) {
-  ModelCase m{"vlp16", 0.002, (dual ? 12 : 24) * 55.296};
+  ModelCase m;
+  m.model = "vlp16";
+  m.resolution = 0.002;
+  m.period_us = (dual ? 12 : 24) * 55.296;
   m.product = 0x22;
   m.mode = dual ? 0x39 : 0x37;
   m.flag = [](int) { return kUpper; };
@@ -95,7 +104,10 @@ inline ModelCase vlp16(bool dual) {
 // HDL-64E S2 Ethernet transmit timing table: pair k (upper block 2k, lower 2k+1), laser c of the
 // block fires (419.30 - 23.296 k - 0.728 c) us before the packet's stamp.
 inline ModelCase hdl64e() {
-  ModelCase m{"hdl64e", 0.002, 6 * 23.296};
+  ModelCase m;
+  m.model = "hdl64e";
+  m.resolution = 0.002;
+  m.period_us = 6 * 23.296;
   m.flag = [](int b) { return b % 2 == 0 ? kUpper : kLower; };
   m.block_start = [](int b) { return -(419.30 - 23.296 * (b / 2)); };
   m.offset = [](int b, int c) { return -(419.30 - 23.296 * (b / 2) - 0.728 * c); };
@@ -109,7 +121,10 @@ inline ModelCase hdl64e() {
 // packet; group = laser / 8 + laser / 64, 2.665 us a group, 53.3 us a sequence, the stamp
 // 8.7 us after the sequence start.
 inline ModelCase vls128(bool dual) {
-  ModelCase m{"vls128", 0.004, dual ? 53.3 : 3 * 53.3};
+  ModelCase m;
+  m.model = "vls128";
+  m.resolution = 0.004;
+  m.period_us = dual ? 53.3 : 3 * 53.3;
   m.product = 0x63;
   m.mode = dual ? 0x39 : 0x37;
   const auto bank = [dual](int b) { return dual ? b / 2 : b % 4; };

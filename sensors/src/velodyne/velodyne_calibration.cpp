@@ -17,7 +17,7 @@ namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 constexpr double kCmToM = 0.01;
 
-[[noreturn]] void fail(const std::filesystem::path& file, const std::string& why) {
+[[noreturn]] void failCalibration(const std::filesystem::path& file, const std::string& why) {
   throw std::runtime_error(file.string() + ": " + why);
 }
 
@@ -27,7 +27,7 @@ double xmlNumber(const tinyxml2::XMLElement* parent, const char* name,
   if (e == nullptr) return 0.0;  // VeloView omits nothing, older files may
   double v = 0.0;
   if (e->QueryDoubleText(&v) != tinyxml2::XML_SUCCESS || !std::isfinite(v))
-    fail(file, "laser " + std::to_string(id) + ": <" + name + "> is not a number");
+    failCalibration(file, "laser " + std::to_string(id) + ": <" + name + "> is not a number");
   return v;
 }
 
@@ -47,16 +47,17 @@ std::vector<bool> xmlEnabled(const tinyxml2::XMLElement* db) {
 Calibration loadXml(const std::filesystem::path& file) {
   tinyxml2::XMLDocument doc;
   if (doc.LoadFile(file.c_str()) != tinyxml2::XML_SUCCESS)
-    fail(file, std::string("not a readable XML file (") + doc.ErrorStr() + ")");
+    failCalibration(file, std::string("not a readable XML file (") + doc.ErrorStr() + ")");
   const tinyxml2::XMLElement* root = doc.FirstChildElement("boost_serialization");
   const tinyxml2::XMLElement* db = root ? root->FirstChildElement("DB") : nullptr;
   const tinyxml2::XMLElement* points = db ? db->FirstChildElement("points_") : nullptr;
-  if (points == nullptr) fail(file, "not a VeloView calibration (no DB/points_ element)");
+  if (points == nullptr)
+    failCalibration(file, "not a VeloView calibration (no DB/points_ element)");
   Calibration cal;
   if (const tinyxml2::XMLElement* lsb = db->FirstChildElement("distLSB_")) {
     double cm = 0.0;
     if (lsb->QueryDoubleText(&cm) != tinyxml2::XML_SUCCESS || !(cm > 0.0) || cm > 10.0)
-      fail(file, "distLSB_ is not a distance resolution in cm");
+      failCalibration(file, "distLSB_ is not a distance resolution in cm");
     cal.distance_resolution_m = cm * kCmToM;
   }
   const std::vector<bool> enabled = xmlEnabled(db);
@@ -64,11 +65,11 @@ Calibration loadXml(const std::filesystem::path& file) {
   for (const tinyxml2::XMLElement* item = points->FirstChildElement("item"); item != nullptr;
        item = item->NextSiblingElement("item")) {
     const tinyxml2::XMLElement* px = item->FirstChildElement("px");
-    if (px == nullptr) fail(file, "points_ item without px");
+    if (px == nullptr) failCalibration(file, "points_ item without px");
     int id = -1;
     const tinyxml2::XMLElement* id_e = px->FirstChildElement("id_");
     if (id_e == nullptr || id_e->QueryIntText(&id) != tinyxml2::XML_SUCCESS || id < 0 || id > 255)
-      fail(file, "laser without a valid id_");
+      failCalibration(file, "laser without a valid id_");
     LaserCalibration l;
     l.rot_rad = xmlNumber(px, "rotCorrection_", file, id) * kDegToRad;
     l.vert_rad = xmlNumber(px, "vertCorrection_", file, id) * kDegToRad;
@@ -81,11 +82,12 @@ Calibration loadXml(const std::filesystem::path& file) {
     l.focal_slope = xmlNumber(px, "focalSlope_", file, id);
     l.enabled =
         static_cast<std::size_t>(id) >= enabled.size() || enabled[static_cast<std::size_t>(id)];
-    if (!by_id.emplace(id, l).second) fail(file, "laser id " + std::to_string(id) + " twice");
+    if (!by_id.emplace(id, l).second)
+      failCalibration(file, "laser id " + std::to_string(id) + " twice");
   }
   for (auto& [id, l] : by_id) cal.lasers.push_back(l);
   if (!by_id.empty() && by_id.rbegin()->first + 1 != static_cast<int>(by_id.size()))
-    fail(file, "laser ids are not 0.." + std::to_string(by_id.size() - 1));
+    failCalibration(file, "laser ids are not 0.." + std::to_string(by_id.size() - 1));
   return cal;
 }
 
@@ -97,9 +99,10 @@ double yamlNumber(const YAML::Node& laser, const char* key, const std::filesyste
   try {
     d = v.as<double>();
   } catch (const YAML::Exception&) {
-    fail(file, "laser " + std::to_string(id) + ": " + key + " is not a number");
+    failCalibration(file, "laser " + std::to_string(id) + ": " + key + " is not a number");
   }
-  if (!std::isfinite(d)) fail(file, "laser " + std::to_string(id) + ": " + key + " is not finite");
+  if (!std::isfinite(d))
+    failCalibration(file, "laser " + std::to_string(id) + ": " + key + " is not finite");
   return d;
 }
 
@@ -108,26 +111,26 @@ Calibration loadYaml(const std::filesystem::path& file) {
   try {
     root = YAML::LoadFile(file.string());
   } catch (const YAML::Exception& e) {
-    fail(file, std::string("not a readable YAML file (") + e.what() + ")");
+    failCalibration(file, std::string("not a readable YAML file (") + e.what() + ")");
   }
   if (!root.IsMap() || !root["lasers"] || !root["lasers"].IsSequence())
-    fail(file, "not a ROS velodyne calibration (no 'lasers' list)");
+    failCalibration(file, "not a ROS velodyne calibration (no 'lasers' list)");
   Calibration cal;
   if (root["distance_resolution"]) {
     try {
       cal.distance_resolution_m = root["distance_resolution"].as<double>();
     } catch (const YAML::Exception&) {
-      fail(file, "distance_resolution is not a number");
+      failCalibration(file, "distance_resolution is not a number");
     }
     if (!(cal.distance_resolution_m > 0.0) || cal.distance_resolution_m > 0.1)
-      fail(file, "distance_resolution is not a resolution in metres");
+      failCalibration(file, "distance_resolution is not a resolution in metres");
   }
   std::map<int, LaserCalibration> by_id;
   for (const YAML::Node& laser : root["lasers"]) {
-    if (!laser.IsMap() || !laser["laser_id"]) fail(file, "a laser without laser_id");
+    if (!laser.IsMap() || !laser["laser_id"]) failCalibration(file, "a laser without laser_id");
     const double id_d = yamlNumber(laser, "laser_id", file, -1);
     const int id = static_cast<int>(id_d);
-    if (id_d != id || id < 0 || id > 255) fail(file, "laser_id is not an id 0..255");
+    if (id_d != id || id < 0 || id > 255) failCalibration(file, "laser_id is not an id 0..255");
     LaserCalibration l;
     l.rot_rad = yamlNumber(laser, "rot_correction", file, id);
     l.vert_rad = yamlNumber(laser, "vert_correction", file, id);
@@ -138,22 +141,23 @@ Calibration loadYaml(const std::filesystem::path& file) {
     l.horiz_offset_m = yamlNumber(laser, "horiz_offset_correction", file, id);
     l.focal_distance_m = yamlNumber(laser, "focal_distance", file, id);
     l.focal_slope = yamlNumber(laser, "focal_slope", file, id);
-    if (!by_id.emplace(id, l).second) fail(file, "laser id " + std::to_string(id) + " twice");
+    if (!by_id.emplace(id, l).second)
+      failCalibration(file, "laser id " + std::to_string(id) + " twice");
   }
   for (auto& [id, l] : by_id) cal.lasers.push_back(l);
   if (!by_id.empty() && by_id.rbegin()->first + 1 != static_cast<int>(by_id.size()))
-    fail(file, "laser ids are not 0.." + std::to_string(by_id.size() - 1));
+    failCalibration(file, "laser ids are not 0.." + std::to_string(by_id.size() - 1));
   if (root["num_lasers"]) {
     const double n = yamlNumber(root, "num_lasers", file, -1);
     if (n != static_cast<double>(cal.lasers.size()))
-      fail(file, "num_lasers says " + std::to_string(static_cast<int>(n)) + " but " +
-                     std::to_string(cal.lasers.size()) + " lasers are listed");
+      failCalibration(file, "num_lasers says " + std::to_string(static_cast<int>(n)) + " but " +
+                                std::to_string(cal.lasers.size()) + " lasers are listed");
   }
   return cal;
 }
 
 void checkRanges(const std::filesystem::path& file, const Calibration& cal) {
-  if (cal.lasers.empty()) fail(file, "no lasers");
+  if (cal.lasers.empty()) failCalibration(file, "no lasers");
   for (std::size_t i = 0; i < cal.lasers.size(); ++i) {
     const LaserCalibration& l = cal.lasers[i];
     const bool sane = std::abs(l.vert_rad) <= 45.0 * kDegToRad &&
@@ -161,8 +165,9 @@ void checkRanges(const std::filesystem::path& file, const Calibration& cal) {
                       std::abs(l.dist_x_m) <= 5.0 && std::abs(l.dist_y_m) <= 5.0 &&
                       std::abs(l.vert_offset_m) <= 1.0 && std::abs(l.horiz_offset_m) <= 1.0;
     if (!sane)
-      fail(file, "laser " + std::to_string(i) +
-                     ": angles or offsets out of range (degrees given as radians, or cm as m?)");
+      failCalibration(
+          file, "laser " + std::to_string(i) +
+                    ": angles or offsets out of range (degrees given as radians, or cm as m?)");
   }
 }
 
@@ -176,7 +181,7 @@ std::string lowerExtension(const std::filesystem::path& file) {
 }  // namespace
 
 Calibration loadCalibration(const std::filesystem::path& file) {
-  if (!std::filesystem::is_regular_file(file)) fail(file, "no such calibration file");
+  if (!std::filesystem::is_regular_file(file)) failCalibration(file, "no such calibration file");
   const std::string ext = lowerExtension(file);
   Calibration cal;
   if (ext == ".xml")
@@ -184,7 +189,8 @@ Calibration loadCalibration(const std::filesystem::path& file) {
   else if (ext == ".yaml" || ext == ".yml")
     cal = loadYaml(file);
   else
-    fail(file, "unknown calibration format (VeloView .xml or ROS velodyne .yaml expected)");
+    failCalibration(file,
+                    "unknown calibration format (VeloView .xml or ROS velodyne .yaml expected)");
   checkRanges(file, cal);
   return cal;
 }

@@ -26,8 +26,11 @@ constexpr int kCrossingDrop = 9000;  // hundredths of a degree: a larger step ba
 // One laser's calibration in the form the inner loop uses.
 struct LaserTerms {
   float cos_vert = 1, sin_vert = 0, cos_rot = 1, sin_rot = 0;
-  float dist = 0, dist_x = 0, dist_y = 0, vert_offset = 0, horiz_offset = 0;
-  bool two_point = false;  // HDL-64E distance corrections along x and y
+  float dist = 0, vert_offset = 0, horiz_offset = 0;
+  // HDL-64E: the distance correction along x (y) is slope_x * |x| + base_x, linear between the
+  // manual's calibration distances 2.4 m (1.93 m) and 25.04 m.
+  bool two_point = false;
+  float slope_x = 0, base_x = 0, slope_y = 0, base_y = 0;
 };
 
 struct Trig {
@@ -141,6 +144,14 @@ class VelodyneDecoder final : public ScanDecoder {
     resolution_ = calibration_.distance_resolution_m > 0.0 ? calibration_.distance_resolution_m
                                                            : model_->distance_resolution_m;
     layout_ = packetLayout(*model_, dual_);
+    for (int b = 0; b < kBlocks; ++b)
+      for (int c = 0; c < kChannels; ++c) {
+        const float offset = layout_.slots[b][c].offset_us;
+        since_block_start_us_[b][c] = offset - layout_.block_start_us[b];
+        offset_ns_[b][c] = std::llround(static_cast<double>(offset) * 1000.0);
+      }
+    min_range_ = static_cast<float>(config_.min_range);
+    max_range_ = config_.max_range > 0.0 ? static_cast<float>(config_.max_range) : 1e9f;
     buildLaserTerms();
     firing_step_us_ = layout_.packet_period_us;
     for (int b = 1; b < kBlocks; ++b)
@@ -149,7 +160,6 @@ class VelodyneDecoder final : public ScanDecoder {
         break;
       }
     clock_.emplace(kHourUs);
-    sweep_.reserve(static_cast<std::size_t>(model_->lasers) * 2000);
     std::vector<Packet> pending;
     pending.swap(pending_);
     for (const Packet& p : pending) decode(p, out);
@@ -165,8 +175,10 @@ class VelodyneDecoder final : public ScanDecoder {
       t.cos_rot = static_cast<float>(std::cos(c.rot_rad));
       t.sin_rot = static_cast<float>(std::sin(c.rot_rad));
       t.dist = static_cast<float>(c.dist_m);
-      t.dist_x = static_cast<float>(c.dist_x_m);
-      t.dist_y = static_cast<float>(c.dist_y_m);
+      t.slope_x = static_cast<float>((c.dist_m - c.dist_x_m) / (25.04 - 2.4));
+      t.base_x = static_cast<float>(c.dist_x_m - c.dist_m) - 2.4f * t.slope_x;
+      t.slope_y = static_cast<float>((c.dist_m - c.dist_y_m) / (25.04 - 1.93));
+      t.base_y = static_cast<float>(c.dist_y_m - c.dist_m) - 1.93f * t.slope_y;
       t.vert_offset = static_cast<float>(c.vert_offset_m);
       t.horiz_offset = static_cast<float>(c.horiz_offset_m);
       t.two_point = c.dist_x_m != 0.0 || c.dist_y_m != 0.0;
@@ -267,6 +279,11 @@ class VelodyneDecoder final : public ScanDecoder {
         rotationRate(packet, place.sensor_ns, place.order == PacketClock::Order::kNext);
     packet_deg_ = rate * layout_.packet_period_us / 100.0;
     if (place.order == PacketClock::Order::kNext) countLost(packet, rate);
+    if (!reserved_ && packet_deg_ > 0.1) {  // room for a whole turn from the start
+      const double points = 360.0 / packet_deg_ * kBlocks * kChannels * 1.1;
+      sweep_.reserve(static_cast<std::size_t>(std::min(points, 4e6)));
+      reserved_ = true;
+    }
     if (!sweep_.empty() && static_cast<double>(place.sensor_ns - sweep_first_ns_) > kMaxSweepNs) {
       finishSweep(false, out);
       started_at_cut_ = false;
@@ -321,23 +338,24 @@ class VelodyneDecoder final : public ScanDecoder {
   void decodePair(const Packet& p, int last, int strongest, std::int64_t stamp_ns,
                   double rad_per_us) {
     if (last < 0) return;
+    const BlockFrame fl = blockFrame(p, last, stamp_ns, rad_per_us);
+    const BlockFrame fs = blockFrame(p, strongest, stamp_ns, rad_per_us);
     for (int c = 0; c < kChannels; ++c) {
       const Return l = readReturn(p, last, c);
       const Return s = readReturn(p, strongest, c);
       switch (config_.returns) {
         case ReturnMode::kLast:
-          emit(p, last, c, l, stamp_ns, rad_per_us, 0);
+          emit(fl, c, l, 0);
           break;
         case ReturnMode::kStrongest:
           if (l.reflectivity >= s.reflectivity)
-            emit(p, last, c, l, stamp_ns, rad_per_us, 0);
+            emit(fl, c, l, 0);
           else
-            emit(p, strongest, c, s, stamp_ns, rad_per_us, 0);
+            emit(fs, c, s, 0);
           break;
         default:
-          emit(p, strongest, c, s, stamp_ns, rad_per_us, 0);
-          if (l.raw != s.raw || l.reflectivity != s.reflectivity)
-            emit(p, last, c, l, stamp_ns, rad_per_us, 1);
+          emit(fs, c, s, 0);
+          if (l.raw != s.raw || l.reflectivity != s.reflectivity) emit(fl, c, l, 1);
           break;
       }
     }
@@ -345,54 +363,56 @@ class VelodyneDecoder final : public ScanDecoder {
 
   void decodeBlock(const Packet& p, int b, std::int64_t stamp_ns, double rad_per_us,
                    std::uint8_t ret) {
-    for (int c = 0; c < kChannels; ++c)
-      emit(p, b, c, readReturn(p, b, c), stamp_ns, rad_per_us, ret);
+    const BlockFrame f = blockFrame(p, b, stamp_ns, rad_per_us);
+    for (int c = 0; c < kChannels; ++c) emit(f, c, readReturn(p, b, c), ret);
   }
 
-  void emit(const Packet& p, int b, int c, Return r, std::int64_t stamp_ns, double rad_per_us,
-            std::uint8_t return_index) {
+  // What every point of one block shares: its azimuth's cos / sin, the packet's sensor time.
+  struct BlockFrame {
+    int block = 0;
+    double cos_az = 1.0, sin_az = 0.0;
+    std::int64_t stamp_ns = 0;
+    double rad_per_us = 0.0;
+  };
+  BlockFrame blockFrame(const Packet& p, int b, std::int64_t stamp_ns, double rad_per_us) const {
+    const auto az = static_cast<std::size_t>(blockAzimuth(p.data, b));
+    return {b, trig_.cos_az[az], trig_.sin_az[az], stamp_ns, rad_per_us};
+  }
+
+  void emit(const BlockFrame& f, int c, Return r, std::uint8_t return_index) {
     if (r.raw == 0) return;  // no echo
-    const PointSlot& slot = layout_.slots[b][c];
+    const PointSlot& slot = layout_.slots[f.block][c];
     const LaserTerms& l = lasers_[slot.laser];
     const float distance = static_cast<float>(r.raw * resolution_) + l.dist;
-    if (distance < config_.min_range || (config_.max_range > 0.0 && distance > config_.max_range) ||
-        distance <= 0.0f)
-      return;
+    if (distance < min_range_ || distance > max_range_ || distance <= 0.0f) return;
     // Azimuth at the firing: the block's azimuth advanced by the rotation since the sequence
     // start, then the laser's azimuth offset (cos/sin by angle sums, no trig in the loop).
-    const auto az = static_cast<std::size_t>(blockAzimuth(p.data, b));
-    const double d = rad_per_us * (slot.offset_us - layout_.block_start_us[b]);
+    const double d = f.rad_per_us * since_block_start_us_[f.block][c];
     const double d2 = d * d;
     const double cd = 1.0 - d2 * (0.5 - d2 / 24.0);
     const double sd = d * (1.0 - d2 / 6.0);
-    const double ca = trig_.cos_az[az] * cd - trig_.sin_az[az] * sd;
-    const double sa = trig_.sin_az[az] * cd + trig_.cos_az[az] * sd;
+    const double ca = f.cos_az * cd - f.sin_az * sd;
+    const double sa = f.sin_az * cd + f.cos_az * sd;
     const float cos_az = static_cast<float>(ca * l.cos_rot + sa * l.sin_rot);
     const float sin_az = static_cast<float>(sa * l.cos_rot - ca * l.sin_rot);
-    float xy = distance * l.cos_vert - l.vert_offset * l.sin_vert;
+    const float xy = distance * l.cos_vert - l.vert_offset * l.sin_vert;
     // Velodyne frame: y forward at azimuth 0, x to the right, azimuth clockwise from above.
     float xv = xy * sin_az - l.horiz_offset * cos_az;
     float yv = xy * cos_az + l.horiz_offset * sin_az;
-    if (l.two_point) twoPoint(l, distance, cos_az, sin_az, xv, yv);
+    if (l.two_point) twoPoint(l, cos_az, sin_az, xv, yv);
     const float z = distance * l.sin_vert + l.vert_offset * l.cos_vert;
-    const std::int64_t t =
-        stamp_ns + static_cast<std::int64_t>(std::lround(slot.offset_us * 1000.0f));
     // socc's sensor frame: x forward, y left, z up.
-    sweep_.add(yv, -xv, z, static_cast<float>(r.reflectivity), t, slot.laser, return_index);
+    sweep_.add(yv, -xv, z, static_cast<float>(r.reflectivity), f.stamp_ns + offset_ns_[f.block][c],
+               slot.laser, return_index);
   }
 
-  // HDL-64E calibration: the distance correction varies linearly along x and y between the
-  // calibration distances of the manual (2.4 m / 1.93 m and 25.04 m).
-  static void twoPoint(const LaserTerms& l, float distance, float cos_az, float sin_az, float& xv,
-                       float& yv) {
-    const float xx = std::abs(xv);
-    const float yy = std::abs(yv);
-    const float corr_x = (l.dist - l.dist_x) * (xx - 2.4f) / (25.04f - 2.4f) + l.dist_x - l.dist;
-    const float corr_y = (l.dist - l.dist_y) * (yy - 1.93f) / (25.04f - 1.93f) + l.dist_y - l.dist;
-    const float xy_x = (distance + corr_x) * l.cos_vert - l.vert_offset * l.sin_vert;
-    const float xy_y = (distance + corr_y) * l.cos_vert - l.vert_offset * l.sin_vert;
-    xv = xy_x * sin_az - l.horiz_offset * cos_az;
-    yv = xy_y * cos_az + l.horiz_offset * sin_az;
+  // HDL-64E calibration: the distance correction varies linearly along x and y (LaserTerms);
+  // the corrected distance moves the point along the beam's horizontal direction.
+  static void twoPoint(const LaserTerms& l, float cos_az, float sin_az, float& xv, float& yv) {
+    const float corr_x = l.slope_x * std::abs(xv) + l.base_x;
+    const float corr_y = l.slope_y * std::abs(yv) + l.base_y;
+    xv += corr_x * l.cos_vert * sin_az;
+    yv += corr_y * l.cos_vert * cos_az;
   }
 
   SensorConfig config_;
@@ -403,6 +423,13 @@ class VelodyneDecoder final : public ScanDecoder {
   Calibration calibration_;
   double resolution_ = 0.002;
   PacketLayout layout_;
+  // Per data point of a packet: its firing time after its block's sequence start [us] and after
+  // the packet's stamp [ns] (the manual's timing, precomputed).
+  std::array<std::array<float, kChannels>, kBlocks> since_block_start_us_{};
+  std::array<std::array<std::int64_t, kChannels>, kBlocks> offset_ns_{};
+  bool reserved_ = false;
+  float min_range_ = 0.0f;
+  float max_range_ = 0.0f;
   std::vector<LaserTerms> lasers_;
   std::vector<Packet> pending_;
   std::optional<std::pair<std::uint32_t, std::uint16_t>> source_;

@@ -1,6 +1,7 @@
 #pragma once
-// Where scans come from: a KITTI-layout directory, a directory of PCD/PLY files, or a live LCM
-// channel (socc::scan_t on SOCC/SCAN/<robot_id>, e.g. replayed by lcm-logplayer).
+// Where scans come from: a KITTI-layout directory, a directory of PCD/PLY files, a recording
+// (pcap capture or ROS bag, through socc_sensors) or a live LCM channel (socc::scan_t on
+// SOCC/SCAN/<robot_id>, e.g. replayed by lcm-logplayer or published by socc-lidar).
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include <string>
 
 #include "socc/point_cloud.hpp"
+#include "socc/sensors/recording.hpp"
 
 namespace socc::odom {
 
@@ -48,6 +50,13 @@ std::unique_ptr<ScanSource> openKittiDirectory(const std::filesystem::path& root
 /// k at k * frame_period.
 std::unique_ptr<ScanSource> openPointCloudDirectory(const std::filesystem::path& dir,
                                                     FrameRange range, double frame_period);
+
+/// A pcap capture or a bag (sensors::openRecording): one scan per sweep, with the sensor's
+/// per-point times; the frame index is the sweep's index. Problems of the recording (lost or
+/// foreign packets, damaged records) are reported on stderr at its end.
+std::unique_ptr<ScanSource> openRecordingScans(const std::filesystem::path& file,
+                                               const sensors::RecordingOptions& options,
+                                               FrameRange range);
 
 /// source, read one scan ahead in a worker thread: the next file is read while the current scan
 /// is registered. For directories; a live source buffers what arrives anyway.
