@@ -9,15 +9,16 @@
 # The sequences are those bench_sim_calibration.sh keeps (--keep-sequences) in DATA/seqNN_sS.
 # A peer is `NAME=CMD`, run as `CMD DIR POSES_OUT`; deskewing peers report each pose at the end
 # of its sweep and are scored one frame shifted (as bench_sim_calibration.sh does). Peer poses
-# already in OUT are reused.
+# already in OUT are reused; --reuse: socc's results in OUT too (to print the table again).
 #
 # Usage: scripts/bench_sim_realistic.sh --data DATA --peer NAME=CMD [--peer NAME=CMD ...]
 #        [--sequences 00,05,07,08] [--seeds 1] [--build BUILD] [--out OUT] [--config ODOM_YAML]
+#        [--reuse]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 usage() { sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 build="$root/build"; out="$root/out/sim_realistic"; data=""; sequences="00,05,07,08"; seeds="1"
-peers=(); odom_args=()
+peers=(); odom_args=(); reuse=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --data) data="$2"; shift 2 ;;
@@ -27,6 +28,7 @@ while [ $# -gt 0 ]; do
     --build) build="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
     --config) odom_args+=(--config "$2"); shift 2 ;;
+    --reuse) reuse=1; shift ;;
     -h|--help) usage 0 ;;
     *) echo "bench_sim_realistic: unknown argument $1" >&2; usage 2 ;;
   esac
@@ -43,10 +45,12 @@ for seq in "${seq_list[@]}"; do
     run="$seq s$seed"
     for variant in semantics no_semantics; do
       extra=(); [ "$variant" = no_semantics ] && extra=(--no-semantics)
-      echo "bench_sim_realistic: socc ($variant) on KITTI $seq, seed $seed" >&2
-      nice "$root/scripts/bench_odometry.sh" "$dir" --build "$build" --out "$out/socc_${variant}_${seq}_s${seed}" \
-        --no-targets "${extra[@]}" "${odom_args[@]}" >"$out/socc_${variant}_${seq}_s${seed}.md" \
-        2>"$out/socc_${variant}_${seq}_s${seed}.log" || true
+      if [ "$reuse" -eq 0 ] || [ ! -s "$out/socc_${variant}_${seq}_s${seed}/eval.json" ]; then
+        echo "bench_sim_realistic: socc ($variant) on KITTI $seq, seed $seed" >&2
+        nice "$root/scripts/bench_odometry.sh" "$dir" --build "$build" --out "$out/socc_${variant}_${seq}_s${seed}" \
+          --no-targets "${extra[@]}" "${odom_args[@]}" >"$out/socc_${variant}_${seq}_s${seed}.md" \
+          2>"$out/socc_${variant}_${seq}_s${seed}.log" || true
+      fi
       echo "$run|socc ($variant)|$out/socc_${variant}_${seq}_s${seed}/eval.json" >>"$results"
     done
     for p in "${peers[@]}"; do

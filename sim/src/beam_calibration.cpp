@@ -7,15 +7,15 @@
 namespace socc::sim {
 
 BeamCalibration drawBeamCalibration(const BeamErrors& e, std::size_t beams, std::uint64_t seed) {
-  constexpr double kDeg = M_PI / 180.0;
+  constexpr double kRadiansPerDegree = M_PI / 180.0;
   BeamCalibration c;
   for (std::size_t b = 0; b < beams; ++b) {
     const RayDraw angles = rayDraw(seed, 0xCA11B0, b);
     const RayDraw ranges = rayDraw(seed, 0xCA11B1, b);
     const RayDraw azimuth = rayDraw(seed, 0xCA11B2, b);
     c.elevation_error.push_back((e.elevation_bias_deg + e.elevation_sigma_deg * angles.gaussian()) *
-                                kDeg);
-    c.azimuth_error.push_back(e.azimuth_sigma_deg * azimuth.gaussian() * kDeg);
+                                kRadiansPerDegree);
+    c.azimuth_error.push_back(e.azimuth_sigma_deg * azimuth.gaussian() * kRadiansPerDegree);
     c.range_offset.push_back(e.range_offset_sigma * ranges.gaussian());
     // A second gaussian from the same uniforms (sin instead of cos) is independent of the first.
     const double g2 =

@@ -9,7 +9,7 @@ namespace socc::sim {
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+constexpr double kRadPerDeg = M_PI / 180.0;
 constexpr double kPivotBelowSensor = 1.2;  // [m] pitch/roll centre near the axles
 constexpr double kFullBumpSpeed = 10.0;    // [m/s] bumps grow with speed up to this
 
@@ -24,8 +24,8 @@ BodyMotion::BodyMotion(const MotionErrors& errors, std::uint64_t seed) : errors_
     w[2] = {0.6 * vibration, rng.uniform(8.0, 11.0), rng.uniform(0, 2 * M_PI)};
     w[3] = {0.4 * vibration, rng.uniform(11.0, 15.0), rng.uniform(0, 2 * M_PI)};
   };
-  fill(pitch_, errors.bump_pitch_deg * kDeg, errors.vibration_deg * kDeg);
-  fill(roll_, errors.bump_roll_deg * kDeg, errors.vibration_deg * kDeg);
+  fill(pitch_, errors.bump_pitch_deg * kRadPerDeg, errors.vibration_deg * kRadPerDeg);
+  fill(roll_, errors.bump_roll_deg * kRadPerDeg, errors.vibration_deg * kRadPerDeg);
   fill(heave_, errors.bump_heave, 0.0);
 }
 
@@ -41,9 +41,9 @@ Eigen::Isometry3d BodyMotion::offset(double t, const Eigen::Vector3d& accelerati
   // Braking (negative x acceleration) dives the nose (positive pitch about y turns x down);
   // a left turn (positive y acceleration) rolls the body outwards, lifting its left side.
   const double pitch =
-      -errors_.pitch_per_acceleration_deg * kDeg * acceleration.x() + bumps * sum(pitch_, t);
+      -errors_.pitch_per_acceleration_deg * kRadPerDeg * acceleration.x() + bumps * sum(pitch_, t);
   const double roll =
-      errors_.roll_per_lateral_deg * kDeg * acceleration.y() + bumps * sum(roll_, t);
+      errors_.roll_per_lateral_deg * kRadPerDeg * acceleration.y() + bumps * sum(roll_, t);
   const Eigen::Vector3d pivot(0.0, 0.0, -kPivotBelowSensor);
   const Eigen::Matrix3d r = (Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
                              Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))

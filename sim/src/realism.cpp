@@ -32,7 +32,7 @@ Realism realismPreset(const std::string& name) {
   r.returns.dark_fraction = 0.15;
   r.returns.glass_fraction = 0.3;
   r.returns.mixed_pixel_probability = 0.5;
-  r.returns.beam_divergence_mrad = 3.0;
+  r.returns.beam_divergence_mrad = 2.0;
   r.returns.foliage_depth = 0.3;
   r.returns.foliage_dropout = 0.3;
   r.terrain = {0.02, 0.05};
