@@ -313,6 +313,7 @@ bool printRow(const SceneRun& run, const Tally& t) {
       attempt, percentile(t.attempt_seconds, 0.95), mean(t.server_seconds),
       percentile(t.error_m, 0.5), percentile(t.error_deg, 0.5));
   // The time target holds on the large (>= 1 M voxel) default street map.
+  std::fflush(stdout);  // a row as soon as it is measured: a long run may be stopped
   const bool street_map = run.poses || run.type != socc::sim::SceneType::kStreet ||
                           (attempt <= 2.0 && t.voxels >= 1'000'000);
   return success >= 0.95 && t.wrong == 0 && street_map;
