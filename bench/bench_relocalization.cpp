@@ -252,7 +252,7 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--route-frames", o.route_frames, "--kitti-routes: frames mapped per segment")
       ->capture_default_str();
   app.add_flag("--short", o.short_form,
-               "CI's judged short form: KITTI route 07 (VLP-32, 150 frames, 6 robots); exit 77 "
+               "CI's judged short form: KITTI route 07 (VLP-32, 120 frames, 4 robots); exit 77 "
                "when --kitti-gt is absent");
   app.add_flag("--smoke", o.smoke, "a tiny run, targets not judged (CI: the benchmark must run)");
   app.add_flag("--quiet", o.quiet, "no progress bars");
@@ -344,8 +344,8 @@ int main(int argc, char** argv) {
     o.kitti_routes = "07";
     o.sensors = "vlp32";
     o.seeds = "3";
-    o.route_frames = 150;
-    o.starts = 6;
+    o.route_frames = 120;
+    o.starts = 4;
   }
   std::vector<SceneRun> runs;
   try {
