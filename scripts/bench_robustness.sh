@@ -9,8 +9,8 @@
 # most frames.
 #
 # Usage: scripts/bench_robustness.sh [--build BUILD] [--out OUT] [--frames N] [--config ODOM_YAML]
-#        [--kitti-sweep | --kitti-starts [SEQS]] [--keep-sequences] [--realism kitti|none]
-#        (--kitti-sweep: instead of
+#        [--kitti-sweep | --kitti-starts [SEQS]] [--only REGEX] [--keep-sequences] [--realism kitti|none]
+#        (--only: the cases whose name matches the bash regex, e.g. 'indoor|figure8'. --kitti-sweep: instead of
 #        the matrix, two segments of every KITTI GT trajectory 00-10 but 03, sensors rotating
 #        HDL-64 / VLP-32 / VLP-16, with distortion. --kitti-starts: the first --frames (default
 #        300) frames of every KITTI GT trajectory (or the comma-separated SEQS) with HDL-64 and with
@@ -21,7 +21,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$root/build"; out="$root/out/robustness"; frames=""; odom_args=(); sweep=0; keep=0
-starts=0; start_seqs="00,01,02,04,05,06,07,08,09,10"
+only=""; starts=0; start_seqs="00,01,02,04,05,06,07,08,09,10"
 realism=kitti
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -35,7 +35,8 @@ while [ $# -gt 0 ]; do
       if [[ ${1:-} =~ ^[0-9,]+$ ]]; then start_seqs=$1; shift; fi ;;
     --keep-sequences) keep=1; shift ;;
     --realism) realism="$2"; shift 2 ;;
-    -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --only) only="$2"; shift 2 ;;
+    -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench_robustness: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -105,6 +106,12 @@ simulate() {  # dir distortion(0|1) args... -> sequence in dir
 
 rows=()
 failed=0
+if [[ -n $only ]]; then
+  selected=()
+  for c in "${cases[@]}"; do [[ ${c%%|*} =~ $only ]] && selected+=("$c"); done
+  cases=("${selected[@]}")
+fi
+
 for c in "${cases[@]}"; do
   IFS='|' read -r name target spec <<<"$c"
   read -r -a args <<<"$spec"

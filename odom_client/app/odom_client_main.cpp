@@ -293,7 +293,7 @@ int main(int argc, char** argv) {
     if (!args.out_dir.empty()) fs::create_directories(args.out_dir);
     socc::rpc::MapClient client(clientOptions(args, config));
 
-    RunOptions options;
+    RunOptions options{};  // value-initialized: GCC 12 took the empty hint for uninitialized
     options.progress = !args.quiet;
     options.stop = &g_stop;
     if (!args.initial_pose.empty()) {

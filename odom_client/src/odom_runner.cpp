@@ -17,6 +17,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// A frame's free-space check sends at most this many of its points (downsampled).
+constexpr std::size_t kMaxCheckPoints = 20'000;
+
 std::string statusOf(const FrameEstimate& e, TrackingState state) {
   if (state == TrackingState::kLost) return "lost";
   if (!e.health.healthy()) return "unhealthy";
@@ -63,6 +66,7 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
   log_ = &log;
   pipeline_.emplace(client_, config_, log);
   Odometry odometry(config_, options_.initial_pose, options_.initial_pose_known);
+  watch(odometry);
   ProgressBar bar("odom_client", source.remaining(), options_.progress);
   const Clock::time_point run_start = Clock::now();
   ScanPreparer input(source, config_, options_.skip_until_seq);
@@ -154,6 +158,7 @@ bool OdomRunner::relocalize(Odometry& odometry, const PreparedScan& scan) {
   // scan time's (half a sweep's motion apart: 0.45 m at 9 m/s); the restart deskews the scan
   // with the motion of the next one and puts the pose at the scan time.
   odometry = Odometry(config_, *found.pose, false);
+  watch(odometry);
   const bool was_lost = tracking_.state() == TrackingState::kLost;
   tracking_ = TrackingMonitor(config_.max_unhealthy_frames);
   if (was_lost) sendStatus(robot_status_request_t::TRACKING, "relocalized", scan.seq, scan.utime);
@@ -168,6 +173,23 @@ bool OdomRunner::relocalize(Odometry& odometry, const PreparedScan& scan) {
 void OdomRunner::startRelocalizing(std::int64_t utime) {
   search_since_utime_ = utime;
   std::cerr << "odom_client: searching the robot's pose in the map (relocalization)\n";
+}
+
+void OdomRunner::watch(Odometry& odometry) {
+  odometry.setSurpriseCheck([this](const FrameEstimate& frame) { return contradictsMap(frame); });
+}
+
+std::string OdomRunner::contradictsMap(const FrameEstimate& frame) {
+  ServiceMapAccess map(client_, config_);
+  const std::vector<Eigen::Vector3f> points =
+      localizationPoints(frame.cloud, config_.relocalize_voxel_size, kMaxCheckPoints);
+  const std::vector<SpaceCheck> check = map.check(points, {frame.pose});
+  if (check.empty() || check[0].free <= config_.relocalize_max_free) return {};
+  std::ostringstream out;
+  out.precision(2);
+  out << frame.health.surprise << ", and " << check[0].free * 100.0
+      << " % of the scan lies in the map's free space (> relocalize_max_free)";
+  return out.str();
 }
 
 void OdomRunner::refused(const PreparedScan& scan, const std::string& why) {

@@ -132,6 +132,8 @@ FrameEstimate Odometry::registerFrame(const PreparedScan& scan, const LocalMap& 
   if (keep || !registrable(map)) return unregistered(scan, prediction);
 
   FrameEstimate out = estimateWithRetries(scan, map);
+  if (out.health.healthy() && !out.health.surprise.empty() && surprise_check_)
+    out.health.problem = surprise_check_(out);
   if (!out.health.healthy()) {
     // Not trusted: the state follows the prediction (the estimate stays for the log).
     FrameEstimate kept = unregistered(scan, prediction);

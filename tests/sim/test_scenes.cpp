@@ -108,7 +108,9 @@ TEST(Scenes, ClosedRoutesHaveNoSeam) {
       }
       // Along a circle the turn per frame is constant (a figure-eight's flips where the lobes
       // meet).
-      if (std::string(route) == "circle") EXPECT_LT(max_turn_change, 0.002) << route;
+      if (std::string(route) == "circle") {
+        EXPECT_LT(max_turn_change, 0.002) << route;
+      }
     }
   }
 }

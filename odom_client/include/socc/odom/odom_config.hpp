@@ -32,7 +32,8 @@ struct OdomConfig {
   double scan_time_in_sweep = 0.0;
 
   // Per-frame health (docs/robustness.md): an unhealthy frame is not integrated; after
-  // max_unhealthy_frames of them in a row the robot declares itself lost.
+  // max_unhealthy_frames of them in a row the robot declares itself lost and relocalizes. The
+  // kinematic limits only mark a surprise (frame_health.hpp).
   double min_inlier_fraction = 0.2;  // correspondences / registered points
   double max_residual_ratio = 1.0;   // RMS residual / sigma
   double min_constraint = 40.0;    // planar pairs pinning the weakest direction; below: degenerate
@@ -94,13 +95,14 @@ struct OdomConfig {
   // explains at least relocalize_min_fitness of the scan, puts at most relocalize_max_free of it
   // into the map's free space, and its evidence (fitness minus free share) exceeds any other such
   // place's by relocalize_margin.
-  int relocalize_candidates = 5;         // candidates verified per scan
-  double relocalize_min_fitness = 0.5;   // share of scan points within 0.5 m of the map
-  double relocalize_max_free = 0.2;      // share of (observed) scan points in the map's free space
-  double relocalize_margin = 0.1;        // over the next distinct candidate's evidence
-  double relocalize_timeout = 10.0;      // [s of scan time] without success: exit 4
-  double relocalize_voxel_size = 0.5;    // [m] the scan is downsampled to this for LOCALIZE
-  double relocalize_hint_radius = 30.0;  // [m] --resume --relocalize: around the last pose
+  int relocalize_candidates = 5;        // candidates verified per scan
+  double relocalize_min_fitness = 0.5;  // share of scan points within 0.5 m of the map
+  double relocalize_max_free = 0.2;     // share of (observed) scan points in the map's free space
+  double relocalize_margin = 0.1;       // over the next distinct candidate's evidence
+  double relocalize_timeout = 10.0;     // [s of scan time] without success: exit 4 (or 3: lost)
+  double relocalize_voxel_size = 0.5;   // [m] the scan is downsampled to this for LOCALIZE
+  double relocalize_hint_radius =
+      30.0;  // [m] --resume --relocalize, recovery: around the last pose
 
   // Map service.
   int timeout_ms = 2000;  // per attempt

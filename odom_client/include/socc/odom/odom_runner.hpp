@@ -76,6 +76,11 @@ class OdomRunner {
   /// robot is still unlocalized (the scan is logged, not integrated).
   bool relocalize(Odometry& odometry, const PreparedScan& scan);
   void startRelocalizing(std::int64_t utime);
+  /// Odometry's SurpriseCheck: the map service's free-space check of the frame (LOCALIZE check
+  /// mode); more than relocalize_max_free of its points where the map saw free space contradicts
+  /// it.
+  void watch(Odometry& odometry);
+  std::string contradictsMap(const FrameEstimate& frame);
   /// The server refused a frame as implausible: lost, recovery from the next scan.
   void refused(const PreparedScan& scan, const std::string& why);
   /// A lost robot starts searching from the next scan, near its last good pose first.

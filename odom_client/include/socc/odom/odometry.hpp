@@ -11,7 +11,9 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <string>
 
 #include "socc/odom/adaptive_threshold.hpp"
 #include "socc/odom/frame_health.hpp"
@@ -75,6 +77,12 @@ class Odometry {
   /// state: the pose follows the prediction and the estimate says why (health.problem).
   FrameEstimate registerFrame(const PreparedScan& scan, const LocalMap& map);
 
+  /// More evidence for a registration whose motion surprised (FrameHealth::surprise): why the
+  /// estimate contradicts the map (e.g. its points in the map's free space), empty when it does
+  /// not. Called before the state advances; without one a surprise is only reported.
+  using SurpriseCheck = std::function<std::string(const FrameEstimate&)>;
+  void setSurpriseCheck(SurpriseCheck check) { surprise_check_ = std::move(check); }
+
   /// Registers scan against map from guess alone (no motion model, no deskew, the state is not
   /// advanced): verifying a candidate pose (relocalization). Sets health and fitness.
   FrameEstimate registerAt(const PreparedScan& scan, const LocalMap& map,
@@ -137,6 +145,7 @@ class Odometry {
   // other robots; registering against those can move an exact given pose by decimetres, and the
   // first scan integrated there would carry that error into everyone's map.
   bool keep_first_pose_ = false;
+  SurpriseCheck surprise_check_;
   std::optional<PreparedScan> held_;       // first scan with times, waiting for the motion
   std::optional<FrameEstimate> released_;  // held_ once finalised
 };
