@@ -311,6 +311,7 @@ void vendorSensorSeeds(SeedWriter& w) {
     w.bytes("fuzz_ouster_decoder", std::string(profiles[p]) + "_json",
             std::string(1, static_cast<char>(4 + 5 * p)) + tp::ousterMetadata(spec, p % 2));
   }
+}
 
 // A VLP-16 stream of a 10 Hz turn: 12 blocks FF EE with azimuths, 32 echoes each, stamp and
 // factory bytes (the VLP-16 manual's layout).
