@@ -31,7 +31,10 @@ while [ $# -gt 0 ]; do
 done
 cd "$root"
 bash scripts/setup.sh
-bash scripts/build.sh "$root/build"
+# Only the programs the demo runs: it does not wait for the tests and benchmarks to compile.
+programs="map_server odom_client socc-sim socc-eval socc-cli"
+((view)) && programs+=" socc-view"
+SOCC_BUILD_TARGETS="$programs" bash scripts/build.sh "$root/build"
 out="$root/out/demo"
 rm -rf "$out"
 mkdir -p "$out"

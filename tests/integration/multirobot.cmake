@@ -1,7 +1,8 @@
 # Multi-robot, log-replay and server-restart tests (included from
 # tests/integration/CMakeLists.txt): real map_server, odom_client, socc-cli, socc-to-lcmlog /
 # socc-sim processes and lcm-logplayer over UDP multicast on loopback (random port 50000-59999).
-# See multirobot_test.sh --help.
+# See multirobot_test.sh --help. COST (about the seconds in the ASan CI build): a fresh
+# checkout has no ctest timing history, and ctest -j starts the longest tests first by it.
 if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
   set(_socc_mr_script ${CMAKE_CURRENT_LIST_DIR}/multirobot_test.sh)
   set(_socc_mr_bins --server $<TARGET_FILE:map_server> --client $<TARGET_FILE:odom_client>
@@ -20,7 +21,7 @@ if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
     # pose histories, accuracy with 3 robots vs alone.
     add_test(NAME integration.multirobot_robots
              COMMAND bash ${_socc_mr_script} robots ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
-    set_tests_properties(integration.multirobot_robots PROPERTIES LABELS integration TIMEOUT 120)
+    set_tests_properties(integration.multirobot_robots PROPERTIES LABELS integration TIMEOUT 120 COST 40)
     # One of the 3 clients is killed with -9 mid-run and resumes from the server-held pose.
     add_test(NAME integration.multirobot_client_restart
              COMMAND bash ${_socc_mr_script} client_restart ${_socc_mr_bins}
@@ -32,22 +33,22 @@ if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
     add_test(NAME integration.odom_server_restart
              COMMAND bash ${_socc_mr_script} server_restart ${_socc_mr_bins}
                      --sim $<TARGET_FILE:socc-sim>)
-    set_tests_properties(integration.odom_server_restart PROPERTIES LABELS integration TIMEOUT 180)
+    set_tests_properties(integration.odom_server_restart PROPERTIES LABELS integration TIMEOUT 180 COST 50)
     # A kidnapped robot (scans of another world from frame 10) gets lost, searches in vain, exits
     # 3, is LOST on the server, and leaves the shared map as frames 0-9 alone made it; one put
     # down again on its route recovers by itself (issue 27).
     add_test(NAME integration.odom_lost
              COMMAND bash ${_socc_mr_script} lost ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
-    set_tests_properties(integration.odom_lost PROPERTIES LABELS integration TIMEOUT 240)
+    set_tests_properties(integration.odom_lost PROPERTIES LABELS integration TIMEOUT 240 COST 150)
     # Healthy robots stay healthy (issue 27): a 2 Hz PCD folder without time stamps, an indoor
     # lap, a recording with dropped scans.
     add_test(NAME integration.odom_health
              COMMAND bash ${_socc_mr_script} health ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
-    set_tests_properties(integration.odom_health PROPERTIES LABELS integration TIMEOUT 240)
+    set_tests_properties(integration.odom_health PROPERTIES LABELS integration TIMEOUT 240 COST 140)
     # Relocalization: a robot joins A's map without a pose, one from an unmapped place is not
     # localized (exit 4), a kidnapped robot recovers (docs/relocalization.md).
     add_test(NAME integration.relocalize
              COMMAND bash ${_socc_mr_script} relocalize ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
-    set_tests_properties(integration.relocalize PROPERTIES LABELS integration TIMEOUT 300)
+    set_tests_properties(integration.relocalize PROPERTIES LABELS integration TIMEOUT 300 COST 110)
   endif()
 endif()

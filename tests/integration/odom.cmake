@@ -18,7 +18,7 @@ if(TARGET map_server AND TARGET odom_client)
   # Accuracy against socc-sim's exact GT: needs no shared data, never skips.
   add_test(NAME integration.odom_sim COMMAND test_odom_integration
            --gtest_filter=OdomOnSimulatedDrive.*)
-  set_tests_properties(integration.odom_sim PROPERTIES LABELS integration TIMEOUT 600)
+  set_tests_properties(integration.odom_sim PROPERTIES LABELS integration TIMEOUT 600 COST 120)
   # The benchmark script's report and its interleaved --repeat runs.
   add_test(NAME integration.bench_odometry_script
            COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/bench_script_test.sh ${PROJECT_SOURCE_DIR}
