@@ -41,16 +41,7 @@ export NODE_PATH=$build/tools/view/node/node_modules
 source "$root/tests/integration/test_env.sh"
 require_multicast_on_loopback
 
-work=$(mktemp -d)
-# shellcheck disable=SC2317  # called by the EXIT trap
-cleanup() {
-  local p
-  for p in $(jobs -p); do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$work"
-}
-trap cleanup EXIT
-trap 'exit 130' INT TERM
+make_work_dir
 
 ticks() { awk '{ print $14 + $15 }' "/proc/$1/stat"; }  # utime + stime of a process [clock ticks]
 hz=$(getconf CLK_TCK)
@@ -86,9 +77,7 @@ for robots in $counts; do
   pids=()
   for ((i = 0; i < robots; i++)); do
     first=$((i * frames))
-    pose=$(sed -n "$((first + 1))p" "$work/sim/poses.txt" | awk '{
-      printf "%.9f %.9f %.9f %.12f %.12f %.12f", $4, $8, $12,
-        atan2($10, $11), atan2(-$9, sqrt($10 * $10 + $11 * $11)), atan2($5, $1) }')
+    pose=$(kitti_pose "$work/sim/poses.txt" "$first")
     "$client_bin" --kitti "$work/sim" --first-frame "$first" --last-frame $((first + frames - 1)) \
       --initial-pose "$pose" --lcm-url "$url" --robot-id "robot$i" --out-dir "$work/robot$i" \
       --quiet >"$work/robot$i.log" 2>&1 &

@@ -73,9 +73,9 @@ trap cleanup EXIT
 trap 'exit 130' INT TERM
 
 log() { echo "demo_multirobot: $*" >&2; }
-new_url() {  # private multicast port per server; ttl=0 keeps the traffic on this machine
-  echo "udpm://239.255.76.67:$((20000 + (RANDOM * 32768 + RANDOM) % 40000))?ttl=0&recv_buf_size=33554432"
-}
+# shellcheck source=../tests/integration/test_env.sh
+source "$root/tests/integration/test_env.sh"  # random_lcm_url, kitti_pose
+new_url() { random_lcm_url 20000; }  # a private group and port per server, ttl=0
 cli() { "$build/tools/socc-cli" --lcm-url "$url" --client-id demo_mr "$@"; }
 server_pid=""
 start_server() {  # start_server LOG [URL]: a fresh map_server on URL (default: a new port)
@@ -106,11 +106,7 @@ for ((i = 0; i < robots; i++)); do
   mkdir -p "$out/gt"
   sed -n "$(($(first_of "$i") + 1)),$(($(first_of "$i") + frames))p" "$seq_dir/poses.txt" >"$out/gt/robot$i.txt"
 done
-initial_pose() {
-  head -1 "$out/gt/robot$1.txt" | awk '{
-    printf "%.9f %.9f %.9f %.12f %.12f %.12f", $4, $8, $12,
-      atan2($10, $11), atan2(-$9, sqrt($10 * $10 + $11 * $11)), atan2($5, $1) }'
-}
+initial_pose() { kitti_pose "$out/gt/robot$1.txt" 0; }  # tests/integration/test_env.sh
 
 run_client() {  # run_client I OUTDIR [together]: odom_client of robot I in the background; pid -> client_pid
   local i=$1 dir=$2 first start

@@ -47,6 +47,8 @@ done
 here=$(dirname "$0")
 # shellcheck source=fleet_netns.sh
 source "$here/fleet_netns.sh"
+# shellcheck source=test_env.sh
+source "$here/test_env.sh"  # kitti_pose
 
 fail() { echo "FAIL: $*"; exit 1; }
 work=$(mktemp -d)
@@ -105,10 +107,7 @@ start_server() {
   fail "map_server on the server host does not answer robot1's host within 10 s"
 }
 
-gt_pose() {  # gt_pose FRAME: GT pose of FRAME as "x y z roll pitch yaw" (R = Rz Ry Rx)
-  sed -n "$(($1 + 1))p" "$work/sim/poses.txt" | awk '{
-    printf "%.9f %.9f %.9f %.12f %.12f %.12f", $4, $8, $12,
-      atan2($10, $11), atan2(-$9, sqrt($10 * $10 + $11 * $11)), atan2($5, $1) }'
+gt_pose() { kitti_pose "$work/sim/poses.txt" "$1"; }  # gt_pose FRAME (test_env.sh)
 }
 
 # On a lossy LAN a lost small request or reply (one packet) costs one attempt's timeout: 500 ms

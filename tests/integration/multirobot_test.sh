@@ -76,18 +76,8 @@ done
 source "$(dirname "$0")/test_env.sh"
 require_multicast_on_loopback
 
-work=$(mktemp -d)
+make_work_dir
 keep_work=1
-# shellcheck disable=SC2317  # called by the EXIT trap
-cleanup() {
-  local p
-  # The shell's own background jobs that have not been waited for yet (never a reaped pid).
-  for p in $(jobs -p); do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  if ((keep_work)); then echo "work dir kept: $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
-trap 'exit 130' INT TERM
 
 fail() { echo "FAIL: $*"; exit 1; }
 new_url() { url=$(random_lcm_url 50000); }
@@ -218,10 +208,7 @@ make_robot_world() {
 run_robot() {  # run_robot I DIR [odom_client options]: robot I on its segment, in the background
   local i=$1 dir=$2 first=$(($1 * robot_frames)) pose
   shift 2
-  # GT pose of the segment's first frame as "x y z roll pitch yaw" (R = Rz Ry Rx).
-  pose=$(sed -n "$((first + 1))p" "$work/sim/poses.txt" | awk '{
-    printf "%.9f %.9f %.9f %.12f %.12f %.12f", $4, $8, $12,
-      atan2($10, $11), atan2(-$9, sqrt($10 * $10 + $11 * $11)), atan2($5, $1) }')
+  pose=$(kitti_pose "$work/sim/poses.txt" "$first")
   "$client_bin" --kitti "$work/sim" --first-frame "$first" --last-frame $((first + robot_frames - 1)) \
     --initial-pose "$pose" --lcm-url "$url" --robot-id "robot$i" --out-dir "$dir" \
     --quiet "$@" >"$dir.log" 2>&1 &

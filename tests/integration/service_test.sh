@@ -15,13 +15,8 @@ mode=$1 server_bin=$2 cli_bin=$3
 source "$(dirname "$0")/test_env.sh"
 require_multicast_on_loopback
 
-work=$(mktemp -d)
+make_work_dir
 server_pid=""
-cleanup() {
-  if [[ -n $server_pid ]]; then kill -9 "$server_pid" 2>/dev/null || true; wait "$server_pid" 2>/dev/null || true; fi
-  rm -rf "$work"
-}
-trap cleanup EXIT
 
 url=$(random_lcm_url 30000)
 echo "LCM URL: $url   work dir: $work"

@@ -17,3 +17,29 @@ random_lcm_url() {
   local seed=$(( ((RANDOM << 15) | RANDOM) ^ $$ ))
   echo "udpm://239.255.$((seed / 10000 % 250 + 1)).$((seed / 2500000 % 250 + 1)):$(($1 + seed % 10000))?ttl=0&recv_buf_size=67108864"
 }
+
+# make_work_dir: a scratch directory in $work. At exit every background job of the calling
+# script is stopped and $work removed, unless keep_work=1 then (a script sets keep_work=1 while
+# it runs and 0 when it passed, so a failed run keeps its logs: "work dir kept: ...").
+make_work_dir() {
+  work=$(mktemp -d)
+  keep_work=0
+  trap _stop_jobs_and_clean_work EXIT
+  trap 'exit 130' INT TERM
+}
+# shellcheck disable=SC2317  # called by the EXIT trap
+_stop_jobs_and_clean_work() {
+  local p
+  # The shell's own background jobs that have not been waited for yet (never a reaped pid).
+  for p in $(jobs -p); do kill "$p" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+  if ((keep_work)); then echo "work dir kept: $work"; else rm -rf "$work"; fi
+}
+
+# kitti_pose POSES FRAME: row FRAME (from 0) of a KITTI poses file as odom_client's
+# --initial-pose "x y z roll pitch yaw" (R = Rz Ry Rx).
+kitti_pose() {
+  sed -n "$(($2 + 1))p" "$1" | awk '{
+    printf "%.9f %.9f %.9f %.12f %.12f %.12f", $4, $8, $12,
+      atan2($10, $11), atan2(-$9, sqrt($10 * $10 + $11 * $11)), atan2($5, $1) }'
+}

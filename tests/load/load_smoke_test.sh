@@ -9,13 +9,8 @@ server_bin=$1 load_bin=$2
 source "$(dirname "$0")/../integration/test_env.sh"
 require_multicast_on_loopback
 
-work=$(mktemp -d)
+make_work_dir
 server_pid=""
-cleanup() {
-  if [[ -n $server_pid ]]; then kill -9 "$server_pid" 2>/dev/null || true; wait "$server_pid" 2>/dev/null || true; fi
-  rm -rf "$work"
-}
-trap cleanup EXIT
 
 url=$(random_lcm_url 40000)
 echo "LCM URL: $url   work dir: $work"

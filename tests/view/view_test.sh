@@ -34,17 +34,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 source "$here/../integration/test_env.sh"
 require_multicast_on_loopback
 
-work=$(mktemp -d)
+make_work_dir
 keep_work=1
-# shellcheck disable=SC2317  # called by the EXIT trap
-cleanup() {
-  local p
-  for p in $(jobs -p); do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  if ((keep_work)); then echo "work dir kept: $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
-trap 'exit 130' INT TERM
 fail() { echo "FAIL: $*"; exit 1; }
 url=$(random_lcm_url 40000)
 export NODE_PATH=$node_modules
@@ -78,9 +69,7 @@ foxglove_pid=$!
 client_pids=()
 for i in 0 1; do
   first=$((i * frames))
-  pose=$(sed -n "$((first + 1))p" "$work/sim/poses.txt" | awk '{
-    printf "%.9f %.9f %.9f %.12f %.12f %.12f", $4, $8, $12,
-      atan2($10, $11), atan2(-$9, sqrt($10 * $10 + $11 * $11)), atan2($5, $1) }')
+  pose=$(kitti_pose "$work/sim/poses.txt" "$first")
   "$client_bin" --kitti "$work/sim" --first-frame "$first" --last-frame $((first + frames - 1)) \
     --initial-pose "$pose" --lcm-url "$url" --robot-id "robot$i" --out-dir "$work/robot$i" \
     --quiet >"$work/robot$i.log" 2>&1 &

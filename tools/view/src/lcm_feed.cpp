@@ -17,7 +17,8 @@ std::optional<Message> decode(const lcm_recv_buf_t* rbuf) {
 
 }  // namespace
 
-LcmFeed::LcmFeed(const std::string& url, ViewModel& model) : lcm_(url), model_(model) {
+LcmFeed::LcmFeed(const std::string& url, ViewModel& model)
+    : lcm_(url), parts_(lcm_, "socc-view", rpc::PartOptions{}), model_(model) {
   if (!lcm_.good())
     throw std::runtime_error("cannot open LCM on " + url +
                              " (multicast routed to lo? `ip route replace 224.0.0.0/4 dev lo`)");
@@ -26,6 +27,8 @@ LcmFeed::LcmFeed(const std::string& url, ViewModel& model) : lcm_(url), model_(m
   lcm_subscribe(raw, std::string(channels::kMapDelta).c_str(), &LcmFeed::onDelta, this);
   lcm_subscribe(raw, std::string(channels::kStatus).c_str(), &LcmFeed::onStatus, this);
   lcm_subscribe(raw, channels::request(channels::kIntegrate).c_str(), &LcmFeed::onIntegrate, this);
+  parts_.subscribe(channels::request(channels::kIntegrate),
+                   [this](const std::uint8_t* data, std::size_t size) { integrate(data, size); });
   thread_ = std::thread([this] { run(); });
 }
 
@@ -60,12 +63,15 @@ void LcmFeed::onStatus(const lcm_recv_buf_t* rbuf, const char* /*channel*/, void
 }
 
 void LcmFeed::onIntegrate(const lcm_recv_buf_t* rbuf, const char* /*channel*/, void* self) {
-  auto* feed = static_cast<LcmFeed*>(self);
-  feed->integrate_bytes_ += rbuf->data_size;
-  const auto request = decode<integrate_request_t>(rbuf);
-  if (!request || !rpc::checkClientId(request->header.client_id).empty())
-    return void(++feed->dropped_);
-  feed->model_.applyIntegrate(*request);
+  static_cast<LcmFeed*>(self)->integrate(static_cast<const std::uint8_t*>(rbuf->data),
+                                         rbuf->data_size);
+}
+
+void LcmFeed::integrate(const std::uint8_t* data, std::size_t size) {
+  integrate_bytes_ += static_cast<std::int64_t>(size);
+  const auto request = rpc::safeDecode<integrate_request_t>(data, static_cast<int>(size));
+  if (!request || !rpc::checkClientId(request->header.client_id).empty()) return void(++dropped_);
+  model_.applyIntegrate(*request);
 }
 
 }  // namespace socc::view
