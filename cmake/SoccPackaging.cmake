@@ -18,6 +18,8 @@ set(CPACK_SET_DESTDIR ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+# Stripped binaries, as Debian ships them (about a third of the size; faster to pack and install).
+set(CPACK_STRIP_FILES ON)
 # Not linked, but used: socc-eval plots (gnuplot), socc-spy (lcm-spy: Java and lcm.jar);
 # building against the package needs the headers of its dependencies.
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "gnuplot-nox")
