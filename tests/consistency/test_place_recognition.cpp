@@ -114,5 +114,26 @@ TEST(PlaceRecognition, TwoRobotsInTwoWorldsNeverMeet) {
             << service.stats().recognition.seconds << " s\n";
 }
 
+TEST(PlaceRecognition, AWorkerFarBehindKeepsEveryKeyframePoseButBoundsTheQueuedScans) {
+  // 40 keyframes at once with room for one queued scan: the ones that did not fit are kept as
+  // poses (the chain in the graph stays whole) and are never candidates.
+  const Drive a = drive(1, 160);
+  ConsistencyParams p = params();
+  p.max_pending_scans = 1;
+  ConsistencyService service(p, map::MapConfig{});
+  for (std::size_t i = 0; i < a.scans.size(); ++i)
+    service.observe("a", static_cast<std::int64_t>(i), 0, a.odometry[i], a.scans[i]);
+  service.flush();
+  const ConsistencyStats stats = service.stats();
+  EXPECT_EQ(stats.keyframes, static_cast<int>(a.scans.size()));
+  EXPECT_EQ(stats.pending, 0);
+  EXPECT_EQ(stats.recognition.verified, 0);  // 1/5 of a lap: nothing to close
+  const auto poses = service.keyframePoses();
+  ASSERT_EQ(poses.size(), a.scans.size());
+  for (std::size_t i = 0; i < poses.size(); ++i)
+    EXPECT_TRUE(poses[i].optimized.isApprox(a.odometry[i], 1e-6)) << "keyframe " << i;
+  std::cerr << stats.scans_dropped << " of " << a.scans.size() << " kept as poses only\n";
+}
+
 }  // namespace
 }  // namespace socc::consistency

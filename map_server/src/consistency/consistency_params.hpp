@@ -16,6 +16,10 @@ struct ConsistencyParams {
   double keyframe_voxel = 0.4;     // [m] the keyframe's scan is downsampled to this grid
   double keyframe_range = 60.0;    // [m] farther points are not kept
   ScanContextParams descriptor;
+  // Keyframe scans waiting for the worker (a few MB each before downsampling). When the worker
+  // falls this far behind, a new keyframe keeps its pose, so the robot's chain in the graph
+  // stays whole, but not its scan: it is never matched (memory stays bounded).
+  int max_pending_scans = 64;
 
   // Candidates: a robot's own keyframe only after it travelled this far since (a loop, not the
   // last few metres of its path).

@@ -83,7 +83,12 @@ void ConsistencyService::observe(const std::string& robot, std::int64_t seq, std
   pending.keyframe.utime = utime;
   pending.keyframe.odom_pose = pose;
   pending.keyframe.travelled = track.travelled;
-  pending.cloud.points = cloud.points;  // labels and times play no part
+  if (pending_scans_ < params_.max_pending_scans) {
+    pending.cloud.points = cloud.points;  // labels and times play no part
+    ++pending_scans_;
+  } else {
+    ++stats_.scans_dropped;
+  }
   pending.robot = robot;
   pending.arrived = std::chrono::steady_clock::now();
   queue_.push_back(std::move(pending));
@@ -104,6 +109,7 @@ void ConsistencyService::run() {
       if (stopping_) return;
       next = std::move(queue_.front());
       queue_.pop_front();
+      if (!next.cloud.points.empty()) --pending_scans_;
       busy_ = true;
     }
     try {
@@ -122,7 +128,8 @@ void ConsistencyService::run() {
 void ConsistencyService::process(Pending pending) {
   Keyframe& kf = pending.keyframe;
   kf.points = keyframePoints(pending.cloud, params_);
-  kf.descriptor = ScanContext(kf.points, params_.descriptor);
+  const bool matchable = !kf.points.empty();  // not a pose-only keyframe (max_pending_scans)
+  if (matchable) kf.descriptor = ScanContext(kf.points, params_.descriptor);
   int query = 0;
   double travelled = 0.0;
   double next_attempt = 0.0;
@@ -140,7 +147,7 @@ void ConsistencyService::process(Pending pending) {
     next_attempt = track.next_attempt_travel;
   }
   // Only this thread changes keyframes_ and estimates_: reading them unlocked is safe here.
-  if (travelled < next_attempt) return;
+  if (!matchable || travelled < next_attempt) return;
   const std::vector<Candidate> candidates = findCandidates(keyframes_, query, estimates_, params_);
   if (candidates.empty()) return;
   const auto verify_start = std::chrono::steady_clock::now();
@@ -282,7 +289,7 @@ void ConsistencyService::write(const std::filesystem::path& dir) const {
      << s.recognition.inconsistent << "\noptimizations " << s.optimizations
      << "\nlast_optimization_s " << s.last_optimization_s << "\nmax_correction_s "
      << s.max_correction_s << "\nkeyframe_bytes " << s.keyframe_bytes << "\ntravelled_m "
-     << s.travelled << '\n';
+     << s.travelled << "\nscans_dropped " << s.scans_dropped << '\n';
   if (!kf || !cl || !st) throw std::runtime_error("cannot write " + dir.string());
 }
 

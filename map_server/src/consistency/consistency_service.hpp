@@ -34,6 +34,7 @@ struct ConsistencyStats {
   int robots = 0;
   int keyframes = 0;
   int pending = 0;  // keyframes waiting for the worker
+  int scans_dropped = 0;  // keyframes kept as poses only: the worker was max_pending_scans behind
   RecognitionTally recognition;
   int optimizations = 0;
   double last_optimization_s = 0.0;
@@ -107,6 +108,7 @@ class ConsistencyService {
   std::condition_variable wake_;
   std::condition_variable idle_;
   std::deque<Pending> queue_;
+  int pending_scans_ = 0;  // entries of queue_ with their scan
   bool busy_ = false;
   bool stopping_ = false;
   std::map<std::string, RobotTrack> robots_;

@@ -16,7 +16,7 @@ namespace {
 constexpr double kProbeShift = 4.0;  // [m]
 
 bool eligible(const Keyframe& query, const Keyframe& other, const ConsistencyParams& params) {
-  if (other.id == query.id) return false;
+  if (other.id == query.id || other.points.empty()) return false;  // empty: kept as a pose only
   if (other.robot != query.robot) return true;
   return query.travelled - other.travelled >= params.min_loop_travel;
 }

@@ -35,6 +35,7 @@ std::string validate(const ServerConfig& c) {
   if (!(k.keyframe_voxel > 0.0)) return "consistency.keyframe_voxel must be > 0";
   if (!(k.min_loop_travel >= 0.0)) return "consistency.min_loop_travel must be >= 0";
   if (!(k.search_radius >= 0.0)) return "consistency.search_radius must be >= 0";
+  if (k.max_pending_scans < 1) return "consistency.max_pending_scans must be >= 1";
   if (!(k.max_descriptor_distance >= 0.0 && k.max_descriptor_distance <= 1.0))
     return "consistency.max_descriptor_distance must be in [0, 1]";
   return {};
@@ -72,6 +73,7 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
       {"search_radius", &k.search_radius},
       {"drift_share", &k.drift_share},
       {"max_descriptor_distance", &k.max_descriptor_distance},
+      {"max_pending_scans", &k.max_pending_scans},
   };
   // Paths are kept as given until the file is read, so relative ones resolve against it.
   std::optional<std::string> map_config, file_dir, key_file;
