@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/preprocessing.hpp"
