@@ -61,6 +61,7 @@ install(FILES ${PROJECT_SOURCE_DIR}/map_server/config/server.yaml
         DESTINATION ${SOCC_DATA_DIR}/map_server)
 install(FILES ${PROJECT_SOURCE_DIR}/odom_client/config/default.yaml
               ${PROJECT_SOURCE_DIR}/odom_client/config/baseline.yaml
+              ${PROJECT_SOURCE_DIR}/odom_client/config/kitti.yaml
         DESTINATION ${SOCC_DATA_DIR}/odom_client)
 
 # Manual pages made from each binary's --help and --version (help2man), so `man map_server`

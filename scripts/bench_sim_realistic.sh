@@ -10,15 +10,17 @@
 # A peer is `NAME=CMD`, run as `CMD DIR POSES_OUT`; deskewing peers report each pose at the end
 # of its sweep and are scored one frame shifted (as bench_sim_calibration.sh does). Peer poses
 # already in OUT are reused; --reuse: socc's results in OUT too (to print the table again).
+# socc runs with odom_client/config/kitti.yaml (the HDL-64's vertical-angle correction, which the
+# preset's elevation error calls for and the peers' KITTI loaders apply too) unless --config.
 #
 # Usage: scripts/bench_sim_realistic.sh --data DATA --peer NAME=CMD [--peer NAME=CMD ...]
 #        [--sequences 00,05,07,08] [--seeds 1] [--build BUILD] [--out OUT] [--config ODOM_YAML]
 #        [--reuse]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 build="$root/build"; out="$root/out/sim_realistic"; data=""; sequences="00,05,07,08"; seeds="1"
-peers=(); odom_args=(); reuse=0
+peers=(); odom_args=(); reuse=0; config="$root/odom_client/config/kitti.yaml"
 while [ $# -gt 0 ]; do
   case "$1" in
     --data) data="$2"; shift 2 ;;
@@ -27,13 +29,14 @@ while [ $# -gt 0 ]; do
     --seeds) seeds="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    --config) odom_args+=(--config "$2"); shift 2 ;;
+    --config) config="$2"; shift 2 ;;
     --reuse) reuse=1; shift ;;
     -h|--help) usage 0 ;;
     *) echo "bench_sim_realistic: unknown argument $1" >&2; usage 2 ;;
   esac
 done
 [ -n "$data" ] || { echo "bench_sim_realistic: --data DIR is required" >&2; usage 2; }
+odom_args+=(--config "$config")
 mkdir -p "$out"
 results="$out/results.txt"; : >"$results"
 IFS=, read -ra seq_list <<<"$sequences"

@@ -13,6 +13,7 @@ YamlFields fields(OdomConfig& c) {
       {"min_range", &c.min_range},
       {"max_range", &c.max_range},
       {"deskew", &c.deskew},
+      {"vertical_angle_correction_deg", &c.vertical_angle_correction_deg},
       {"frame_period", &c.frame_period},
       {"deskew_reference_time", &c.deskew_reference_time},
       {"deskew_iterations", &c.deskew_iterations},
@@ -101,6 +102,8 @@ std::string validate(const OdomConfig& c) {
   if (!std::isfinite(c.min_range) || c.min_range < 0.0) return "min_range must be >= 0";
   if (!finite_pos(c.max_range) || c.max_range <= c.min_range)
     return "max_range must be > min_range";
+  if (!(std::abs(c.vertical_angle_correction_deg) <= 5.0))
+    return "vertical_angle_correction_deg must be within [-5, 5]";
   if (!finite_pos(c.frame_period)) return "frame_period must be > 0";
   if (!std::isfinite(c.deskew_reference_time)) return "deskew_reference_time must be finite";
   if (c.deskew_iterations < 1) return "deskew_iterations must be >= 1";

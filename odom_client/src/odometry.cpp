@@ -87,6 +87,7 @@ PreparedScan prepareScan(const OdomConfig& config, const LabeledCloud& raw, std:
   out.seq = seq;
   out.utime = utime;
   out.cloud = rangeFilter(raw, config.min_range, config.max_range);
+  correctElevation(out.cloud, config.vertical_angle_correction_deg * M_PI / 180.0);
   if (!config.use_semantics) dropLabels(out.cloud);
   if (!config.deskew)
     out.cloud.times.clear();

@@ -35,6 +35,22 @@ LabeledCloud rangeFilter(const LabeledCloud& cloud, double min_range, double max
   return out;
 }
 
+void correctElevation(LabeledCloud& cloud, double radians) {
+  if (radians == 0.0) return;
+  const double c = std::cos(radians), s = std::sin(radians);
+  for (Eigen::Vector3f& p : cloud.points) {
+    // Rotation by `radians` in the vertical plane through the point: horizontal distance h and
+    // height z turn like a 2-D vector, the azimuth stays.
+    const double x = p.x(), y = p.y(), z = p.z();
+    const double h = std::hypot(x, y);
+    if (h == 0.0) continue;  // straight up or down: no azimuth to keep
+    const double h2 = c * h - s * z;
+    const double scale = h2 / h;
+    p = Eigen::Vector3f(static_cast<float>(x * scale), static_cast<float>(y * scale),
+                        static_cast<float>(s * h + c * z));
+  }
+}
+
 void dropLabels(LabeledCloud& cloud) {
   for (std::uint8_t& label : cloud.labels) label = kUnlabeled;
 }

@@ -58,6 +58,13 @@ TEST(OdomConfig, DefaultYamlOfTheRepoLoads) {
   EXPECT_TRUE(socc::odom::validate(c).empty());
 }
 
+TEST(OdomConfig, KittiYamlCorrectsTheHdl64sElevation) {
+  const OdomConfig c = socc::odom::loadOdomConfig(fs::path(SOCC_ODOM_CONFIG_DIR) / "kitti.yaml");
+  EXPECT_DOUBLE_EQ(c.vertical_angle_correction_deg, 0.205);
+  EXPECT_DOUBLE_EQ(OdomConfig{}.vertical_angle_correction_deg, 0.0);  // other sensors: as given
+  EXPECT_TRUE(socc::odom::validate(c).empty());
+}
+
 TEST(OdomConfig, RejectsUnknownKeysWrongTypesAndBadValues) {
   const auto expectError = [](const std::string& text, const std::string& needle) {
     const fs::path p = writeTemp("bad.yaml", text);
@@ -74,6 +81,7 @@ TEST(OdomConfig, RejectsUnknownKeysWrongTypesAndBadValues) {
   expectError("w_lower: 2\n", "w_lower");
   expectError("refine_threshold: -0.1\n", "refine_threshold");
   expectError("refine_initial_pose: maybe\n", "refine_initial_pose");
+  expectError("vertical_angle_correction_deg: 90\n", "vertical_angle_correction_deg");
   expectError("min_range: 50\nmax_range: 10\n", "max_range");
   expectError("[1, 2]\n", "map");
   expectError("a: [\n", "YAML");

@@ -11,9 +11,12 @@ namespace socc::odom {
 
 struct OdomConfig {
   // Preprocessing.
-  double min_range = 5.0;              // [m] closer points are dropped (ego vehicle)
-  double max_range = 100.0;            // [m]
-  bool deskew = true;                  // when per-point times exist (or azimuth_times)
+  double min_range = 5.0;    // [m] closer points are dropped (ego vehicle)
+  double max_range = 100.0;  // [m]
+  bool deskew = true;        // when per-point times exist (or azimuth_times)
+  // [deg] added to every point's elevation: a sensor's common vertical-angle error (KITTI's
+  // HDL-64: 0.205, config/kitti.yaml). 0: the points as given.
+  double vertical_angle_correction_deg = 0.0;
   double frame_period = 0.1;           // [s] used when scans carry no timestamps
   double deskew_reference_time = 0.0;  // [s, relative to scan time] the instant the pose refers to
   int deskew_iterations = 3;  // deskew + register passes per frame with the frame's own motion
