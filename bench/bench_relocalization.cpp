@@ -4,8 +4,8 @@
 // odom_client does (Relocalizer: scans stacked by its own odometry, server search + client
 // verification in process, no LCM, a place accepted once confirmed on consecutive scans). Prints
 // one markdown row per scene: success within --max-scans scans, wrong acceptances, seconds per
-// attempt (one scan of the search), error of the accepted poses. Targets: >= 95 % localized within 5 scans, 0 wrong acceptances, <= 2 s mean
-// per attempt on a map of >= 1 M voxels (street).
+// attempt (one scan of the search), error of the accepted poses. Targets: >= 95 % localized within
+// 5 scans, 0 wrong acceptances, <= 2 s mean per attempt on a map of >= 1 M voxels (street).
 // --kitti-routes: instead, street worlds built along segments of real KITTI GT trajectories
 // (routes the search was not tuned on), one per route x sensor x seed; half of the robots revisit
 // the route in the opposite direction (the place seen from behind).
@@ -20,8 +20,8 @@
 #include <string>
 
 #include "in_process_map.hpp"
-#include "socc/odom/relocalizer.hpp"
 #include "socc/kitti_io.hpp"
+#include "socc/odom/relocalizer.hpp"
 #include "socc/progress_bar.hpp"
 
 using namespace socc::odom;
@@ -128,10 +128,9 @@ void dropRobot(const OdomConfig& cfg, const socc::sim::Scene& scene,
   const Odometry prep(cfg, Eigen::Isometry3d::Identity());
   for (int j = 0; j < max_scans; ++j) {
     const double when = t + 0.1 * j;
-    const PreparedScan scan =
-        prep.prepare(scanOf(scene, lidar, realism, when, 100000 + static_cast<std::uint64_t>(j),
-                            seed),
-                     j, std::llround(when * 1e6));
+    const PreparedScan scan = prep.prepare(
+        scanOf(scene, lidar, realism, when, 100000 + static_cast<std::uint64_t>(j), seed), j,
+        std::llround(when * 1e6));
     const auto start = std::chrono::steady_clock::now();
     const Relocalization r = search.add(scan, access, {});
     tally.attempt_seconds.push_back(
@@ -289,8 +288,8 @@ void addOptions(CLI::App& app, Options& o) {
 void printHeader(int max_scans) {
   std::printf(
       "| scene | map voxels | occupied | map keypoints | descriptor build s | starts | "
-      "localized <= %d scans | at the first possible scan | backwards: localized / starts | wrong | "
-      "attempt s mean | p95 | server s mean | error m median | error deg median |\n"
+      "localized <= %d scans | at the first possible scan | backwards: localized / starts | "
+      "wrong | attempt s mean | p95 | server s mean | error m median | error deg median |\n"
       "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
       max_scans);
 }

@@ -36,8 +36,8 @@ Relocalization PlaceTracker::update(const Eigen::Isometry3d& motion,
   out.free = best.verified.free;
   out.evidence = best.verified.evidence();
   out.runner_up = next.size() > 1 ? next[1].verified.evidence() : 0.0;
-  const bool leads = out.fitness >= rules_.min_fitness &&
-                     out.evidence - out.runner_up >= rules_.margin;
+  const bool leads =
+      out.fitness >= rules_.min_fitness && out.evidence - out.runner_up >= rules_.margin;
   for (std::size_t i = 1; i < next.size(); ++i) next[i].lead = 0;
   best.lead = leads ? best.lead + 1 : 0;
   out.confirmed = best.lead;
@@ -46,7 +46,8 @@ Relocalization PlaceTracker::update(const Eigen::Isometry3d& motion,
                   percentText(rules_.min_fitness) + ")";
   else if (!leads)
     out.problem = "ambiguous: two places explain " + percentText(out.evidence) + " and " +
-                  percentText(out.runner_up) + " of the scans net of the free space they contradict";
+                  percentText(out.runner_up) +
+                  " of the scans net of the free space they contradict";
   else if (best.lead < rules_.confirm_scans)
     out.problem = "confirming: the best place led on " + std::to_string(best.lead) + " of " +
                   std::to_string(rules_.confirm_scans) + " consecutive scans";

@@ -13,8 +13,9 @@ constexpr double kSameTranslation = 1.0;  // [m]
 constexpr double kSameRotation = 0.09;    // [rad], about 5 deg
 
 // Healthy refinements of poses, one per place (the better fitness), best fitness first.
-std::vector<VerifiedPlace> registered(const OdomConfig& config, const PreparedScan& scan,
-                                      MapAccess& map, const std::vector<Eigen::Isometry3d>& poses) {
+std::vector<VerifiedPlace> refinedPlaces(const OdomConfig& config, const PreparedScan& scan,
+                                         MapAccess& map,
+                                         const std::vector<Eigen::Isometry3d>& poses) {
   std::vector<VerifiedPlace> places;
   for (const Eigen::Isometry3d& candidate : poses) {
     Odometry probe(config, candidate);
@@ -27,9 +28,8 @@ std::vector<VerifiedPlace> registered(const OdomConfig& config, const PreparedSc
     else if (e.fitness > it->fitness)
       *it = {e.pose, e.fitness};
   }
-  std::sort(places.begin(), places.end(), [](const VerifiedPlace& a, const VerifiedPlace& b) {
-    return a.fitness > b.fitness;
-  });
+  std::sort(places.begin(), places.end(),
+            [](const VerifiedPlace& a, const VerifiedPlace& b) { return a.fitness > b.fitness; });
   return places;
 }
 
@@ -49,11 +49,10 @@ std::string percentText(double share) {
 }
 
 std::vector<VerifiedPlace> verifyPlaces(const OdomConfig& config, const PreparedScan& scan,
-                                        const std::vector<Eigen::Vector3f>& points,
-                                        MapAccess& map,
+                                        const std::vector<Eigen::Vector3f>& points, MapAccess& map,
                                         const std::vector<Eigen::Isometry3d>& poses,
                                         std::string& problem) {
-  std::vector<VerifiedPlace> places = registered(config, scan, map, poses);
+  std::vector<VerifiedPlace> places = refinedPlaces(config, scan, map, poses);
   if (places.empty()) {
     problem = "no candidate survived registration";
     return places;
@@ -72,12 +71,11 @@ std::vector<VerifiedPlace> verifyPlaces(const OdomConfig& config, const Prepared
                 percentText(config.relocalize_max_free) + ")";
   }
   if (!consistent.empty()) problem.clear();
-  std::sort(consistent.begin(), consistent.end(), [](const VerifiedPlace& a, const VerifiedPlace& b) {
-    return a.evidence() > b.evidence();
-  });
+  std::sort(
+      consistent.begin(), consistent.end(),
+      [](const VerifiedPlace& a, const VerifiedPlace& b) { return a.evidence() > b.evidence(); });
   return consistent;
 }
-
 
 std::vector<Eigen::Vector3f> localizationPoints(const LabeledCloud& cloud, double voxel_size,
                                                 std::size_t max_points) {

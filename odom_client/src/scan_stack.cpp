@@ -38,8 +38,7 @@ bool ScanStack::add(const PreparedScan& scan) {
   restarted_ = false;
   if (!odometry_) restart();
   FrameEstimate estimate = odometry_->registerFrame(scan, target());
-  if (std::optional<FrameEstimate> first = odometry_->takeReleasedFrame())
-    push(std::move(*first));
+  if (std::optional<FrameEstimate> first = odometry_->takeReleasedFrame()) push(std::move(*first));
   if (estimate.held) return true;
   if (!estimate.health.healthy()) {
     restart();

@@ -102,8 +102,8 @@ struct OdomConfig {
   double relocalize_margin = 0.1;       // over the next distinct candidate's evidence
   double relocalize_timeout = 10.0;     // [s of scan time] without success: exit 4 (or 3: lost)
   double relocalize_voxel_size = 0.5;   // [m] the scan is downsampled to this for LOCALIZE
-  double relocalize_hint_radius =
-      30.0;  // [m] --resume --relocalize, recovery: around the last pose
+  // [m] --resume --relocalize, recovery: around the last pose
+  double relocalize_hint_radius = 30.0;
   int relocalize_stack_scans = 5;    // scans accumulated by odometry into one matched cloud
   int relocalize_confirm_scans = 2;  // consecutive scans a place must lead before it is accepted
 

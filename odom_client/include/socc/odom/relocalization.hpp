@@ -81,8 +81,7 @@ bool samePlace(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b);
 /// with the map, best evidence first. points: the scan as sent to LOCALIZE (localizationPoints).
 /// problem: why none is, when none is.
 std::vector<VerifiedPlace> verifyPlaces(const OdomConfig& config, const PreparedScan& scan,
-                                        const std::vector<Eigen::Vector3f>& points,
-                                        MapAccess& map,
+                                        const std::vector<Eigen::Vector3f>& points, MapAccess& map,
                                         const std::vector<Eigen::Isometry3d>& poses,
                                         std::string& problem);
 
