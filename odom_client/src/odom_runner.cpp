@@ -154,10 +154,9 @@ bool OdomRunner::relocalize(Odometry& odometry, const PreparedScan& scan) {
             << " % of the last " << found.stacked << " scans, "
             << static_cast<int>(found.free * 100) << " % in free space; next place "
             << static_cast<int>(found.runner_up * 100) << " % net)\n";
-  // Odometry restarts from the verified pose and registers the scan again: the verification
-  // registered it undeskewed, so with a moving sensor its pose is the sweep's middle, not the
-  // scan time's (half a sweep's motion apart: 0.45 m at 9 m/s); the restart deskews the scan
-  // with the motion of the next one and puts the pose at the scan time.
+  // Odometry restarts from the verified pose (the newest stacked scan's at its reference time,
+  // deskewed by the search's own odometry) and registers the scan again, now against the shared
+  // map and deskewed with the next scan's motion, before anything of it is integrated.
   odometry = Odometry(config_, *found.pose, false);
   watch(odometry);
   const bool was_lost = tracking_.state() == TrackingState::kLost;
