@@ -113,8 +113,9 @@ void diagnose(double when, const Eigen::Isometry3d& truth, const harness::InProc
     std::fprintf(stderr, " [%.2f-%.2f %.1fm]", c.inlier_fraction, c.conflict,
                  metresOff(truth, c.pose));
   }
-  std::fprintf(stderr, " -> %s (%d stacked, led %d)\n", r.pose ? "localized" : r.problem.c_str(),
-               r.stacked, r.confirmed);
+  std::fprintf(stderr, " -> %s (%d stacked, led %d, fitness %.2f free %.2f next %.2f)\n",
+               r.pose ? "localized" : r.problem.c_str(), r.stacked, r.confirmed, r.fitness, r.free,
+               r.runner_up);
 }
 
 // One robot dropped at time t: its scans t, t + 0.1, ... go to one search (Relocalizer: stacked
