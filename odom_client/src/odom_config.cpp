@@ -65,6 +65,8 @@ YamlFields fields(OdomConfig& c) {
       {"relocalize_timeout", &c.relocalize_timeout},
       {"relocalize_voxel_size", &c.relocalize_voxel_size},
       {"relocalize_hint_radius", &c.relocalize_hint_radius},
+      {"relocalize_stack_scans", &c.relocalize_stack_scans},
+      {"relocalize_confirm_scans", &c.relocalize_confirm_scans},
       {"timeout_ms", &c.timeout_ms},
       {"max_attempts", &c.max_attempts},
   };
@@ -149,6 +151,10 @@ std::string validate(const OdomConfig& c) {
   if (!finite_pos(c.relocalize_timeout)) return "relocalize_timeout must be > 0";
   if (!finite_pos(c.relocalize_voxel_size)) return "relocalize_voxel_size must be > 0";
   if (!finite_pos(c.relocalize_hint_radius)) return "relocalize_hint_radius must be > 0";
+  if (c.relocalize_stack_scans < 1 || c.relocalize_stack_scans > 20)
+    return "relocalize_stack_scans must be within [1, 20]";
+  if (c.relocalize_confirm_scans < 1 || c.relocalize_confirm_scans > 20)
+    return "relocalize_confirm_scans must be within [1, 20]";
   if (c.timeout_ms < 1) return "timeout_ms must be >= 1";
   if (c.max_attempts < 1) return "max_attempts must be >= 1";
   return {};

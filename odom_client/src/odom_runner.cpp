@@ -136,7 +136,7 @@ bool OdomRunner::relocalize(Odometry& odometry, const PreparedScan& scan) {
   stats.status = "relocalizing";
   const Clock::time_point start = Clock::now();
   ServiceMapAccess map(client_, config_);
-  const Relocalization found = odom::relocalize(config_, scan, map, hint_);
+  const Relocalization found = search_->add(scan, map, hint_);
   stats.register_ms = msSince(start);
   if (!found.pose) {
     stats.problem = found.problem;
@@ -149,14 +149,14 @@ bool OdomRunner::relocalize(Odometry& odometry, const PreparedScan& scan) {
     if (searched > config_.relocalize_timeout) giveUp(scan, searched, found.problem);
     return false;
   }
-  std::cerr << "odom_client: localized in the map at frame " << scan.seq << " (explains "
-            << static_cast<int>(found.fitness * 100) << " % of the scan, "
+  std::cerr << "odom_client: localized in the map at frame " << scan.seq << " (confirmed on "
+            << found.confirmed << " scans; explains " << static_cast<int>(found.fitness * 100)
+            << " % of the last " << found.stacked << " scans, "
             << static_cast<int>(found.free * 100) << " % in free space; next place "
             << static_cast<int>(found.runner_up * 100) << " % net)\n";
-  // Odometry restarts from the verified pose and registers the scan again: the verification
-  // registered it undeskewed, so with a moving sensor its pose is the sweep's middle, not the
-  // scan time's (half a sweep's motion apart: 0.45 m at 9 m/s); the restart deskews the scan
-  // with the motion of the next one and puts the pose at the scan time.
+  // Odometry restarts from the verified pose (the newest stacked scan's at its reference time,
+  // deskewed by the search's own odometry) and registers the scan again, now against the shared
+  // map and deskewed with the next scan's motion, before anything of it is integrated.
   odometry = Odometry(config_, *found.pose, false);
   watch(odometry);
   const bool was_lost = tracking_.state() == TrackingState::kLost;
@@ -165,6 +165,7 @@ bool OdomRunner::relocalize(Odometry& odometry, const PreparedScan& scan) {
   localized_ = true;
   recovering_ = false;
   search_since_utime_ = -1;
+  search_.reset();
   hint_.reset();
   ++relocalizations_;
   return true;
@@ -172,6 +173,7 @@ bool OdomRunner::relocalize(Odometry& odometry, const PreparedScan& scan) {
 
 void OdomRunner::startRelocalizing(std::int64_t utime) {
   search_since_utime_ = utime;
+  search_.emplace(config_);
   std::cerr << "odom_client: searching the robot's pose in the map (relocalization)\n";
 }
 

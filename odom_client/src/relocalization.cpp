@@ -11,33 +11,17 @@ namespace {
 // Verified poses closer than this are one place (ICP from two candidates converged together).
 constexpr double kSameTranslation = 1.0;  // [m]
 constexpr double kSameRotation = 0.09;    // [rad], about 5 deg
-// The server's request limit (map_server limits.max_localize_points default).
-constexpr std::size_t kMaxLocalizePoints = 100'000;
 
-struct Verified {
-  Eigen::Isometry3d pose;
-  double fitness = 0.0;
-  double free = 0.0;  // share of the scan in the map's free space (set by the check)
-  // What the place explains net of what it contradicts: the scan's points a place puts into
-  // space the map saw free are evidence against it, as those near the map are for it.
-  double evidence() const { return fitness - free; }
-};
-
-bool samePlace(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-  const Eigen::Isometry3d d = a.inverse() * b;
-  return d.translation().norm() < kSameTranslation &&
-         Eigen::AngleAxisd(d.linear()).angle() < kSameRotation;
-}
-
-// Healthy refinements of the candidates, one per place (the better fitness), best first.
-std::vector<Verified> verify(const OdomConfig& config, const PreparedScan& scan, MapAccess& map,
-                             const std::vector<Eigen::Isometry3d>& candidates) {
-  std::vector<Verified> places;
-  for (const Eigen::Isometry3d& candidate : candidates) {
+// Healthy refinements of poses, one per place (the better fitness), best fitness first.
+std::vector<VerifiedPlace> refinedPlaces(const OdomConfig& config, const PreparedScan& scan,
+                                         MapAccess& map,
+                                         const std::vector<Eigen::Isometry3d>& poses) {
+  std::vector<VerifiedPlace> places;
+  for (const Eigen::Isometry3d& candidate : poses) {
     Odometry probe(config, candidate);
     const FrameEstimate e = probe.registerAt(scan, map.chunk(candidate.translation()), candidate);
     if (!e.registered || !e.health.healthy()) continue;
-    const auto same = [&](const Verified& v) { return samePlace(v.pose, e.pose); };
+    const auto same = [&](const VerifiedPlace& v) { return samePlace(v.pose, e.pose); };
     const auto it = std::find_if(places.begin(), places.end(), same);
     if (it == places.end())
       places.push_back({e.pose, e.fitness});
@@ -45,42 +29,53 @@ std::vector<Verified> verify(const OdomConfig& config, const PreparedScan& scan,
       *it = {e.pose, e.fitness};
   }
   std::sort(places.begin(), places.end(),
-            [](const Verified& a, const Verified& b) { return a.fitness > b.fitness; });
+            [](const VerifiedPlace& a, const VerifiedPlace& b) { return a.fitness > b.fitness; });
   return places;
 }
 
-std::string percent(double v) {
+}  // namespace
+
+bool samePlace(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  const Eigen::Isometry3d d = a.inverse() * b;
+  return d.translation().norm() < kSameTranslation &&
+         Eigen::AngleAxisd(d.linear()).angle() < kSameRotation;
+}
+
+std::string percentText(double share) {
   std::ostringstream out;
   out.precision(0);
-  out << std::fixed << v * 100.0 << " %";
+  out << std::fixed << share * 100.0 << " %";
   return out.str();
 }
 
-// The verified places whose scan does not see through the map's observed free space.
-std::vector<Verified> consistentPlaces(const OdomConfig& config, std::vector<Verified> places,
-                                       const std::vector<Eigen::Vector3f>& points, MapAccess& map,
-                                       Relocalization& out) {
-  if (places.empty()) return places;
-  std::vector<Eigen::Isometry3d> poses;
-  for (const Verified& v : places) poses.push_back(v.pose);
-  const std::vector<SpaceCheck> checks = map.check(points, poses);
-  std::vector<Verified> consistent;
+std::vector<VerifiedPlace> verifyPlaces(const OdomConfig& config, const PreparedScan& scan,
+                                        const std::vector<Eigen::Vector3f>& points, MapAccess& map,
+                                        const std::vector<Eigen::Isometry3d>& poses,
+                                        std::string& problem) {
+  std::vector<VerifiedPlace> places = refinedPlaces(config, scan, map, poses);
+  if (places.empty()) {
+    problem = "no candidate survived registration";
+    return places;
+  }
+  std::vector<Eigen::Isometry3d> refined;
+  for (const VerifiedPlace& v : places) refined.push_back(v.pose);
+  const std::vector<SpaceCheck> checks = map.check(points, refined);
+  std::vector<VerifiedPlace> consistent;
   for (std::size_t i = 0; i < places.size() && i < checks.size(); ++i) {
     places[i].free = checks[i].free;
     if (checks[i].free <= config.relocalize_max_free)
       consistent.push_back(places[i]);
-    else if (out.problem.empty())
-      out.problem = "the best place puts " + percent(checks[i].free) +
-                    " of the scan into space the map saw free (> " +
-                    percent(config.relocalize_max_free) + ")";
+    else if (consistent.empty() && problem.empty())
+      problem = "the best place puts " + percentText(checks[i].free) +
+                " of the scan into space the map saw free (> " +
+                percentText(config.relocalize_max_free) + ")";
   }
-  if (!consistent.empty()) out.problem.clear();
-  std::sort(consistent.begin(), consistent.end(),
-            [](const Verified& a, const Verified& b) { return a.evidence() > b.evidence(); });
+  if (!consistent.empty()) problem.clear();
+  std::sort(
+      consistent.begin(), consistent.end(),
+      [](const VerifiedPlace& a, const VerifiedPlace& b) { return a.evidence() > b.evidence(); });
   return consistent;
 }
-
-}  // namespace
 
 std::vector<Eigen::Vector3f> localizationPoints(const LabeledCloud& cloud, double voxel_size,
                                                 std::size_t max_points) {
@@ -111,22 +106,19 @@ Relocalization relocalize(const OdomConfig& config, const PreparedScan& scan, Ma
     out.problem = "no candidate pose: the scan matches nothing in the map";
     return out;
   }
-  const std::vector<Verified> places =
-      consistentPlaces(config, verify(config, scan, map, candidates), points, map, out);
-  if (places.empty()) {
-    if (out.problem.empty()) out.problem = "no candidate survived registration";
-    return out;
-  }
+  const std::vector<VerifiedPlace> places =
+      verifyPlaces(config, scan, points, map, candidates, out.problem);
+  if (places.empty()) return out;
   out.fitness = places[0].fitness;
   out.free = places[0].free;
   out.evidence = places[0].evidence();
   out.runner_up = places.size() > 1 ? places[1].evidence() : 0.0;
   if (out.fitness < config.relocalize_min_fitness)
-    out.problem = "best candidate explains " + percent(out.fitness) + " of the scan (< " +
-                  percent(config.relocalize_min_fitness) + ")";
+    out.problem = "best candidate explains " + percentText(out.fitness) + " of the scan (< " +
+                  percentText(config.relocalize_min_fitness) + ")";
   else if (out.evidence - out.runner_up < config.relocalize_margin)
-    out.problem = "ambiguous: two places explain " + percent(out.evidence) + " and " +
-                  percent(out.runner_up) + " of the scan net of the free space they contradict";
+    out.problem = "ambiguous: two places explain " + percentText(out.evidence) + " and " +
+                  percentText(out.runner_up) + " of the scan net of the free space they contradict";
   else
     out.pose = places[0].pose;
   return out;

@@ -9,6 +9,7 @@
 #include "closed_loop_harness.hpp"
 #include "in_process_map.hpp"
 #include "socc/kitti_io.hpp"
+#include "socc/odom/relocalizer.hpp"
 
 namespace {
 
@@ -93,6 +94,41 @@ TEST(Relocalize, AnUnmappedPlaceIsNotLocalized) {
                   r.fitness, r.runner_up, r.problem.c_str());
       EXPECT_FALSE(r.pose) << "a place that is not in the map was localized";
     }
+  }
+}
+
+// A searching robot (Relocalizer): its scans stacked by its own odometry, the place accepted
+// once it led on relocalize_confirm_scans consecutive scans, never before; a robot in a world
+// that is not in the map is never accepted.
+TEST(Relocalizer, AcceptsAfterConfirmationAndNotElsewhere) {
+  socc::sim::SceneOptions street;
+  street.frames = 40;
+  MappedWorld world(street, 30);
+  InProcessMap access(world.loop.map, world.loop.cfg);
+  const OdomConfig& cfg = world.loop.cfg;
+  Relocalizer search(cfg);
+  int accepted_at = -1;
+  for (int j = 0; j < 5 && accepted_at < 0; ++j) {
+    const double t = 1.25 + 0.1 * j;
+    const Relocalization r = search.add(world.scanAt(t, world.scene), access, {});
+    std::printf("scan %d: %d stacked, led %d, fitness %.2f: %s\n", j, r.stacked, r.confirmed,
+                r.fitness, r.pose ? "accepted" : r.problem.c_str());
+    if (!r.pose) continue;
+    accepted_at = j;
+    const Eigen::Isometry3d d = world.mappedPoseAt(t).inverse() * *r.pose;
+    EXPECT_LT(d.translation().norm(), 0.1);
+    EXPECT_LT(degrees(d), 1.0);
+  }
+  EXPECT_GE(accepted_at, cfg.relocalize_confirm_scans - 1) << "accepted before it was confirmed";
+  EXPECT_GE(accepted_at, 0) << "not localized within 5 scans";
+
+  socc::sim::SceneOptions other = street;
+  other.seed = 99;  // another street: same kind of place, other buildings
+  const socc::sim::Scene elsewhere = socc::sim::buildScene(other);
+  Relocalizer lost(cfg);
+  for (int j = 0; j < 3; ++j) {
+    const Relocalization r = lost.add(world.scanAt(0.5 + 0.1 * j, elsewhere), access, {});
+    EXPECT_FALSE(r.pose) << "a place that is not in the map was localized";
   }
 }
 

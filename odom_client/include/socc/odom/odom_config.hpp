@@ -97,15 +97,18 @@ struct OdomConfig {
   // candidate poses are each verified by registration; one is accepted only when it is healthy,
   // explains at least relocalize_min_fitness of the scan, puts at most relocalize_max_free of it
   // into the map's free space, and its evidence (fitness minus free share) exceeds any other such
-  // place's by relocalize_margin.
+  // place's by relocalize_margin, on relocalize_confirm_scans consecutive scans (the last
+  // relocalize_stack_scans scans stacked by the robot's own odometry and matched as one).
   int relocalize_candidates = 5;        // candidates verified per scan
   double relocalize_min_fitness = 0.5;  // share of scan points within 0.5 m of the map
   double relocalize_max_free = 0.2;     // share of (observed) scan points in the map's free space
   double relocalize_margin = 0.1;       // over the next distinct candidate's evidence
   double relocalize_timeout = 10.0;     // [s of scan time] without success: exit 4 (or 3: lost)
   double relocalize_voxel_size = 0.5;   // [m] the scan is downsampled to this for LOCALIZE
-  double relocalize_hint_radius =
-      30.0;  // [m] --resume --relocalize, recovery: around the last pose
+  // [m] --resume --relocalize, recovery: around the last pose
+  double relocalize_hint_radius = 30.0;
+  int relocalize_stack_scans = 5;    // scans accumulated by odometry into one matched cloud
+  int relocalize_confirm_scans = 2;  // consecutive scans a place must lead before it is accepted
 
   // Map service.
   int timeout_ms = 2000;  // per attempt

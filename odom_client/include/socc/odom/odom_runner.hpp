@@ -24,6 +24,7 @@
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/odometry.hpp"
 #include "socc/odom/relocalization.hpp"
+#include "socc/odom/relocalizer.hpp"
 #include "socc/odom/scan_source.hpp"
 #include "socc/odom/tracking_state.hpp"
 #include "socc/rpc/map_client.hpp"
@@ -107,6 +108,7 @@ class OdomRunner {
   bool recovering_ = false;  // the current search follows LOST (else: --relocalize's first)
   bool gave_up_ = false;     // a recovery outlasted relocalize_timeout: the run ends LOST
   std::int64_t search_since_utime_ = -1;        // scan time the current search began; -1: not yet
+  std::optional<Relocalizer> search_;           // the current search's scans and places
   std::optional<PoseHint> hint_;                // for the next search only
   std::optional<Eigen::Isometry3d> last_good_;  // pose of the last integrated frame
   int relocalizations_ = 0;

@@ -59,11 +59,42 @@ struct Relocalization {
   double free = 0.0;                      // free-space share of the best verified candidate
   double evidence = 0.0;                  // fitness - free of the best verified candidate
   double runner_up = 0.0;                 // evidence of the next distinct verified candidate
+  int confirmed = 0;  // consecutive scans the best place has led by the margin (Relocalizer)
+  int stacked = 1;    // scans accumulated by odometry into the matched cloud (Relocalizer)
 };
 
-/// One attempt on one scan.
+/// A candidate pose refined by registration and judged against the map.
+struct VerifiedPlace {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // refined map_T_sensor
+  double fitness = 0.0;  // share of the scan within 0.5 m of the map
+  double free = 0.0;     // share of the scan in the map's free space (weighed by its evidence)
+  // What the place explains net of what it contradicts: the scan's points a place puts into
+  // space the map saw free are evidence against it, as those near the map are for it.
+  double evidence() const { return fitness - free; }
+};
+
+/// Poses closer than 1 m / 5 deg are one place (registrations from two candidates converged).
+bool samePlace(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b);
+
+/// Each of poses registered by SOCC-ICP against the map around it (healthy only, one per place)
+/// and checked against the map's free space (at most relocalize_max_free): the places consistent
+/// with the map, best evidence first. points: the scan as sent to LOCALIZE (localizationPoints).
+/// problem: why none is, when none is.
+std::vector<VerifiedPlace> verifyPlaces(const OdomConfig& config, const PreparedScan& scan,
+                                        const std::vector<Eigen::Vector3f>& points, MapAccess& map,
+                                        const std::vector<Eigen::Isometry3d>& poses,
+                                        std::string& problem);
+
+/// Percent text of a share, as the verdicts print it ("42 %").
+std::string percentText(double share);
+
+/// One attempt on one scan, accepted at once (no confirmation by later scans; the server's
+/// loop-closure check). A robot searching its pose uses Relocalizer (relocalizer.hpp).
 Relocalization relocalize(const OdomConfig& config, const PreparedScan& scan, MapAccess& map,
                           const std::optional<PoseHint>& hint);
+
+/// The server's LOCALIZE request limit (map_server limits.max_localize_points default).
+inline constexpr std::size_t kMaxLocalizePoints = 100'000;
 
 /// The scan as sent to LOCALIZE: voxel-downsampled to relocalize_voxel_size, at most max_points.
 std::vector<Eigen::Vector3f> localizationPoints(const LabeledCloud& cloud, double voxel_size,

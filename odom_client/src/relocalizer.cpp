@@ -1,0 +1,66 @@
+#include "socc/odom/relocalizer.hpp"
+
+namespace socc::odom {
+namespace {
+
+PlaceRules rulesOf(const OdomConfig& c) {
+  PlaceRules r;
+  r.min_fitness = c.relocalize_min_fitness;
+  r.margin = c.relocalize_margin;
+  r.confirm_scans = c.relocalize_confirm_scans;
+  r.keep = static_cast<std::size_t>(c.relocalize_candidates);
+  return r;
+}
+
+// The candidates not already followed (their verification would repeat a followed place's).
+std::vector<Eigen::Isometry3d> withNew(std::vector<Eigen::Isometry3d> followed,
+                                       const std::vector<Eigen::Isometry3d>& candidates) {
+  const std::size_t known = followed.size();
+  for (const Eigen::Isometry3d& c : candidates) {
+    bool seen = false;
+    for (std::size_t i = 0; i < known && !seen; ++i) seen = samePlace(followed[i], c);
+    if (!seen) followed.push_back(c);
+  }
+  return followed;
+}
+
+}  // namespace
+
+Relocalizer::Relocalizer(const OdomConfig& config)
+    : config_(config),
+      stack_(config, static_cast<std::size_t>(config.relocalize_stack_scans)),
+      places_(rulesOf(config)) {}
+
+Relocalization Relocalizer::add(const PreparedScan& scan, MapAccess& map,
+                                const std::optional<PoseHint>& hint) {
+  Relocalization out;
+  stack_.add(scan);
+  if (stack_.restarted()) places_.clear();  // the motions no longer connect the scans
+  out.stacked = static_cast<int>(stack_.size());
+  if (stack_.size() == 0) {
+    out.problem = "waiting for the next scan (the first one's motion is not known yet)";
+    return out;
+  }
+  const PreparedScan stacked = stack_.cloud();
+  const std::vector<Eigen::Vector3f> points =
+      localizationPoints(stacked.cloud, config_.relocalize_voxel_size, kMaxLocalizePoints);
+  const std::vector<Eigen::Isometry3d> candidates =
+      map.candidates(points, hint, config_.relocalize_candidates);
+  out.candidates = static_cast<int>(candidates.size());
+  const Eigen::Isometry3d motion = stack_.lastMotion();
+  const std::vector<Eigen::Isometry3d> poses = withNew(places_.predicted(motion), candidates);
+  if (poses.empty()) {
+    places_.clear();
+    out.problem = "no candidate pose: the scans match nothing in the map";
+    return out;
+  }
+  std::string problem;
+  std::vector<VerifiedPlace> verified = verifyPlaces(config_, stacked, points, map, poses, problem);
+  Relocalization verdict = places_.update(motion, std::move(verified));
+  verdict.candidates = out.candidates;
+  verdict.stacked = out.stacked;
+  if (!problem.empty() && !verdict.pose) verdict.problem = problem;
+  return verdict;
+}
+
+}  // namespace socc::odom

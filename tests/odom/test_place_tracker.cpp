@@ -1,0 +1,104 @@
+// PlaceTracker (relocalization's confirmation rule, docs/relocalization.md): a place is accepted
+// only after leading by the margin on consecutive scans; rivals once found are followed by the
+// odometry and keep counting against it.
+#include <gtest/gtest.h>
+
+#include "socc/odom/place_tracker.hpp"
+
+namespace {
+
+using namespace socc::odom;
+
+Eigen::Isometry3d at(double x, double yaw = 0.0) {
+  Eigen::Isometry3d p(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+  p.translation() = Eigen::Vector3d(x, 0.0, 0.0);
+  return p;
+}
+
+VerifiedPlace place(const Eigen::Isometry3d& pose, double fitness, double free = 0.0) {
+  return {pose, fitness, free};
+}
+
+PlaceRules twoScans() {
+  PlaceRules r;
+  r.min_fitness = 0.5;
+  r.margin = 0.1;
+  r.confirm_scans = 2;
+  return r;
+}
+
+const Eigen::Isometry3d kStep = at(1.0);  // the robot's motion between scans: 1 m ahead
+
+TEST(PlaceTracker, AcceptsAPlaceOnlyAfterItLedOnConsecutiveScans) {
+  PlaceTracker tracker(twoScans());
+  const Relocalization first = tracker.update(kStep, {place(at(10.0), 0.8)});
+  EXPECT_FALSE(first.pose);
+  EXPECT_EQ(first.confirmed, 1);
+  // The next scan: the place moved on by the odometry, verified again.
+  ASSERT_EQ(tracker.predicted(kStep).size(), 1u);
+  EXPECT_NEAR(tracker.predicted(kStep)[0].translation().x(), 11.0, 1e-9);
+  const Relocalization second = tracker.update(kStep, {place(at(11.02), 0.8)});
+  ASSERT_TRUE(second.pose);
+  EXPECT_EQ(second.confirmed, 2);
+  EXPECT_NEAR(second.pose->translation().x(), 11.02, 1e-9);
+}
+
+TEST(PlaceTracker, ARivalWithinTheMarginResetsTheLead) {
+  PlaceTracker tracker(twoScans());
+  EXPECT_EQ(tracker.update(kStep, {place(at(10.0), 0.8)}).confirmed, 1);
+  // A lookalike 30 m on, turned around, explains nearly as much: no place leads.
+  const Relocalization tie =
+      tracker.update(kStep, {place(at(11.0), 0.8), place(at(41.0, M_PI), 0.75)});
+  EXPECT_FALSE(tie.pose);
+  EXPECT_EQ(tie.confirmed, 0);
+  EXPECT_NE(tie.problem.find("ambiguous"), std::string::npos);
+  // Both are followed: the lookalike is verified again next time as a rival.
+  EXPECT_EQ(tracker.predicted(kStep).size(), 2u);
+  // It fades; the true place leads again, from one scan.
+  const Relocalization after = tracker.update(kStep, {place(at(12.0), 0.8), place(at(42.0), 0.3)});
+  EXPECT_FALSE(after.pose);
+  EXPECT_EQ(after.confirmed, 1);
+  EXPECT_TRUE(tracker.update(kStep, {place(at(13.0), 0.8)}).pose);
+}
+
+TEST(PlaceTracker, APlaceMissingOnAScanStartsOver) {
+  PlaceTracker tracker(twoScans());
+  tracker.update(kStep, {place(at(10.0), 0.8)});
+  EXPECT_FALSE(tracker.update(kStep, {}).pose);
+  EXPECT_EQ(tracker.size(), 0u);
+  EXPECT_FALSE(tracker.update(kStep, {place(at(12.0), 0.8)}).pose);  // led on one scan only
+}
+
+TEST(PlaceTracker, ALeadIsNotInheritedByAnotherPlace) {
+  PlaceTracker tracker(twoScans());
+  tracker.update(kStep, {place(at(10.0), 0.8)});
+  // Where the odometry says the place went is 11 m; a place 5 m from there is another one.
+  const Relocalization r = tracker.update(kStep, {place(at(16.0), 0.8)});
+  EXPECT_FALSE(r.pose);
+  EXPECT_EQ(r.confirmed, 1);
+}
+
+TEST(PlaceTracker, FreeSpaceCountsAgainstAPlaceAndTooLittleFitnessNeverLeads) {
+  PlaceTracker tracker(twoScans());
+  // Evidence: 0.9 - 0.3 = 0.6 against 0.65: the second place leads.
+  const Relocalization r =
+      tracker.update(kStep, {place(at(10.0), 0.9, 0.3), place(at(50.0), 0.7, 0.05)});
+  EXPECT_NEAR(r.evidence, 0.65, 1e-9);
+  EXPECT_NEAR(r.runner_up, 0.6, 1e-9);
+  EXPECT_EQ(r.confirmed, 0);  // within the margin
+  PlaceTracker weak(twoScans());
+  for (int k = 0; k < 4; ++k) {
+    const Relocalization w = weak.update(kStep, {place(at(10.0 + k), 0.45)});
+    EXPECT_FALSE(w.pose);
+    EXPECT_EQ(w.confirmed, 0);
+  }
+}
+
+TEST(PlaceTracker, OneConfirmingScanAcceptsAtOnce) {
+  PlaceRules rules = twoScans();
+  rules.confirm_scans = 1;
+  PlaceTracker tracker(rules);
+  EXPECT_TRUE(tracker.update(kStep, {place(at(10.0), 0.8)}).pose);
+}
+
+}  // namespace
