@@ -45,6 +45,10 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--topic", recording.topic, "bags: the topic to read");
   app.add_option("--port", recording.port, "pcap: UDP destination port of the LiDAR data (0: any)");
+  app.add_option("--sensor-address", recording.sensor.sensor_address,
+                 "pcap: decode the packets of the sensor at this IPv4 address only (several "
+                 "sensors on one port); default: the first sender, others are dropped and "
+                 "reported");
   app.add_option("-o,--output", output, "LCM log file to write (overwritten)")->required();
   app.add_option("-r,--robot-id", options.robot_id, "robot id: channel SOCC/SCAN/<robot-id>")
       ->capture_default_str();
