@@ -23,7 +23,7 @@ class SenderSelectingDecoder final : public ScanDecoder {
   }
 
   void feed(const Packet& packet, std::vector<SensorScan>& out) override {
-    if (selected_ && packet.source_ipv4 == 0)
+    if (chosen_ && packet.source_ipv4 == 0)
       throw std::runtime_error(
           "packets without a sender address (a bag?) cannot be selected by sensor address " +
           formatIpv4(*selected_));
@@ -32,13 +32,16 @@ class SenderSelectingDecoder final : public ScanDecoder {
       return;
     }
     ++received_;
+    if (selected_ || packet.source_ipv4 == 0) {
+      inner_->feed(packet, out);
+      return;
+    }
+    // The first sender whose packet the decoder takes (decoded, or kept to detect the model) is
+    // the sensor; packets it refuses (another device's, position packets) choose nothing.
     const DecodeStats before = inner_->stats();
     inner_->feed(packet, out);
     const DecodeStats& after = inner_->stats();
-    // The first sender whose packet the decoder takes (decoded, or kept to detect the model) is
-    // the sensor; packets it refuses (another device's, position packets) choose nothing.
-    if (!selected_ && packet.source_ipv4 != 0 && after.foreign == before.foreign &&
-        after.malformed == before.malformed)
+    if (after.foreign == before.foreign && after.malformed == before.malformed)
       selected_ = packet.source_ipv4;
   }
 
