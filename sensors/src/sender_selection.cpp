@@ -2,7 +2,6 @@
 
 #include <arpa/inet.h>
 
-#include <array>
 #include <iostream>
 #include <optional>
 #include <stdexcept>

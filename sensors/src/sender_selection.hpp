@@ -4,7 +4,9 @@
 // first sender whose packet its decoder takes; every other sender's packets are dropped before
 // decoding (never mixed into a sweep), counted and reported once per address. makeDecoder puts
 // this in front of every decoder.
+#include <cstdint>
 #include <memory>
+#include <string>
 
 #include "socc/sensors/scan_decoder.hpp"
 #include "socc/sensors/sensor_config.hpp"
