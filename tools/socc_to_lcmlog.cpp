@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "socc/channels.hpp"
+#include "socc/large_message_heap.hpp"
 #include "socc/rpc/client_id.hpp"
 #include "socc/sensors/recording.hpp"
 #include "socc/tools/recording_log_writer.hpp"
@@ -60,6 +61,7 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   CLI11_PARSE(app, argc, argv);
   options.progress = !quiet;
+  socc::keepHeapForLargeMessages();  // sweeps and their scan_t are megabytes each
 
   if (const std::string why = socc::rpc::checkClientId(options.robot_id); !why.empty()) {
     std::cerr << "socc-to-lcmlog: bad --robot-id: " << why << "\n";
