@@ -108,6 +108,8 @@ class McapReader : public ChunkedBagReader {
         const auto opcode = h.read<std::uint8_t>();
         const auto length = h.read<std::uint64_t>();
         if (opcode == kMcapFooter || opcode == kMcapDataEnd) break;
+        // A length past the end (it could even wrap the offset around): next() reports it.
+        if (length > file_.size() - pos - kRecordHeaderBytes) break;
         if (opcode == kMcapSchema || opcode == kMcapChannel || opcode == kMcapMessage ||
             opcode == kMcapChunk) {
           const std::vector<std::uint8_t> content = file_.read(pos + kRecordHeaderBytes, length);
