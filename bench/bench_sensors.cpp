@@ -179,8 +179,9 @@ int main(int argc, char** argv) {
   while (stream->next()) ++sweeps;
   sender.join();
   const socc::sensors::DecodeStats& st = stream->decoder().stats();
-  const double lost = static_cast<double>(count) -
-                      static_cast<double>(st.packets + st.foreign + st.malformed + st.late);
+  const double lost =
+      static_cast<double>(count) -
+      static_cast<double>(st.packets + st.other_sender + st.foreign + st.malformed + st.late);
   std::printf("live: %d packets sent at %.0f packets/s, %llu decoded, %zu sweeps\n", count,
               1e6 / kHdl64PeriodUs, static_cast<unsigned long long>(st.packets), sweeps);
   rows.push_back({"live HDL-64E rate on 127.0.0.1: packets lost", lost, 0.0, false});

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "socc/large_message_heap.hpp"
 #include "socc/sensors/hesai_decoder.hpp"
 #include "socc/sensors/ouster_decoder.hpp"
 #include "vendor_packets.hpp"
@@ -164,6 +165,7 @@ int main(int argc, char** argv) {
   app.add_option("--target", target, "required multiple of real time");
   app.add_flag("--smoke", smoke, "0.3 s per stream, one run, no target judged (CI)");
   CLI11_PARSE(app, argc, argv);
+  socc::keepHeapForLargeMessages();  // as socc-lidar and odom_client: sweeps are megabytes
   if (smoke) seconds = 0.3;
   try {
     return run(seconds, target, smoke) ? 0 : 1;

@@ -56,6 +56,10 @@ void addOptions(CLI::App& app, Args& a) {
                  "calibration file (VeloView .xml / ROS velodyne .yaml, Ouster .json, Hesai .csv)")
       ->check(CLI::ExistingFile);
   app.add_option("--topic", a.topic, "--bag: the topic to read")->needs(bag);
+  app.add_option("--sensor-address", a.sensor.sensor_address,
+                 "--live / --pcap: decode the packets of the sensor at this IPv4 address only "
+                 "(several sensors on one port); default: the first sender, others are dropped "
+                 "and reported");
   app.add_option("--address", a.udp.address, "--live: local address to bind")
       ->capture_default_str();
   app.add_option("--port", a.udp.port, "--live: UDP port of the data packets")

@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "socc/channels.hpp"
+#include "socc/large_message_heap.hpp"
 #include "socc/rpc/client_id.hpp"
 #include "socc/sensors/recording.hpp"
 #include "socc/tools/recording_log_writer.hpp"
@@ -45,6 +46,10 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--topic", recording.topic, "bags: the topic to read");
   app.add_option("--port", recording.port, "pcap: UDP destination port of the LiDAR data (0: any)");
+  app.add_option("--sensor-address", recording.sensor.sensor_address,
+                 "pcap: decode the packets of the sensor at this IPv4 address only (several "
+                 "sensors on one port); default: the first sender, others are dropped and "
+                 "reported");
   app.add_option("-o,--output", output, "LCM log file to write (overwritten)")->required();
   app.add_option("-r,--robot-id", options.robot_id, "robot id: channel SOCC/SCAN/<robot-id>")
       ->capture_default_str();
@@ -56,6 +61,7 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   CLI11_PARSE(app, argc, argv);
   options.progress = !quiet;
+  socc::keepHeapForLargeMessages();  // sweeps and their scan_t are megabytes each
 
   if (const std::string why = socc::rpc::checkClientId(options.robot_id); !why.empty()) {
     std::cerr << "socc-to-lcmlog: bad --robot-id: " << why << "\n";

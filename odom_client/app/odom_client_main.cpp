@@ -41,7 +41,7 @@ struct Args {
   std::int64_t first = 0, last = -1;
   double idle_timeout_s = 5.0;
   // --pcap / --bag: a recording read through socc_sensors (docs/sensors.md).
-  std::string pcap, bag, topic, sensor, calibration;
+  std::string pcap, bag, topic, sensor, calibration, sensor_address;
   std::uint16_t port = 0;
 };
 
@@ -67,6 +67,11 @@ std::vector<CLI::Option*> addRecordingOptions(CLI::App& app, Args& a) {
       ->check(CLI::ExistingFile);
   app.add_option("--port", a.port, "--pcap: UDP destination port of the LiDAR data (0: any)")
       ->capture_default_str()
+      ->needs(pcap);
+  app.add_option("--sensor-address", a.sensor_address,
+                 "--pcap: decode the packets of the sensor at this IPv4 address only (several "
+                 "sensors on one port); default: the first sender, others are dropped and "
+                 "reported")
       ->needs(pcap);
   return {pcap, bag};
 }
@@ -222,6 +227,7 @@ std::unique_ptr<ScanSource> openSource(const Args& a, const OdomConfig& config) 
     socc::sensors::RecordingOptions options;
     options.sensor.model = a.sensor;
     options.sensor.calibration = a.calibration;
+    options.sensor.sensor_address = a.sensor_address;
     options.topic = a.topic;
     options.port = a.port;
     return readAhead(

@@ -27,6 +27,10 @@ bool isBag(const fs::path& file) {
 }
 
 std::unique_ptr<ScanStream> openBag(const fs::path& file, const RecordingOptions& options) {
+  if (!options.sensor.sensor_address.empty())
+    throw std::runtime_error(file.string() +
+                             ": a bag keeps no sender address (the sensor address selects among "
+                             "the senders of a pcap or a live port); choose the topic instead");
   std::unique_ptr<bags::BagReader> reader = bags::openBagReader(file);
   const std::size_t topic = bags::chooseTopic(*reader, options.topic, file);
   const bags::TopicInfo info = reader->topics()[topic];

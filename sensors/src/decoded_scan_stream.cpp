@@ -41,7 +41,8 @@ std::string describeDecodeStats(const DecodeStats& st) {
   auto line = [&s](std::uint64_t n, const char* what) {
     if (n > 0) s += std::to_string(n) + " " + what + "\n";
   };
-  line(st.foreign, "packets of another sensor or not LiDAR data (skipped)");
+  line(st.other_sender, "packets of other senders on the port (dropped)");
+  line(st.foreign, "packets of another model or not LiDAR data (skipped)");
   line(st.malformed, "malformed packets (skipped)");
   line(st.late, "late or duplicate packets (skipped)");
   line(st.gaps, "packets lost (gaps in the azimuth)");

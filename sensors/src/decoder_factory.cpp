@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "detecting_decoder.hpp"
+#include "sender_selection.hpp"
 #include "socc/sensors/hesai_decoder.hpp"
 #include "socc/sensors/ouster_decoder.hpp"
 #include "socc/sensors/sensor_config.hpp"
@@ -31,8 +32,8 @@ bool isVelodyneModel(const std::string& model) {
 
 // Ouster models follow from the metadata JSON (os<family>-<beams>); these are the common ones.
 std::vector<std::string> ousterModelNames() {
-  return {"os0-32", "os0-64", "os0-128", "os1-16", "os1-32", "os1-64", "os1-128",
-          "os2-32", "os2-64", "os2-128", "ouster"};
+  return {"os0-32",  "os0-64", "os0-128", "os1-16",  "os1-32", "os1-64",
+          "os1-128", "os2-32", "os2-64",  "os2-128", "ouster"};
 }
 
 const Family kFamilies[] = {
@@ -47,14 +48,19 @@ std::string joined(const std::vector<std::string>& names) {
   return s;
 }
 
-}  // namespace
-
-std::unique_ptr<ScanDecoder> makeDecoder(const SensorConfig& config) {
+// The decoder of config's model (or the detecting one), without the sender selection.
+std::unique_ptr<ScanDecoder> makeModelDecoder(const SensorConfig& config) {
   if (config.model.empty()) return makeDetectingDecoder(config);
   for (const Family& f : kFamilies)
     if (f.accepts(config.model)) return f.make(config);
   throw std::runtime_error("unknown sensor model '" + config.model +
                            "' (known: " + joined(supportedModels()) + ")");
+}
+
+}  // namespace
+
+std::unique_ptr<ScanDecoder> makeDecoder(const SensorConfig& config) {
+  return selectSender(config, makeModelDecoder(config));
 }
 
 std::vector<std::string> supportedModels() {

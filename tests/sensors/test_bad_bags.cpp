@@ -134,8 +134,7 @@ TEST_P(DamagedBag, CorruptedFilesYieldOnlyWrittenScans) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Bags, DamagedBag,
-                         testing::Values("clouds_lz4.bag", "clouds_zstd.mcap"),
+INSTANTIATE_TEST_SUITE_P(Bags, DamagedBag, testing::Values("clouds_lz4.bag", "clouds_zstd.mcap"),
                          [](const testing::TestParamInfo<std::string>& param) {
                            std::string name = param.param;
                            for (char& c : name) {
@@ -183,6 +182,18 @@ TEST(DamagedDb3, NotABag) {
   EXPECT_THROW(openBagReader(DamagedCopy({}, "x.bag", "empty").path()), std::runtime_error);
   EXPECT_THROW(openBagReader("/nonexistent/x.bag"), std::runtime_error);
   EXPECT_THROW(openBagReader(DamagedCopy({1, 2, 3}, "x.txt", "other").path()), std::runtime_error);
+}
+
+// A record length that wraps the file offset around (found by fuzz_bag_containers: the
+// channel scan of an MCAP without summary looped for ever): opening returns, reading stops.
+TEST(DamagedMcap, RecordLengthWrappingTheOffsetEndsTheReading) {
+  std::vector<std::uint8_t> bytes = {0x89, 'M', 'C', 'A', 'P', '0', '\r', '\n', 0x01};
+  for (int i = 0; i < 8; ++i) bytes.push_back(0xFF);  // length 2^64 - 1
+  bytes[9] = 0xF7;                                    // 2^64 - 9: offset + 9 + length wraps
+  const DamagedCopy copy(bytes, "x.mcap", "wrap");
+  std::unique_ptr<BagReader> reader = openBagReader(copy.path());
+  EXPECT_FALSE(reader->next());
+  EXPECT_NE(reader->problems().find("reading stopped"), std::string::npos) << reader->problems();
 }
 
 // Every prefix of a real serialized message fails to parse (FormatError), never reads past it;

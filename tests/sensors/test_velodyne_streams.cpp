@@ -175,7 +175,7 @@ TEST(VelodyneStreams, SecondSensorOnThePortIsSkipped) {
   }
   const StreamRun alone = run(model("vlp16"), ours);
   const StreamRun shared = run(model("vlp16"), mixed);
-  EXPECT_EQ(shared.stats.foreign, other.size());
+  EXPECT_EQ(shared.stats.other_sender, other.size());
   EXPECT_EQ(shared.stats.packets, ours.size());
   ASSERT_EQ(shared.scans.size(), alone.scans.size());
   for (std::size_t i = 0; i < alone.scans.size(); ++i)

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "bags/bag_reader.hpp"
+#include "bags/chunked_bag_reader.hpp"
 #include "bags/decompress.hpp"
 #include "bags/record_file.hpp"
 
@@ -42,7 +43,7 @@ std::optional<McapRecord> nextMcapRecord(ByteCursor& records) {
   return r;
 }
 
-class McapReader : public BagReader {
+class McapReader : public ChunkedBagReader {
  public:
   explicit McapReader(const std::filesystem::path& file) : file_(file) {
     try {
@@ -54,27 +55,8 @@ class McapReader : public BagReader {
     if (!readSummary()) scanChannels();
   }
 
-  const std::vector<TopicInfo>& topics() const override { return topics_; }
-  void select(std::size_t topic) override { selected_ = topic; }
-
-  std::optional<BagMessage> next() override {
-    while (true) {
-      if (chunk_) {
-        if (std::optional<BagMessage> m = nextInChunk()) return m;
-        continue;
-      }
-      if (ended_) return std::nullopt;
-      if (std::optional<BagMessage> m = nextTopLevel()) return m;
-    }
-  }
-
-  std::string problems() const override {
+  std::string containerProblems() const override {
     std::string p;
-    if (damaged_chunks_ > 0) {
-      p += std::to_string(damaged_chunks_) + " damaged chunks skipped (first: " + first_damage_ +
-           ")\n";
-    }
-    if (!stop_reason_.empty()) p += "reading stopped: " + stop_reason_ + "\n";
     if (unknown_channel_ > 0) {
       p += std::to_string(unknown_channel_) + " messages on channels never declared\n";
     }
@@ -126,6 +108,8 @@ class McapReader : public BagReader {
         const auto opcode = h.read<std::uint8_t>();
         const auto length = h.read<std::uint64_t>();
         if (opcode == kMcapFooter || opcode == kMcapDataEnd) break;
+        // A length past the end (it could even wrap the offset around): next() reports it.
+        if (length > file_.size() - pos - kRecordHeaderBytes) break;
         if (opcode == kMcapSchema || opcode == kMcapChannel || opcode == kMcapMessage ||
             opcode == kMcapChunk) {
           const std::vector<std::uint8_t> content = file_.read(pos + kRecordHeaderBytes, length);
@@ -224,14 +208,7 @@ class McapReader : public BagReader {
   /// True when the summary says the chunk at offset holds no message of the selected topic,
   /// so it need not be decompressed (a camera topic's chunks, say).
   bool skippable(std::uint64_t offset) const {
-    if (!selected_) return false;
-    const auto it = chunk_channels_.find(offset);
-    if (it == chunk_channels_.end() || it->second.empty()) return false;
-    for (const std::uint16_t channel : it->second) {
-      const auto topic = channel_topic_.find(channel);
-      if (topic == channel_topic_.end() || topic->second == *selected_) return false;
-    }
-    return true;
+    return otherTopicsOnly(offset, chunk_channels_, channel_topic_);
   }
 
   /// A Chunk record's content -> its records, decompressed and CRC-checked.
@@ -246,7 +223,7 @@ class McapReader : public BagReader {
     return records;
   }
 
-  std::optional<BagMessage> nextTopLevel() {
+  std::optional<BagMessage> nextTopLevel() override {
     try {
       if (pos_ + kRecordHeaderBytes > file_.size()) {
         throw FormatError("the file ends at byte " + std::to_string(file_.size()) +
@@ -259,7 +236,7 @@ class McapReader : public BagReader {
       const std::uint64_t record_at = pos_;
       const std::uint64_t at = pos_ + kRecordHeaderBytes;
       if (opcode == kMcapFooter || opcode == kMcapDataEnd) {
-        ended_ = true;
+        end();
         return std::nullopt;
       }
       if (length > file_.size() - at) {
@@ -267,38 +244,23 @@ class McapReader : public BagReader {
       }
       pos_ = at + length;
       if (opcode == kMcapChunk) {
-        if (!skippable(record_at)) openChunk(file_.read(at, length));
+        if (!skippable(record_at)) {
+          const std::vector<std::uint8_t> content = file_.read(at, length);
+          openChunk([&] { return chunkRecords(ByteView(content)); });
+        }
       } else if (opcode == kMcapSchema || opcode == kMcapChannel || opcode == kMcapMessage) {
         const std::vector<std::uint8_t> content = file_.read(at, length);
         return handle({opcode, ByteView(content)});
       }
     } catch (const FormatError& e) {
-      stop_reason_ = e.what();
-      ended_ = true;
+      stop(e.what());
     }
     return std::nullopt;
   }
 
-  void openChunk(const std::vector<std::uint8_t>& content) {
-    try {
-      chunk_ = chunkRecords(ByteView(content));
-      chunk_cursor_.emplace(ByteView(*chunk_));
-    } catch (const FormatError& e) {
-      damaged(e.what());
-    }
-  }
-
-  std::optional<BagMessage> nextInChunk() {
-    try {
-      while (std::optional<McapRecord> r = nextMcapRecord(*chunk_cursor_)) {
-        if (std::optional<BagMessage> m = handle(*r)) return m;
-      }
-    } catch (const FormatError& e) {
-      damaged(e.what());
-    }
-    chunk_cursor_.reset();
-    chunk_.reset();
-    return std::nullopt;
+  std::optional<BagMessage> nextChunkRecord(ByteCursor& records) override {
+    const std::optional<McapRecord> r = nextMcapRecord(records);
+    return r ? handle(*r) : std::nullopt;
   }
 
   /// A Message of the selected topic, or nullopt (declarations are registered).
@@ -325,17 +287,13 @@ class McapReader : public BagReader {
       ++unknown_channel_;
       return std::nullopt;
     }
-    if (selected_ && it->second != *selected_) return std::nullopt;
+    if (selectedOther(it->second)) return std::nullopt;
     BagMessage m;
     m.topic = it->second;
     m.stamp_ns = static_cast<std::int64_t>(log_time);
     const ByteView data = c.take(c.remaining());
     m.data.assign(data.data, data.data + data.size);
     return m;
-  }
-
-  void damaged(const std::string& what) {
-    if (damaged_chunks_++ == 0) first_damage_ = what;
   }
 
   struct Schema {
@@ -348,15 +306,7 @@ class McapReader : public BagReader {
   std::unordered_map<std::uint16_t, TopicInfo> channels_;
   std::unordered_map<std::uint16_t, std::size_t> channel_topic_;
   std::unordered_map<std::uint64_t, std::vector<std::uint16_t>> chunk_channels_;
-  std::vector<TopicInfo> topics_;
-  std::optional<std::size_t> selected_;
   std::uint64_t pos_ = sizeof(kMcapMagic);
-  bool ended_ = false;
-  std::optional<std::vector<std::uint8_t>> chunk_;
-  std::optional<ByteCursor> chunk_cursor_;
-  std::uint64_t damaged_chunks_ = 0;
-  std::string first_damage_;
-  std::string stop_reason_;
   std::uint64_t unknown_channel_ = 0;
   std::uint64_t undecodable_ = 0;
 };

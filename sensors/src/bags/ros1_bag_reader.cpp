@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "bags/bag_reader.hpp"
+#include "bags/chunked_bag_reader.hpp"
 #include "bags/decompress.hpp"
 #include "bags/record_file.hpp"
 
@@ -73,7 +74,7 @@ std::optional<Ros1Record> nextRos1Record(ByteCursor& records) {
   return r;
 }
 
-class Ros1BagReader : public BagReader {
+class Ros1BagReader : public ChunkedBagReader {
  public:
   explicit Ros1BagReader(const std::filesystem::path& file) : file_(file) {
     try {
@@ -91,31 +92,9 @@ class Ros1BagReader : public BagReader {
     if (!readIndex()) scanConnections();
   }
 
-  const std::vector<TopicInfo>& topics() const override { return topics_; }
-  void select(std::size_t topic) override { selected_ = topic; }
-
-  std::optional<BagMessage> next() override {
-    while (true) {
-      if (chunk_) {
-        if (std::optional<BagMessage> m = nextInChunk()) return m;
-        continue;
-      }
-      if (ended_) return std::nullopt;
-      if (std::optional<BagMessage> m = nextTopLevel()) return m;
-    }
-  }
-
-  std::string problems() const override {
-    std::string p;
-    if (damaged_chunks_ > 0) {
-      p += std::to_string(damaged_chunks_) + " damaged chunks skipped (first: " + first_damage_ +
-           ")\n";
-    }
-    if (!stop_reason_.empty()) p += "reading stopped: " + stop_reason_ + "\n";
-    if (unknown_connection_ > 0) {
-      p += std::to_string(unknown_connection_) + " messages on connections never declared\n";
-    }
-    return p;
+  std::string containerProblems() const override {
+    if (unknown_connection_ == 0) return {};
+    return std::to_string(unknown_connection_) + " messages on connections never declared\n";
   }
 
  private:
@@ -206,14 +185,7 @@ class Ros1BagReader : public BagReader {
   /// True when the index says the chunk at offset holds no message of the selected topic, so
   /// it need not be decompressed (a camera topic's chunks, say).
   bool skippable(std::uint64_t offset) const {
-    if (!selected_) return false;
-    const auto it = chunk_connections_.find(offset);
-    if (it == chunk_connections_.end()) return false;
-    for (const std::uint32_t conn : it->second) {
-      const auto topic = connection_topic_.find(conn);
-      if (topic == connection_topic_.end() || topic->second == *selected_) return false;
-    }
-    return true;
+    return otherTopicsOnly(offset, chunk_connections_, connection_topic_);
   }
 
   /// A connection record: its topic and, in its data, the type (fields topic, type, md5sum...).
@@ -241,48 +213,30 @@ class Ros1BagReader : public BagReader {
                       ros1Field<std::uint32_t>(chunk.fields, "size"));
   }
 
-  std::optional<BagMessage> nextTopLevel() {
+  std::optional<BagMessage> nextTopLevel() override {
     try {
       if (pos_ >= file_.size() || (index_pos_ != 0 && pos_ >= index_pos_)) {
         if (index_pos_ > file_.size()) throw FormatError("the file ends before its index");
-        ended_ = true;
+        end();
         return std::nullopt;
       }
       const std::uint64_t at = pos_;
       const OwnedRecord o = readTopLevel(pos_);
       pos_ = o.next;
       if (o.record.op == kRos1Chunk) {
-        if (!skippable(at)) openChunk(o.record);
+        if (!skippable(at)) openChunk([&] { return chunkRecords(o.record); });
       } else {
         return handle(o.record);
       }
     } catch (const FormatError& e) {
-      stop_reason_ = std::string(e.what()) + " (at byte " + std::to_string(pos_) + ")";
-      ended_ = true;
+      stop(std::string(e.what()) + " (at byte " + std::to_string(pos_) + ")");
     }
     return std::nullopt;
   }
 
-  void openChunk(const Ros1Record& r) {
-    try {
-      chunk_ = chunkRecords(r);
-      chunk_cursor_.emplace(ByteView(*chunk_));
-    } catch (const FormatError& e) {
-      damaged(e.what());
-    }
-  }
-
-  std::optional<BagMessage> nextInChunk() {
-    try {
-      while (std::optional<Ros1Record> r = nextRos1Record(*chunk_cursor_)) {
-        if (std::optional<BagMessage> m = handle(*r)) return m;
-      }
-    } catch (const FormatError& e) {
-      damaged(e.what());
-    }
-    chunk_cursor_.reset();
-    chunk_.reset();
-    return std::nullopt;
+  std::optional<BagMessage> nextChunkRecord(ByteCursor& records) override {
+    const std::optional<Ros1Record> r = nextRos1Record(records);
+    return r ? handle(*r) : std::nullopt;
   }
 
   /// A message of the selected topic, or nullopt (connections are registered).
@@ -294,7 +248,7 @@ class Ros1BagReader : public BagReader {
       ++unknown_connection_;
       return std::nullopt;
     }
-    if (selected_ && it->second != *selected_) return std::nullopt;
+    if (selectedOther(it->second)) return std::nullopt;
     const auto time = ros1Field<std::uint64_t>(r.fields, "time");
     const auto nsec = static_cast<std::uint32_t>(time >> 32);
     if (nsec >= 1'000'000'000u)
@@ -306,23 +260,11 @@ class Ros1BagReader : public BagReader {
     return m;
   }
 
-  void damaged(const std::string& what) {
-    if (damaged_chunks_++ == 0) first_damage_ = what;
-  }
-
   RecordFile file_;
   std::uint64_t index_pos_ = 0;
   std::unordered_map<std::uint32_t, std::size_t> connection_topic_;
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> chunk_connections_;
-  std::vector<TopicInfo> topics_;
-  std::optional<std::size_t> selected_;
   std::uint64_t pos_ = 0;
-  bool ended_ = false;
-  std::optional<std::vector<std::uint8_t>> chunk_;
-  std::optional<ByteCursor> chunk_cursor_;
-  std::uint64_t damaged_chunks_ = 0;
-  std::string first_damage_;
-  std::string stop_reason_;
   std::uint64_t unknown_connection_ = 0;
 };
 

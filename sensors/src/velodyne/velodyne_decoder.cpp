@@ -102,11 +102,6 @@ class VelodyneDecoder final : public ScanDecoder {
       ++stats_.foreign;  // position / telemetry packets, other devices
       return;
     }
-    if (!source_) source_ = std::make_pair(packet.source_ipv4, packet.source_port);
-    if (packet.source_ipv4 != source_->first || packet.source_port != source_->second) {
-      ++stats_.foreign;  // a second sensor on the same port
-      return;
-    }
     if (model_ == nullptr) {
       pending_.push_back(packet);
       if (pending_.size() >= kDetectionPackets) startDecoding(out);
@@ -432,7 +427,6 @@ class VelodyneDecoder final : public ScanDecoder {
   float max_range_ = 0.0f;
   std::vector<LaserTerms> lasers_;
   std::vector<Packet> pending_;
-  std::optional<std::pair<std::uint32_t, std::uint16_t>> source_;
   std::optional<PacketClock> clock_;
   SweepBuilder sweep_;
   Trig trig_;

@@ -18,7 +18,10 @@ constexpr std::array<std::uint16_t, 4> kBankFlags{kFlagUpper, kFlagLower, kFlagB
 // sequences per block.
 constexpr double kVlp16Firing = 2.304;
 constexpr double kVlp16Sequence = 55.296;
-// VLP-32C manual: lasers fire in pairs every 2.304 us; a sequence (one block) every 55.296 us.
+// VLP-32C manual (9.4, table 9-5): lasers fire in pairs (0 and 1, then 2 and 3...) every
+// 2.304 us; a sequence (one block) every 55.296 us. A point's azimuth follows its pair's firing
+// time, as in VeloView; the pseudo code of the manual's 9.5 advances pair K/2 by K x 2.304 us,
+// which puts the last pair at 69.1 us, after the next sequence (docs/sensors.md).
 constexpr double kVlp32Firing = 2.304;
 constexpr double kVlp32Sequence = 55.296;
 // HDL-32E manual: 32 firings 1.152 us apart; a sequence (one block) every 46.08 us.

@@ -10,10 +10,11 @@
 
 namespace socc::sensors {
 
-/// Counts a decoder keeps; every packet it was fed is in exactly one of the first four.
+/// Counts a decoder keeps; every packet it was fed is in exactly one of the first five.
 struct DecodeStats {
   std::uint64_t packets = 0;        // decoded into points
-  std::uint64_t foreign = 0;        // another model / another sensor / not a data packet: skipped
+  std::uint64_t other_sender = 0;   // from another address than the sensor's: dropped
+  std::uint64_t foreign = 0;        // another model / not a data packet: skipped
   std::uint64_t malformed = 0;      // wrong size, bad header or values: skipped
   std::uint64_t late = 0;           // older than the sweep being built (reordered): skipped
   std::uint64_t gaps = 0;           // missing packets detected (from azimuth / sequence jumps)
