@@ -11,6 +11,7 @@
 #include <mutex>
 #include <thread>
 
+#include "../integration/loopback_lcm_url.hpp"
 #include "service/auth_gate.hpp"
 #include "service/request_router.hpp"
 #include "service_test_helpers.hpp"
@@ -19,13 +20,7 @@
 namespace socc::service {
 namespace {
 
-std::string randomUrl() {
-  std::random_device rd;
-  std::mt19937 rng(rd() ^ static_cast<unsigned>(::getpid()));
-  return "udpm://239.255." + std::to_string(rng() % 250 + 1) + "." +
-         std::to_string(rng() % 250 + 1) + ":" + std::to_string(30000 + rng() % 10000) +
-         "?ttl=0&recv_buf_size=67108864";
-}
+std::string randomUrl() { return socc::testing::randomLoopbackLcmUrl(); }
 
 // map_server's loop in a thread: the MapService is only touched by that thread.
 class InProcessServer {

@@ -1,12 +1,11 @@
 // socc-view's LCM side over UDP multicast on loopback (ttl=0): a scan a robot sends whole, and
 // one a LAN-mode robot sends as parts (PartTransport), both reach the model.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <chrono>
-#include <random>
 #include <thread>
 
+#include "../integration/loopback_lcm_url.hpp"
 #include "lcm_feed.hpp"
 #include "socc/channels.hpp"
 #include "socc/rpc/map_client.hpp"
@@ -14,13 +13,7 @@
 namespace socc::view {
 namespace {
 
-std::string randomUrl() {
-  std::random_device rd;
-  std::mt19937 rng(rd() ^ static_cast<unsigned>(::getpid()));
-  return "udpm://239.255." + std::to_string(rng() % 250 + 1) + "." +
-         std::to_string(rng() % 250 + 1) + ":" + std::to_string(30000 + rng() % 10000) +
-         "?ttl=0&recv_buf_size=67108864";
-}
+std::string randomUrl() { return socc::testing::randomLoopbackLcmUrl(); }
 
 // A 2000-point scan (~30 KB encoded: 25 parts of 1200 bytes) of robot at x.
 std::vector<std::uint8_t> encodedScan(const std::string& robot, double x) {
