@@ -13,9 +13,9 @@ namespace {
 
 // Scans 0..count-1, each a point at 1 m (inside min_range) and one at 10 + seq m; scan `bad`
 // has a label too many, scan `unreadable` throws (-1: none).
-class CountingSource : public ScanSource {
+class NumberedScans : public ScanSource {
  public:
-  CountingSource(int count, int bad, int unreadable)
+  NumberedScans(int count, int bad, int unreadable)
       : count_(count), bad_(bad), unreadable_(unreadable) {}
   std::optional<Scan> next() override {
     if (next_ == count_) return std::nullopt;
@@ -36,7 +36,7 @@ class CountingSource : public ScanSource {
 }  // namespace
 
 TEST(ScanPreparer, GivesEachScanPreparedInOrder) {
-  CountingSource source(4, -1, -1);
+  NumberedScans source(4, -1, -1);
   ScanPreparer input(source, OdomConfig{}, -1);
   for (int k = 0; k < 4; ++k) {
     const std::optional<PreparedInput> next = input.next();
@@ -50,7 +50,7 @@ TEST(ScanPreparer, GivesEachScanPreparedInOrder) {
 }
 
 TEST(ScanPreparer, AnInconsistentScanIsReportedAndTheNextOnesFollow) {
-  CountingSource source(3, 1, -1);
+  NumberedScans source(3, 1, -1);
   ScanPreparer input(source, OdomConfig{}, -1);
   EXPECT_TRUE(input.next()->scan.has_value());
   const std::optional<PreparedInput> bad = input.next();
@@ -63,7 +63,7 @@ TEST(ScanPreparer, AnInconsistentScanIsReportedAndTheNextOnesFollow) {
 }
 
 TEST(ScanPreparer, ScansIntegratedBeforeARestartPassUnprepared) {
-  CountingSource source(4, -1, -1);
+  NumberedScans source(4, -1, -1);
   ScanPreparer input(source, OdomConfig{}, 1);
   for (int k = 0; k < 2; ++k) {
     const std::optional<PreparedInput> next = input.next();
@@ -74,7 +74,7 @@ TEST(ScanPreparer, ScansIntegratedBeforeARestartPassUnprepared) {
 }
 
 TEST(ScanPreparer, AnUnreadableScanFailsWhereItIs) {
-  CountingSource source(5, -1, 2);
+  NumberedScans source(5, -1, 2);
   ScanPreparer input(source, OdomConfig{}, -1);
   EXPECT_EQ(input.next()->seq, 0);
   EXPECT_EQ(input.next()->seq, 1);
