@@ -108,7 +108,6 @@ start_server() {
 }
 
 gt_pose() { kitti_pose "$work/sim/poses.txt" "$1"; }  # gt_pose FRAME (test_env.sh)
-}
 
 # On a lossy LAN a lost small request or reply (one packet) costs one attempt's timeout: 500 ms
 # instead of the default 2 s (docs/fleet.md), with attempts enough for several losses in a row.

@@ -16,6 +16,7 @@
 #include "socc/sensors/pcap_source.hpp"
 #include "socc/sensors/recording.hpp"
 #include "socc/sensors/udp_source.hpp"
+#include "temp_dir.hpp"
 #include "velodyne_model_cases.hpp"
 
 namespace socc::sensors {
@@ -52,8 +53,9 @@ std::vector<Packet> byArrival(std::vector<std::vector<Packet>> streams) {
   return all;
 }
 
-std::filesystem::path writeCapture(const std::string& name, const std::vector<Packet>& packets) {
-  const std::filesystem::path file = std::filesystem::path(::testing::TempDir()) / name;
+std::filesystem::path writeCapture(const std::filesystem::path& dir, const std::string& name,
+                                   const std::vector<Packet>& packets) {
+  const std::filesystem::path file = dir / name;
   test::PcapWriter w(file);
   for (const Packet& p : packets) w.udp(p.stamp_ns, p.data, 2368, p.source_ipv4);
   return file;
@@ -102,12 +104,16 @@ class TwoSendersCapture : public ::testing::Test {
     const std::int64_t t0 = real.front().stamp_ns + 300'000;  // the others start a bit later
     const std::vector<Packet> second = fromSender(test::vlp16(false), 300, kSecondVlp16, t0);
     const std::vector<Packet> hdl = fromSender(test::hdl32e(), 400, kHdl32e, t0 + 150'000);
-    real_ = writeCapture("real.pcap", real);
-    second_ = writeCapture("second.pcap", second);
-    hdl_ = writeCapture("hdl.pcap", hdl);
-    mixed_ = writeCapture("three_senders.pcap", byArrival({real, second, hdl}));
+    // A private directory: ctest runs each case as its own process, in parallel.
+    dir_ = std::make_unique<test_io::TempDir>();
+    real_ = writeCapture(dir_->path(), "real.pcap", real);
+    second_ = writeCapture(dir_->path(), "second.pcap", second);
+    hdl_ = writeCapture(dir_->path(), "hdl.pcap", hdl);
+    mixed_ = writeCapture(dir_->path(), "three_senders.pcap", byArrival({real, second, hdl}));
   }
+  static void TearDownTestSuite() { dir_.reset(); }
   void SetUp() override { SOCC_REQUIRE_RAW_SENSORS(); }
+  static inline std::unique_ptr<test_io::TempDir> dir_;
   static inline std::filesystem::path real_, second_, hdl_, mixed_;
 };
 
