@@ -1,11 +1,11 @@
 #include "socc/tools/scan_log_writer.hpp"
 
 #include <cmath>
-#include <lcm/lcm-cpp.hpp>
 #include <stdexcept>
 
 #include "socc/channels.hpp"
 #include "socc/progress_bar.hpp"
+#include "socc/tools/scan_log_file.hpp"
 #include "socc/wire_arrays.hpp"
 
 namespace socc::tools {
@@ -55,32 +55,16 @@ ScanLogSummary writeScanLog(const ScanDirectory& dir, const fs::path& out,
   const std::vector<std::int64_t> stamps = scanTimestamps(dir, options);
   const std::string channel = channels::scan(options.robot_id);
   ScanLogSummary summary;
-  try {
-    lcm::LogFile log(out.string(), "w");
-    if (!log.good()) throw std::runtime_error(out.string() + ": cannot open for writing");
-    ProgressBar bar("socc-to-lcmlog", dir.scans.size(), options.progress);
-    std::vector<std::uint8_t> buf;
-    for (std::size_t i = 0; i < dir.scans.size(); ++i) {
-      const scan_t msg = toScanMessage(loadScan(dir, i), options.robot_id,
-                                       static_cast<std::int64_t>(i), stamps[i]);
-      buf.resize(static_cast<std::size_t>(msg.getEncodedSize()));
-      if (msg.encode(buf.data(), 0, static_cast<int>(buf.size())) != static_cast<int>(buf.size()))
-        throw std::runtime_error(dir.scans[i].string() + ": scan does not encode");
-      lcm::LogEvent event;
-      event.eventnum = static_cast<std::int64_t>(i);
-      event.timestamp = stamps[i];  // lcm-logplayer replays with these gaps
-      event.channel = channel;
-      event.datalen = static_cast<std::int32_t>(buf.size());
-      event.data = buf.data();
-      if (log.writeEvent(&event) != 0) throw std::runtime_error(out.string() + ": write error");
-      summary.points += static_cast<std::size_t>(msg.num_points);
-      bar.tick(std::to_string(msg.num_points) + " points");
-    }
-  } catch (...) {
-    std::error_code ignored;
-    fs::remove(out, ignored);  // never leave a truncated log that looks complete
-    throw;
+  ScanLogFile log(out);
+  ProgressBar bar("socc-to-lcmlog", dir.scans.size(), options.progress);
+  for (std::size_t i = 0; i < dir.scans.size(); ++i) {
+    const scan_t msg = toScanMessage(loadScan(dir, i), options.robot_id,
+                                     static_cast<std::int64_t>(i), stamps[i]);
+    log.append(channel, msg, stamps[i], dir.scans[i].string() + ": scan");
+    summary.points += static_cast<std::size_t>(msg.num_points);
+    bar.tick(std::to_string(msg.num_points) + " points");
   }
+  log.finish();
   summary.scans = dir.scans.size();
   if (!stamps.empty()) {
     summary.first_utime = stamps.front();
