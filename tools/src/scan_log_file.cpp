@@ -31,6 +31,8 @@ void ScanLogFile::append(const std::string& channel, const scan_t& msg, std::int
   if (log_->writeEvent(&event) != 0) throw std::runtime_error(path_.string() + ": write error");
 }
 
-void ScanLogFile::finish() { finished_ = true; }
+void ScanLogFile::finish() {
+  finished_ = true;
+}
 
 }  // namespace socc::tools

@@ -58,8 +58,8 @@ ScanLogSummary writeScanLog(const ScanDirectory& dir, const fs::path& out,
   ScanLogFile log(out);
   ProgressBar bar("socc-to-lcmlog", dir.scans.size(), options.progress);
   for (std::size_t i = 0; i < dir.scans.size(); ++i) {
-    const scan_t msg = toScanMessage(loadScan(dir, i), options.robot_id,
-                                     static_cast<std::int64_t>(i), stamps[i]);
+    const scan_t msg =
+        toScanMessage(loadScan(dir, i), options.robot_id, static_cast<std::int64_t>(i), stamps[i]);
     log.append(channel, msg, stamps[i], dir.scans[i].string() + ": scan");
     summary.points += static_cast<std::size_t>(msg.num_points);
     bar.tick(std::to_string(msg.num_points) + " points");
