@@ -17,7 +17,8 @@
 #        VLP-32, with distortion only: slow, turning starts from standstill; a case fails on any
 #        unhealthy or lost frame (issue 27). The simulated sequences, ~0.8 GB per HDL-64 case, are
 #        deleted once evaluated unless --keep-sequences. --realism: socc-sim's error models,
-#        sim/README.md "Realism"; none: the exact simulator.)
+#        sim/README.md "Realism"; none: the exact simulator. Under kitti every case runs with
+#        odom_client/config/kitti.yaml, the simulated sensor's calibration, before --config.)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$root/build"; out="$root/out/robustness"; frames=""; odom_args=(); sweep=0; keep=0
@@ -40,6 +41,10 @@ while [ $# -gt 0 ]; do
     *) echo "bench_robustness: unknown argument $1" >&2; exit 2 ;;
   esac
 done
+# shellcheck source=../tests/integration/test_env.sh
+source "$root/tests/integration/test_env.sh"  # realism_odom_config: the simulated sensor's layer
+realism_config="$(realism_odom_config "$realism")"
+[ -n "$realism_config" ] && odom_args=(--config "$realism_config" "${odom_args[@]}")
 gt="${SOCC_KITTI_GT:-$root/../shared/data/kitti_gt}"  # env: another checkout layout
 mkdir -p "$out"
 [[ -n $frames ]] || frames=$(((starts)) && echo 300 || echo 150)

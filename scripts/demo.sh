@@ -53,6 +53,11 @@ if ((view)); then
   [ -s "$out/view_url.txt" ] || { echo "demo: socc-view did not start: $(cat "$out/view.log")" >&2; exit 1; }
   echo "demo: live view of the runs: $(cat "$out/view_url.txt")  (Foxglove: ws://127.0.0.1:$view_port/foxglove)" >&2
 fi
+# shellcheck source=../tests/integration/test_env.sh
+source "$root/tests/integration/test_env.sh"  # realism_odom_config
+# The simulated sensor's known calibration (kitti.yaml under --realism kitti) for every method.
+sensor_config=()
+[ -n "$(realism_odom_config "$realism")" ] && sensor_config=(--config "$(realism_odom_config "$realism")")
 sim=(--scene street --trajectory figure8 --distortion --seed "$seed" --realism "$realism")
 "$root/build/sim/socc-sim" --out "$out/seq" --frames "$frames" "${sim[@]}"
 
@@ -64,7 +69,7 @@ for v in "${variants[@]}"; do
   echo "demo: $name" >&2
   # shellcheck disable=SC2086  # args: option words
   bash scripts/bench_odometry.sh "$out/seq" --build "$root/build" --out "$out/$dir" \
-    --lengths 20,40,60,80,100 --no-targets $args >"$out/$dir.md"
+    --lengths 20,40,60,80,100 --no-targets "${sensor_config[@]}" $args >"$out/$dir.md"
 done
 
 echo "demo: two robots, one map" >&2

@@ -23,17 +23,19 @@
 #   --scene S    socc-sim scene (default street; indoor has no moving objects)
 #   --trajectory R  socc-sim route (straight, circle, figure8, zigzag; default: the scene's)
 #   --distortion socc-sim moves the sensor during each sweep (per-point times; deskewed)
-#   --realism L  socc-sim error models (default kitti: as real KITTI data; none: exact)
+#   --realism L  socc-sim error models (default kitti: as real KITTI data; none: exact); every
+#                robot runs with the level's sensor config (kitti: odom_client/config/kitti.yaml)
+#   --config F   odom_client YAML layered after it (may be repeated)
 #   --relocalize robots 1..N-1 join the map without start poses (see above)
 #   --lcm-url U  the LCM URL of the run with all robots (e.g. one socc-view listens on;
 #                default: a private port); the runs alone always use private ports
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,31p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 robots=3 frames=25 build="$root/build" out="$root/out/multirobot" seed=1 scene=street speed=9
 relocalize=0 realism=kitti together_url=""
-sim_extra=()
+sim_extra=() odom_configs=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --robots) robots="$2"; shift 2 ;;
@@ -47,6 +49,7 @@ while [ $# -gt 0 ]; do
     --distortion) sim_extra+=(--distortion); shift ;;
     --realism) realism="$2"; shift 2 ;;
     --relocalize) relocalize=1; shift ;;
+    --config) odom_configs+=(--config "$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"); shift 2 ;;
     --lcm-url) together_url="$2"; shift 2 ;;
     -h|--help) usage 0 ;;
     *) echo "demo_multirobot: unknown argument $1" >&2; usage 2 ;;
@@ -74,7 +77,9 @@ trap 'exit 130' INT TERM
 
 log() { echo "demo_multirobot: $*" >&2; }
 # shellcheck source=../tests/integration/test_env.sh
-source "$root/tests/integration/test_env.sh"  # random_lcm_url, kitti_pose
+source "$root/tests/integration/test_env.sh"  # random_lcm_url, kitti_pose, realism_odom_config
+realism_config="$(realism_odom_config "$realism")"
+[ -n "$realism_config" ] && odom_configs=(--config "$realism_config" "${odom_configs[@]}")
 new_url() { random_lcm_url 20000; }  # a private group and port per server, ttl=0
 cli() { "$build/tools/socc-cli" --lcm-url "$url" --client-id demo_mr "$@"; }
 server_pid=""
@@ -115,7 +120,7 @@ run_client() {  # run_client I OUTDIR [together]: odom_client of robot I in the 
   if ((relocalize && i > 0)) && [[ ${3:-} == together ]]; then start=(--relocalize); fi
   mkdir -p "$dir"
   "$build/odom_client/odom_client" --kitti "$seq_dir" --lcm-url "$url" --robot-id "robot$i" \
-    --first-frame "$first" --last-frame $((first + frames - 1)) "${start[@]}" \
+    --first-frame "$first" --last-frame $((first + frames - 1)) "${start[@]}" "${odom_configs[@]}" \
     --out-dir "$dir" --quiet >"$dir/summary.txt" 2>"$dir/client.log" &
   client_pid=$!
 }

@@ -31,10 +31,11 @@ void onSignal(int) {
 
 // The command line as parsed.
 struct Args {
-  std::string input, pcd_dir, config_file, out_dir, initial_pose, key_file, pose_hint;
+  std::string input, pcd_dir, out_dir, initial_pose, key_file, pose_hint;
   std::string robot_id = "robot1";
   std::string lcm_url{socc::channels::kDefaultLcmUrl};
-  std::string scan_lcm_url;  // --live: where scans arrive; empty = lcm_url
+  std::string scan_lcm_url;               // --live: where scans arrive; empty = lcm_url
+  std::vector<std::string> config_files;  // --config, layered in order
   bool live = false, no_semantics = false, resume = false, quiet = false, relocalize = false;
   double hint_radius = 0.0, hint_yaw_tolerance_deg = 180.0;
   double frame_period = 0.0;  // --frame-period; 0: the config's frame_period
@@ -99,8 +100,11 @@ void addOptions(CLI::App& app, Args& a) {
   app.add_option("--scan-lcm-url", a.scan_lcm_url,
                  "--live: read scans from this URL (default: --lcm-url); scans are not signed, "
                  "so it must be ttl=0 (this machine) when --lcm-url is a LAN (ttl=1)");
-  app.add_option("--config", a.config_file,
-                 "YAML parameters (odom_client/config/default.yaml documents each)");
+  app.add_option("--config", a.config_files,
+                 "YAML parameters (odom_client/config/default.yaml documents each); may be given "
+                 "several times: a later file's keys override an earlier one's (e.g. "
+                 "config/kitti.yaml for the sensor, then config/baseline.yaml for the method)")
+      ->allow_extra_args(false);
   app.add_option("--out-dir", a.out_dir,
                  "write poses_kitti.txt, poses_tum.txt and frames.csv here");
   app.add_option("--initial-pose", a.initial_pose,
@@ -293,7 +297,8 @@ int main(int argc, char** argv) {
 
   try {
     checkArgs(args);
-    OdomConfig config = args.config_file.empty() ? OdomConfig{} : loadOdomConfig(args.config_file);
+    OdomConfig config =
+        loadOdomConfig(std::vector<fs::path>(args.config_files.begin(), args.config_files.end()));
     if (args.no_semantics) config.use_semantics = false;
     if (args.frame_period > 0.0) config.frame_period = args.frame_period;
     if (!args.out_dir.empty()) fs::create_directories(args.out_dir);

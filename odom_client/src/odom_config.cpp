@@ -1,6 +1,7 @@
 #include "socc/odom/odom_config.hpp"
 
 #include <cmath>
+#include <functional>
 
 #include "socc/yaml_fields.hpp"
 
@@ -93,8 +94,19 @@ std::array<double, kNumClasses> classFactors(const OdomConfig& cfg) {
 }
 
 OdomConfig loadOdomConfig(const std::filesystem::path& file) {
+  return loadOdomConfig(std::vector<std::filesystem::path>{file});
+}
+
+OdomConfig loadOdomConfig(const std::vector<std::filesystem::path>& files) {
   OdomConfig cfg;
-  loadYamlFields(file, "odom config", fields(cfg), [&cfg] { return validate(cfg); });
+  const YamlFields keys = fields(cfg);
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    // Only the result is judged: one layer alone may leave a pair of keys inconsistent that
+    // the next one completes (a sensor file's voxel sizes, a method file's thresholds).
+    std::function<std::string()> check;
+    if (i + 1 == files.size()) check = [&cfg] { return validate(cfg); };
+    loadYamlFields(files[i], "odom config", keys, check);
+  }
   return cfg;
 }
 

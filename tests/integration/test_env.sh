@@ -43,3 +43,13 @@ kitti_pose() {
     printf "%.9f %.9f %.9f %.12f %.12f %.12f", $4, $8, $12,
       atan2($10, $11), atan2(-$9, sqrt($10 * $10 + $11 * $11)), atan2($5, $1) }'
 }
+
+# realism_odom_config LEVEL: the odom_client config layer for socc-sim's --realism LEVEL, empty
+# when there is none. kitti: the preset bends every beam 0.22 deg in elevation, as KITTI's HDL-64
+# does, and odom_client/config/kitti.yaml undoes it as the peers' KITTI loaders do (sim/README.md
+# "Realism"); a method's own config is layered after it (odom_client --config A --config B).
+realism_odom_config() {
+  local dir
+  dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)/odom_client/config"
+  case "$1" in kitti) echo "$dir/kitti.yaml" ;; esac
+}

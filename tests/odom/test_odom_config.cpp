@@ -65,6 +65,32 @@ TEST(OdomConfig, KittiYamlCorrectsTheHdl64sElevation) {
   EXPECT_TRUE(socc::odom::validate(c).empty());
 }
 
+TEST(OdomConfig, LaterFilesOverrideEarlierOnesAndOnlyTheResultIsValidated) {
+  const fs::path dir(SOCC_ODOM_CONFIG_DIR);
+  const OdomConfig c =
+      socc::odom::loadOdomConfig(std::vector<fs::path>{dir / "kitti.yaml", dir / "baseline.yaml"});
+  EXPECT_DOUBLE_EQ(c.vertical_angle_correction_deg, 0.205);  // the sensor's layer
+  EXPECT_FALSE(c.point_to_plane);                            // the method's layer
+  EXPECT_FALSE(c.use_semantics);
+  EXPECT_EQ(socc::odom::loadOdomConfig(std::vector<fs::path>{}).max_range, OdomConfig{}.max_range);
+
+  // min_voxel_size above the default max_voxel_size is invalid alone; the next layer fixes it.
+  const fs::path a = writeTemp("layer_a.yaml", "min_voxel_size: 5.0\n");
+  const fs::path b = writeTemp("layer_b.yaml", "max_voxel_size: 6.0\ninitial_voxel_size: 5.5\n");
+  const OdomConfig ab = socc::odom::loadOdomConfig(std::vector<fs::path>{a, b});
+  EXPECT_DOUBLE_EQ(ab.min_voxel_size, 5.0);
+  EXPECT_DOUBLE_EQ(ab.max_voxel_size, 6.0);
+  // The same problem left by the last layer is reported, naming that file.
+  try {
+    socc::odom::loadOdomConfig(std::vector<fs::path>{dir / "kitti.yaml", a});
+    ADD_FAILURE() << "an invalid result was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("layer_a.yaml"), std::string::npos) << e.what();
+  }
+  fs::remove(a);
+  fs::remove(b);
+}
+
 TEST(OdomConfig, RejectsUnknownKeysWrongTypesAndBadValues) {
   const auto expectError = [](const std::string& text, const std::string& needle) {
     const fs::path p = writeTemp("bad.yaml", text);

@@ -4,6 +4,7 @@
 #include <array>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "socc/labels.hpp"
 
@@ -121,6 +122,10 @@ std::array<double, kNumClasses> classFactors(const OdomConfig& cfg);
 /// Loads a YAML file (flat keys named like the fields above). Unknown keys, wrong types and
 /// invalid values throw std::runtime_error naming the file and the key; missing keys keep defaults.
 OdomConfig loadOdomConfig(const std::filesystem::path& file);
+/// Layers several files over the defaults in order: a key of a later file overrides the same key
+/// of an earlier one (e.g. a sensor's config/kitti.yaml, then a method's config/baseline.yaml).
+/// The result is validated once, after the last file.
+OdomConfig loadOdomConfig(const std::vector<std::filesystem::path>& files);
 /// Empty when cfg is valid, otherwise the first problem found.
 std::string validate(const OdomConfig& cfg);
 
