@@ -1,0 +1,165 @@
+#include "bags/forked_reader.hpp"
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <stdexcept>
+
+namespace socc::sensors::bags {
+
+namespace {
+
+constexpr std::size_t kFrameHeaderBytes = 9;  // kind, uint64 payload length
+// A ROS 1 message holds at most 4 GiB (uint32 length) plus the frame's own fields.
+constexpr std::uint64_t kMaxFramePayload = (std::uint64_t{1} << 32) + 64;
+constexpr int kPipeBytes = 1 << 20;  // fewer wake-ups for messages of megabytes
+
+std::string describeEnd(int status) {
+  if (WIFSIGNALED(status)) {
+    const int sig = WTERMSIG(status);
+    const char* name = ::strsignal(sig);
+    return "the reader process was killed by signal " + std::to_string(sig) + " (" +
+           (name != nullptr ? name : "?") + ")";
+  }
+  if (WIFEXITED(status))
+    return "the reader process exited with status " + std::to_string(WEXITSTATUS(status));
+  return "the reader process ended";
+}
+
+}  // namespace
+
+void FrameWriter::writeAll(const std::uint8_t* data, std::size_t n) {
+  while (n > 0) {
+    const ssize_t w = ::write(fd_, data, n);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) ::_exit(1);  // the reading side is gone: nothing left to do here
+    data += w;
+    n -= static_cast<std::size_t>(w);
+  }
+}
+
+void FrameWriter::write(std::uint8_t kind, std::initializer_list<ByteView> parts) {
+  std::uint64_t length = 0;
+  for (const ByteView& p : parts) length += p.size;
+  std::uint8_t head[kFrameHeaderBytes];
+  head[0] = kind;
+  std::memcpy(head + 1, &length, sizeof(length));
+  writeAll(head, sizeof(head));
+  for (const ByteView& p : parts) writeAll(p.data, p.size);
+}
+
+ForkedReader::ForkedReader(const std::function<void(FrameWriter&)>& work) {
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0)
+    throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
+  ::fcntl(fds[1], F_SETPIPE_SZ, kPipeBytes);  // best effort: a smaller pipe only costs time
+  pid_ = ::fork();
+  if (pid_ < 0) {
+    const int err = errno;
+    ::close(fds[0]);
+    ::close(fds[1]);
+    throw std::runtime_error(std::string("cannot start a reader process: ") + std::strerror(err));
+  }
+  if (pid_ == 0) {
+    ::close(fds[0]);
+    FrameWriter writer(fds[1]);
+    try {
+      work(writer);
+      writer.write(kEnd, {});
+    } catch (const std::exception& e) {
+      const std::string what = e.what();
+      writer.write(kFailed, {textBytes(what)});
+    } catch (...) {
+      const std::string what = "unknown exception";
+      writer.write(kFailed, {textBytes(what)});
+    }
+    ::_exit(0);
+  }
+  ::close(fds[1]);
+  fd_ = fds[0];
+}
+
+ForkedReader::~ForkedReader() {
+  stopChild();
+}
+
+void ForkedReader::stopChild() {
+  if (pid_ > 0) {
+    ::kill(pid_, SIGKILL);
+    int status = 0;
+    while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+    }
+    pid_ = -1;
+  }
+  if (fd_ >= 0) {
+    ::close(fd_);
+    fd_ = -1;
+  }
+}
+
+bool ForkedReader::readAll(std::uint8_t* data, std::size_t n) {
+  while (n > 0) {
+    const ssize_t r = ::read(fd_, data, n);
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) return false;
+    data += r;
+    n -= static_cast<std::size_t>(r);
+  }
+  return true;
+}
+
+Frame ForkedReader::childGone(const std::string& context) {
+  Frame f;
+  f.kind = kFailed;
+  int status = 0;
+  pid_t reaped = -1;
+  while ((reaped = ::waitpid(pid_, &status, 0)) < 0 && errno == EINTR) {
+  }
+  const std::string how = reaped == pid_ ? describeEnd(status) : "the reader process is gone";
+  pid_ = -1;
+  stopChild();
+  const std::string text = how + " " + context;
+  f.payload.assign(text.begin(), text.end());
+  return f;
+}
+
+std::optional<Frame> ForkedReader::next() {
+  if (done_) return std::nullopt;
+  std::uint8_t head[kFrameHeaderBytes];
+  if (!readAll(head, sizeof(head))) {
+    done_ = true;
+    return childGone("before the end of its output");
+  }
+  Frame f;
+  f.kind = head[0];
+  std::uint64_t length = 0;
+  std::memcpy(&length, head + 1, sizeof(length));
+  if (length > kMaxFramePayload) {
+    done_ = true;
+    stopChild();
+    const std::string text = "the reader process sent a broken frame";
+    return Frame{kFailed, std::vector<std::uint8_t>(text.begin(), text.end())};
+  }
+  f.payload.resize(static_cast<std::size_t>(length));
+  if (!readAll(f.payload.data(), f.payload.size())) {
+    done_ = true;
+    return childGone("in the middle of a frame");
+  }
+  if (f.kind == kEnd || f.kind == kFailed) {
+    done_ = true;
+    // The child leaves right after its last frame: reap it.
+    int status = 0;
+    while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+    }
+    pid_ = -1;
+    stopChild();
+    if (f.kind == kEnd) return std::nullopt;
+  }
+  return f;
+}
+
+}  // namespace socc::sensors::bags
