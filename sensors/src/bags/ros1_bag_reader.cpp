@@ -10,6 +10,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <stdexcept>
 
 #include "bags/bag_reader.hpp"
@@ -68,8 +69,12 @@ void openBag(rosbag::Bag& bag, const std::string& file) {
     bag.open(file, rosbag::bagmode::Read);
   } catch (const rosbag::BagUnindexedException&) {
     throw std::runtime_error(
-        "the bag has no index (a recording that was not closed, or a truncated file: "
-        "`rosbag reindex` rebuilds it)");
+        "the bag has no index (a recording that was not closed: `rosbag reindex` rebuilds it)");
+  } catch (const rosbag::BagIOException& e) {
+    // Opening reads the header and the index at the end of the file: a cut file fails here.
+    throw std::runtime_error(std::string("its index cannot be read (a truncated file? `rosbag "
+                                         "reindex` rebuilds the index of a cut bag): ") +
+                             e.what());
   }
 }
 
@@ -132,6 +137,7 @@ TopicInfo decodeTopic(const Frame& f) {
 class Ros1BagReader : public BagReader {
  public:
   explicit Ros1BagReader(const std::filesystem::path& file) : file_(file.string()) {
+    requireBagMagic();
     ForkedReader lister([&](FrameWriter& out) { listTopics(file_, out); });
     try {
       while (const std::optional<Frame> f = lister.next()) {
@@ -175,6 +181,17 @@ class Ros1BagReader : public BagReader {
   }
 
  private:
+  /// A file that is no bag at all is told so here, before rosbag_storage reads it.
+  void requireBagMagic() const {
+    static constexpr char kMagic[] = "#ROSBAG V";  // then "2.0\n" (or 1.2, also read)
+    char head[sizeof(kMagic) - 1] = {};
+    std::ifstream in(file_, std::ios::binary);
+    if (!in) throw std::runtime_error(file_ + ": cannot open");
+    in.read(head, sizeof(head));
+    if (!in || std::memcmp(head, kMagic, sizeof(head)) != 0)
+      throw std::runtime_error(file_ + ": not a ROS 1 bag (no '#ROSBAG V' line)");
+  }
+
   /// The payload is the message's bytes with topic and stamp behind them (no copy to split).
   std::optional<BagMessage> decodeMessage(std::vector<std::uint8_t> payload) {
     const std::size_t n = payload.size() - kMessageTrailerBytes;
