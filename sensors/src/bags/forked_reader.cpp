@@ -65,7 +65,10 @@ ForkedReader::ForkedReader(const std::function<void(FrameWriter&)>& work) {
     throw std::runtime_error(std::string("cannot start a reader process: ") + std::strerror(err));
   }
   if (pid_ == 0) {
-    ::close(fds[0]);
+    // Only stdio and the pipe stay open: the child keeps no socket or pipe of the program alive.
+    const auto out = static_cast<unsigned>(fds[1]);
+    if (out > 3) ::close_range(3, out - 1, 0);
+    ::close_range(out + 1, ~0U, 0);
     FrameWriter writer(fds[1]);
     try {
       work(writer);
