@@ -1,9 +1,10 @@
-// ForkedReader: the child's frames arrive in order; an exception, a crash or a broken frame in
-// the child becomes a kFailed frame here, and this process goes on.
+// ForkedReader: the child's frames arrive in order, a value sent reaches it; an exception or a
+// crash in the child becomes a kFailed frame here, and this process goes on.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <csignal>
+#include <cstring>
 
 #include "bags/forked_reader.hpp"
 
@@ -55,6 +56,32 @@ TEST(ForkedReader, AChildThatDiesIsAFailedFrame) {
   ASSERT_EQ(frames.size(), 2u);
   EXPECT_EQ(frames[1].kind, ForkedReader::kFailed);
   EXPECT_NE(frames[1].text().find("killed by signal 9"), std::string::npos) << frames[1].text();
+}
+
+TEST(ForkedReader, TheChildWaitsForAValueFromTheParent) {
+  ForkedReader reader([](FrameWriter& out) {
+    out.write(kData, {});
+    const std::optional<std::uint64_t> v = out.receive();
+    const std::uint64_t echo = v ? *v + 1 : 0;
+    out.write(kData, {ByteView(reinterpret_cast<const std::uint8_t*>(&echo), sizeof(echo))});
+  });
+  ASSERT_TRUE(reader.next());
+  reader.send(41);
+  const std::optional<Frame> f = reader.next();
+  ASSERT_TRUE(f);
+  ASSERT_EQ(f->payload.size(), 8u);
+  std::uint64_t echo = 0;
+  std::memcpy(&echo, f->payload.data(), 8);
+  EXPECT_EQ(echo, 42u);
+  EXPECT_FALSE(reader.next());
+}
+
+TEST(ForkedReader, SendingToAChildThatIsGoneIsHarmless) {
+  ForkedReader reader([](FrameWriter&) {});
+  EXPECT_FALSE(reader.next());  // the child ended
+  reader.send(1);               // no SIGPIPE: this process goes on
+  ForkedReader waiting([](FrameWriter& out) { out.receive(); });
+  // Destroyed while its child waits for a value: the child is killed and reaped.
 }
 
 TEST(ForkedReader, StoppingEarlyEndsTheChild) {

@@ -1,9 +1,11 @@
 #include "bags/forked_reader.hpp"
 
 #include <fcntl.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
@@ -34,12 +36,26 @@ std::string describeEnd(int status) {
 
 void FrameWriter::writeAll(const std::uint8_t* data, std::size_t n) {
   while (n > 0) {
-    const ssize_t w = ::write(fd_, data, n);
+    const ssize_t w = ::write(out_, data, n);
     if (w < 0 && errno == EINTR) continue;
     if (w <= 0) ::_exit(1);  // the reading side is gone: nothing left to do here
     data += w;
     n -= static_cast<std::size_t>(w);
   }
+}
+
+std::optional<std::uint64_t> FrameWriter::receive() {
+  std::uint64_t value = 0;
+  auto* p = reinterpret_cast<std::uint8_t*>(&value);
+  std::size_t n = sizeof(value);
+  while (n > 0) {
+    const ssize_t r = ::read(in_, p, n);
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) return std::nullopt;
+    p += r;
+    n -= static_cast<std::size_t>(r);
+  }
+  return value;
 }
 
 void FrameWriter::write(std::uint8_t kind, std::initializer_list<ByteView> parts) {
@@ -53,23 +69,36 @@ void FrameWriter::write(std::uint8_t kind, std::initializer_list<ByteView> parts
 }
 
 ForkedReader::ForkedReader(const std::function<void(FrameWriter&)>& work) {
-  int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0)
+  int from_child[2];
+  int to_child[2];
+  if (::pipe2(from_child, O_CLOEXEC) != 0)
     throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
-  ::fcntl(fds[1], F_SETPIPE_SZ, kPipeBytes);  // best effort: a smaller pipe only costs time
+  // A socket, not a pipe, so that send() to a child that is gone cannot raise SIGPIPE here.
+  if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, to_child) != 0) {
+    const int err = errno;
+    ::close(from_child[0]);
+    ::close(from_child[1]);
+    throw std::runtime_error(std::string("cannot create a socket pair: ") + std::strerror(err));
+  }
+  ::fcntl(from_child[1], F_SETPIPE_SZ, kPipeBytes);  // best effort: a smaller pipe costs time
   pid_ = ::fork();
   if (pid_ < 0) {
     const int err = errno;
-    ::close(fds[0]);
-    ::close(fds[1]);
+    for (const int fd : {from_child[0], from_child[1], to_child[0], to_child[1]}) ::close(fd);
     throw std::runtime_error(std::string("cannot start a reader process: ") + std::strerror(err));
   }
   if (pid_ == 0) {
-    // Only stdio and the pipe stay open: the child keeps no socket or pipe of the program alive.
-    const auto out = static_cast<unsigned>(fds[1]);
-    if (out > 3) ::close_range(3, out - 1, 0);
-    ::close_range(out + 1, ~0U, 0);
-    FrameWriter writer(fds[1]);
+    // Only stdio and the child's two pipe ends stay open: it keeps no socket or pipe of the
+    // program alive.
+    const int out = ::fcntl(from_child[1], F_DUPFD_CLOEXEC, 3);
+    const int in = ::fcntl(to_child[0], F_DUPFD_CLOEXEC, 3);
+    if (out < 0 || in < 0) ::_exit(1);
+    const auto low = static_cast<unsigned>(std::min(out, in));
+    const auto high = static_cast<unsigned>(std::max(out, in));
+    if (low > 3) ::close_range(3, low - 1, 0);
+    if (high > low + 1) ::close_range(low + 1, high - 1, 0);
+    ::close_range(high + 1, ~0U, 0);
+    FrameWriter writer(out, in);
     try {
       work(writer);
       writer.write(kEnd, {});
@@ -82,8 +111,24 @@ ForkedReader::ForkedReader(const std::function<void(FrameWriter&)>& work) {
     }
     ::_exit(0);
   }
-  ::close(fds[1]);
-  fd_ = fds[0];
+  ::close(from_child[1]);
+  ::close(to_child[0]);
+  fd_ = from_child[0];
+  to_child_ = to_child[1];
+}
+
+void ForkedReader::send(std::uint64_t value) {
+  if (to_child_ < 0) return;
+  // A child that is gone tells so through next() (MSG_NOSIGNAL: EPIPE, not SIGPIPE).
+  const auto* p = reinterpret_cast<const std::uint8_t*>(&value);
+  std::size_t n = sizeof(value);
+  while (n > 0) {
+    const ssize_t w = ::send(to_child_, p, n, MSG_NOSIGNAL);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) break;
+    p += w;
+    n -= static_cast<std::size_t>(w);
+  }
 }
 
 ForkedReader::~ForkedReader() {
@@ -98,9 +143,9 @@ void ForkedReader::stopChild() {
     }
     pid_ = -1;
   }
-  if (fd_ >= 0) {
-    ::close(fd_);
-    fd_ = -1;
+  for (int* fd : {&fd_, &to_child_}) {
+    if (*fd >= 0) ::close(*fd);
+    *fd = -1;
   }
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Runs a reader that may crash on damaged input (a library that trusts the lengths in a file)
-// in a forked child process; the child sends what it reads as frames through a pipe. A crash,
+// in a forked child process; the child sends what it reads as frames through a pipe and can
+// wait for a value from this process (what to read next) through another. A crash,
 // a sanitizer abort or an exception in the child becomes a failure frame in this process,
 // which goes on. The child only runs the given work and leaves with _exit (no destructors or
 // atexit handlers of this process run there).
@@ -16,16 +17,19 @@
 
 namespace socc::sensors::bags {
 
-/// The child's end of the pipe.
+/// The child's ends of the pipes.
 class FrameWriter {
  public:
-  explicit FrameWriter(int fd) : fd_(fd) {}
+  FrameWriter(int out, int in) : out_(out), in_(in) {}
   /// One frame: kind (>= kFirstUserFrame) and the concatenation of the parts as payload.
   void write(std::uint8_t kind, std::initializer_list<ByteView> parts);
+  /// Waits for the value the parent sends (ForkedReader::send); nullopt when it sends none.
+  std::optional<std::uint64_t> receive();
 
  private:
   void writeAll(const std::uint8_t* data, std::size_t n);
-  int fd_;
+  int out_;
+  int in_;
 };
 
 struct Frame {
@@ -50,6 +54,8 @@ class ForkedReader {
   /// The next frame of work; a kFailed frame when it threw or the child died (signal, exit
   /// status) or sent a broken frame; nullopt after the kEnd or kFailed frame.
   std::optional<Frame> next();
+  /// Sends the child a value (what FrameWriter::receive returns there), e.g. what to read next.
+  void send(std::uint64_t value);
 
  private:
   /// Reads n bytes; false at the end of the pipe (the child is gone).
@@ -59,7 +65,8 @@ class ForkedReader {
   void stopChild();
 
   pid_t pid_ = -1;
-  int fd_ = -1;
+  int fd_ = -1;        // frames from the child
+  int to_child_ = -1;  // values to the child
   bool done_ = false;
 };
 

@@ -22,8 +22,9 @@ namespace {
 
 // Frames from the child process.
 constexpr std::uint8_t kTopicFrame = ForkedReader::kFirstUserFrame;  // u64 count, name, type
-constexpr std::uint8_t kMessageFrame = kTopicFrame + 1;  // data, then u32 topic, i64 stamp [ns]
-constexpr std::uint8_t kDamageFrame = kTopicFrame + 2;   // why a message could not be read
+constexpr std::uint8_t kMessageFrame = kTopicFrame + 1;    // data, then u32 topic, i64 stamp [ns]
+constexpr std::uint8_t kDamageFrame = kTopicFrame + 2;     // why a message could not be read
+constexpr std::uint8_t kTopicsEndFrame = kTopicFrame + 3;  // then the child waits for a topic
 constexpr std::size_t kMessageTrailerBytes = 12;
 
 template <class T>
@@ -78,31 +79,31 @@ void openBag(rosbag::Bag& bag, const std::string& file) {
   }
 }
 
-void listTopics(const std::string& file, FrameWriter& out) {
-  rosbag::Bag bag;
-  openBag(bag, file);
-  for (const TopicInfo& t : ros1Topics(bag).topics) {
-    // Strings as uint32 length + bytes (ByteCursor::string32).
-    const std::uint64_t count = t.messages;
-    const auto name_bytes = static_cast<std::uint32_t>(t.name.size());
-    const auto type_bytes = static_cast<std::uint32_t>(t.type.size());
-    out.write(kTopicFrame, {valueView(count), valueView(name_bytes), textBytes(t.name),
-                            valueView(type_bytes), textBytes(t.type)});
-  }
-}
-
-/// The messages in record-time order (rosbag::View), of one topic (< topics.size()) or all.
-void streamMessages(const std::string& file, std::size_t selected, FrameWriter& out) {
+/// The child's work: opens the bag, sends its topics and kTopicsEndFrame, waits for the topic to
+/// read (an index into the topics; any larger value: all), then sends its messages in
+/// record-time order (rosbag::View).
+void readBag(const std::string& file, FrameWriter& out) {
   rosbag::Bag bag;
   openBag(bag, file);
   const Ros1Topics t = ros1Topics(bag);
-  const bool all = selected >= t.topics.size();
+  for (const TopicInfo& info : t.topics) {
+    // Strings as uint32 length + bytes (ByteCursor::string32).
+    const std::uint64_t count = info.messages;
+    const auto name_bytes = static_cast<std::uint32_t>(info.name.size());
+    const auto type_bytes = static_cast<std::uint32_t>(info.type.size());
+    out.write(kTopicFrame, {valueView(count), valueView(name_bytes), textBytes(info.name),
+                            valueView(type_bytes), textBytes(info.type)});
+  }
+  out.write(kTopicsEndFrame, {});
+  const std::optional<std::uint64_t> selected = out.receive();
+  if (!selected) return;  // the reader was closed before reading
+  const bool all = *selected >= t.topics.size();
   rosbag::View view =
-      all ? rosbag::View(bag) : rosbag::View(bag, rosbag::TopicQuery(t.topics[selected].name));
+      all ? rosbag::View(bag) : rosbag::View(bag, rosbag::TopicQuery(t.topics[*selected].name));
   std::vector<std::uint8_t> data;
   for (const rosbag::MessageInstance& m : view) {
     const auto topic = static_cast<std::uint32_t>(t.indexOf(m.getTopic(), m.getDataType()));
-    if (!all && topic != selected) continue;
+    if (!all && topic != *selected) continue;
     const ros::Time time = m.getTime();
     try {
       data.resize(m.size());  // decompresses the chunk: damage throws here or in write()
@@ -138,10 +139,13 @@ class Ros1BagReader : public BagReader {
  public:
   explicit Ros1BagReader(const std::filesystem::path& file) : file_(file.string()) {
     requireBagMagic();
-    ForkedReader lister([&](FrameWriter& out) { listTopics(file_, out); });
+    reader_.emplace([this](FrameWriter& out) { readBag(file_, out); });
     try {
-      while (const std::optional<Frame> f = lister.next()) {
+      while (true) {
+        const std::optional<Frame> f = reader_->next();
+        if (!f) throw std::runtime_error("the reader process ended before the topic list");
         if (f->kind == ForkedReader::kFailed) throw std::runtime_error(f->text());
+        if (f->kind == kTopicsEndFrame) break;
         if (f->kind == kTopicFrame) topics_.push_back(decodeTopic(*f));
       }
     } catch (const std::exception& e) {
@@ -154,9 +158,9 @@ class Ros1BagReader : public BagReader {
   void select(std::size_t topic) override { selected_ = topic; }
 
   std::optional<BagMessage> next() override {
-    if (!reader_) {
-      const std::size_t selected = selected_.value_or(topics_.size());
-      reader_.emplace([this, selected](FrameWriter& out) { streamMessages(file_, selected, out); });
+    if (!started_) {
+      reader_->send(selected_.value_or(topics_.size()));
+      started_ = true;
     }
     while (std::optional<Frame> f = reader_->next()) {
       if (f->kind == kDamageFrame) {
@@ -209,7 +213,8 @@ class Ros1BagReader : public BagReader {
   std::string file_;
   std::vector<TopicInfo> topics_;
   std::optional<std::size_t> selected_;
-  std::optional<ForkedReader> reader_;
+  std::optional<ForkedReader> reader_;  // one child: the topic list, then the messages
+  bool started_ = false;                // the topic to read was sent
   std::uint64_t damaged_ = 0;
   std::string first_damage_;
   std::string stop_reason_;
