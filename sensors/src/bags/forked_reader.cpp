@@ -20,6 +20,18 @@ constexpr std::size_t kFrameHeaderBytes = 9;  // kind, uint64 payload length
 constexpr std::uint64_t kMaxFramePayload = (std::uint64_t{1} << 32) + 64;
 constexpr int kPipeBytes = 1 << 20;  // fewer wake-ups for messages of megabytes
 
+/// Closes every descriptor from 3 on but keep_low <= keep_high.
+void closeAllBut(int keep_low, int keep_high) {
+  unsigned from = 3;
+  for (const int keep : {keep_low, keep_high}) {
+    const auto k = static_cast<unsigned>(keep);
+    if (keep < 0 || k < from) continue;
+    if (k > from) ::close_range(from, k - 1, 0);
+    from = k + 1;
+  }
+  ::close_range(from, ~0U, 0);
+}
+
 std::string describeEnd(int status) {
   if (WIFSIGNALED(status)) {
     const int sig = WTERMSIG(status);
@@ -88,16 +100,11 @@ ForkedReader::ForkedReader(const std::function<void(FrameWriter&)>& work) {
     throw std::runtime_error(std::string("cannot start a reader process: ") + std::strerror(err));
   }
   if (pid_ == 0) {
-    // Only stdio and the child's two pipe ends stay open: it keeps no socket or pipe of the
-    // program alive.
-    const int out = ::fcntl(from_child[1], F_DUPFD_CLOEXEC, 3);
-    const int in = ::fcntl(to_child[0], F_DUPFD_CLOEXEC, 3);
-    if (out < 0 || in < 0) ::_exit(1);
-    const auto low = static_cast<unsigned>(std::min(out, in));
-    const auto high = static_cast<unsigned>(std::max(out, in));
-    if (low > 3) ::close_range(3, low - 1, 0);
-    if (high > low + 1) ::close_range(low + 1, high - 1, 0);
-    ::close_range(high + 1, ~0U, 0);
+    // Only stdio and the child's ends of the pipe and the socket stay open: it keeps no
+    // socket or pipe of the program alive.
+    const int out = from_child[1];
+    const int in = to_child[0];
+    closeAllBut(std::min(out, in), std::max(out, in));
     FrameWriter writer(out, in);
     try {
       work(writer);
