@@ -130,24 +130,42 @@ std::string ros1Record(const std::string& fields, const std::string& data) {
   return s32(fields) + s32(data);
 }
 
+/// An indexed bag (rosbag_storage reads no other): bag header, one uncompressed chunk with a
+/// connection and a message, the chunk's index data, then the index section (connection, chunk
+/// info) that index_pos points to.
 std::string ros1Bag() {
+  const std::string magic = "#ROSBAG V2.0\n";
+  const std::string time = u32(1700000000) + u32(500);
   const std::string conn =
       ros1Field("op", "\x07") + ros1Field("conn", u32(0)) + ros1Field("topic", "/points");
   const std::string info = ros1Field("topic", "/points") +
                            ros1Field("type", "sensor_msgs/PointCloud2") +
                            ros1Field("md5sum", "1158d486dd51d683ce2f1be655c3c181");
-  const std::string message = ros1Field("op", std::string("\x02", 1)) + ros1Field("conn", u32(0)) +
-                              ros1Field("time", u32(1700000000) + u32(500));
-  const std::string records = ros1Record(conn, info) + ros1Record(message, pointCloud2(false));
+  const std::string connection = ros1Record(conn, info);
+  const std::string message =
+      ros1Field("op", std::string("\x02", 1)) + ros1Field("conn", u32(0)) + ros1Field("time", time);
+  const std::string records = connection + ros1Record(message, pointCloud2(false));
   const std::string chunk =
       ros1Record(ros1Field("op", "\x05") + ros1Field("compression", "none") +
                      ros1Field("size", u32(static_cast<std::uint32_t>(records.size()))),
                  records);
-  const std::string header =
-      ros1Record(ros1Field("op", "\x03") + ros1Field("index_pos", u64(0)) +
-                     ros1Field("conn_count", u32(1)) + ros1Field("chunk_count", u32(1)),
-                 std::string(16, ' '));
-  return "#ROSBAG V2.0\n" + header + chunk;
+  // The message's offset inside the chunk's records: after the connection record.
+  const std::string index_data =
+      ros1Record(ros1Field("op", "\x04") + ros1Field("ver", u32(1)) + ros1Field("conn", u32(0)) +
+                     ros1Field("count", u32(1)),
+                 time + u32(static_cast<std::uint32_t>(connection.size())));
+  const auto header = [](std::uint64_t index_pos) {
+    return ros1Record(ros1Field("op", "\x03") + ros1Field("index_pos", u64(index_pos)) +
+                          ros1Field("conn_count", u32(1)) + ros1Field("chunk_count", u32(1)),
+                      std::string(16, ' '));
+  };
+  const std::uint64_t chunk_pos = magic.size() + header(0).size();
+  const std::uint64_t index_pos = chunk_pos + chunk.size() + index_data.size();
+  const std::string chunk_info = ros1Record(
+      ros1Field("op", "\x06") + ros1Field("ver", u32(1)) + ros1Field("chunk_pos", u64(chunk_pos)) +
+          ros1Field("start_time", time) + ros1Field("end_time", time) + ros1Field("count", u32(1)),
+      u32(0) + u32(1));
+  return magic + header(index_pos) + chunk + index_data + connection + chunk_info;
 }
 
 // --- ROS 2 .db3 (SQLite) ---

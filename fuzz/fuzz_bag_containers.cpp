@@ -1,6 +1,8 @@
 // The bag container readers (ROS 2 .db3, MCAP, ROS 1 .bag) on arbitrary file content, and the
 // messages they yield through the message parsers and the PointCloud2 conversion. The first
-// byte picks the container; every reader must either return or throw std::runtime_error.
+// byte picks the container; every reader must either return or throw std::runtime_error. ROS 1
+// bags are read by rosbag_storage in a child process (bags/forked_reader.hpp): its crashes on
+// damaged bags end that process only, and show here as an error or a problems() line.
 #include <stdexcept>
 
 #include "bags/bag_reader.hpp"

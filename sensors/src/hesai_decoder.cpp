@@ -11,7 +11,7 @@
 #include "hesai_calibration.hpp"
 #include "hesai_layout.hpp"
 #include "packet_bytes.hpp"
-#include "point_sweep.hpp"
+#include "sweep_builder.hpp"
 
 namespace socc::sensors {
 namespace {
@@ -28,7 +28,7 @@ class HesaiDecoder final : public ScanDecoder {
  public:
   HesaiDecoder(const HesaiLayout& layout, const HesaiCalibration& calibration,
                const SensorConfig& config)
-      : layout_(layout), config_(config) {
+      : layout_(layout), config_(config), sweep_(config.keep_partial) {
     for (int c = 0; c < layout.lasers; ++c) {
       const double el = calibration.elevation_deg[static_cast<std::size_t>(c)] * kHesaiDegToRad;
       cos_el_.push_back(std::cos(el));
@@ -70,10 +70,7 @@ class HesaiDecoder final : public ScanDecoder {
     }
     last_time_ns_ = p.time_ns;
     ++stats_.packets;
-    if (!sweep_.hasClockOffset()) {
-      sweep_.setClockOffset(clockOffset(packet.stamp_ns, p.time_ns));
-      sweep_.markClockOffset();
-    }
+    sweep_.fixClockOffset(clockOffset(packet.stamp_ns, p.time_ns));
     const int rounds = layout_.blocks / p.returns;
     const int round_step =
         rounds >= 2 ? azimuthStep(hesaiBlockAzimuth(layout_, packet.data.data(), 0),
@@ -92,8 +89,7 @@ class HesaiDecoder final : public ScanDecoder {
         if (relative(azimuth) < relative(*last_azimuth_)) {
           finishSweep(started_at_cut_ && missing_deg_ <= kHesaiMaxMissingDeg, out);
           started_at_cut_ = true;
-          sweep_.setClockOffset(clockOffset(packet.stamp_ns, p.time_ns));
-          sweep_.markClockOffset();
+          sweep_.fixClockOffset(clockOffset(packet.stamp_ns, p.time_ns));
         }
       }
       last_azimuth_ = azimuth;
@@ -205,13 +201,7 @@ class HesaiDecoder final : public ScanDecoder {
   }
 
   void finishSweep(bool complete, std::vector<SensorScan>& out) {
-    if (!sweep_.empty() && (complete || config_.keep_partial)) {
-      SensorScan scan = sweep_.take(complete, static_cast<std::int64_t>(stats_.scans));
-      ++stats_.scans;
-      if (!complete) ++stats_.partial_scans;
-      out.push_back(std::move(scan));
-    }
-    sweep_.clear();
+    sweep_.finish(complete, out, stats_);
     missing_deg_ = 0.0;
   }
 
@@ -222,7 +212,7 @@ class HesaiDecoder final : public ScanDecoder {
   std::vector<std::int64_t> offset_ns_[2];
   double min_range_ = 0.0, max_range_ = 0.0;
   int cut_ = 0;  // [0.01 deg]
-  PointSweep sweep_;
+  SweepBuilder sweep_;
   DecodeStats stats_;
   std::optional<std::uint16_t> last_azimuth_;
   std::optional<std::int64_t> last_time_ns_;

@@ -10,7 +10,7 @@
 #include "ouster_layout.hpp"
 #include "ouster_metadata.hpp"
 #include "packet_bytes.hpp"
-#include "point_sweep.hpp"
+#include "sweep_builder.hpp"
 
 namespace socc::sensors {
 namespace {
@@ -86,6 +86,7 @@ class OusterDecoder final : public ScanDecoder {
         layout_(md_.profile, md_.pixels_per_column, md_.columns_per_packet),
         lut_(md_),
         config_(config),
+        sweep_(config.keep_partial),
         received_(static_cast<std::size_t>(md_.columns_per_frame), false) {
     min_range_ = config.min_range > 0.0 ? config.min_range : kOusterMinRange;
     max_range_ = config.max_range > 0.0 ? config.max_range : 1e9;
@@ -138,12 +139,9 @@ class OusterDecoder final : public ScanDecoder {
       frame_ = frame;
       emitted_ = false;
     }
-    if (!sweep_.hasClockOffset()) {
-      const auto* last = layout_.column(d, md_.columns_per_packet - 1);
-      sweep_.setClockOffset(
-          clockOffset(packet.stamp_ns, static_cast<std::int64_t>(layout_.timestamp(last))));
-      sweep_.markClockOffset();
-    }
+    const auto* last = layout_.column(d, md_.columns_per_packet - 1);
+    sweep_.fixClockOffset(
+        clockOffset(packet.stamp_ns, static_cast<std::int64_t>(layout_.timestamp(last))));
     ++stats_.packets;
     for (int c = 0; c < md_.columns_per_packet; ++c) decodeColumn(layout_.column(d, c));
     if (received_count_ == md_.windowColumns()) {
@@ -230,12 +228,7 @@ class OusterDecoder final : public ScanDecoder {
       stats_.gaps += static_cast<std::uint64_t>((missing + md_.columns_per_packet - 1) /
                                                 md_.columns_per_packet);
     }
-    if (!sweep_.empty() && (complete || config_.keep_partial)) {
-      out.push_back(sweep_.take(complete, static_cast<std::int64_t>(stats_.scans)));
-      ++stats_.scans;
-      if (!complete) ++stats_.partial_scans;
-    }
-    sweep_.clear();
+    sweep_.finish(complete, out, stats_);
     std::fill(received_.begin(), received_.end(), false);
     received_count_ = 0;
     first_frame_ = false;
@@ -246,7 +239,7 @@ class OusterDecoder final : public ScanDecoder {
   OusterLut lut_;
   SensorConfig config_;
   double min_range_ = 0.0, max_range_ = 0.0;
-  PointSweep sweep_;
+  SweepBuilder sweep_;
   DecodeStats stats_;
   std::optional<std::uint16_t> frame_;
   bool emitted_ = false;

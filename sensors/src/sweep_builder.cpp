@@ -15,11 +15,10 @@ void SweepBuilder::reserve(std::size_t points) {
 
 void SweepBuilder::finish(bool complete, std::int64_t clock_offset_ns, std::vector<SensorScan>& out,
                           DecodeStats& stats) {
-  const bool whole = complete && complete_;
-  complete_ = true;
   const std::size_t n = n_;
   n_ = 0;
-  if (n == 0 || !(whole || keep_partial_)) return;
+  clock_offset_ns_.reset();
+  if (n == 0 || !(complete || keep_partial_)) return;
   const auto end = static_cast<std::ptrdiff_t>(n);
   const std::int64_t stamp = *std::min_element(times_ns_.begin(), times_ns_.begin() + end);
   SensorScan scan;
@@ -31,11 +30,11 @@ void SweepBuilder::finish(bool complete, std::int64_t clock_offset_ns, std::vect
   for (std::size_t i = 0; i < n; ++i)
     scan.time[i] = static_cast<float>(static_cast<double>(times_ns_[i] - stamp) * 1e-9);
   scan.stamp_ns = stamp + clock_offset_ns;
-  scan.complete = whole;
+  scan.complete = complete;
   scan.seq = next_seq_++;
   out.push_back(std::move(scan));
   ++stats.scans;
-  if (!whole) ++stats.partial_scans;
+  if (!complete) ++stats.partial_scans;
 }
 
 }  // namespace socc::sensors

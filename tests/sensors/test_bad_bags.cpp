@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <iostream>
 
 #include "bag_test_data.hpp"
 #include "bags/bag_packet_source.hpp"
@@ -142,6 +144,73 @@ INSTANTIATE_TEST_SUITE_P(Bags, DamagedBag, testing::Values("clouds_lz4.bag", "cl
                            }
                            return name;
                          });
+
+/// The offset of the data length of the first message record (op 0x02) of an uncompressed ROS 1
+/// bag: the header whose fields (uint32 length + "name=value") hold "op=\x02" and add up to the
+/// uint32 header length before them.
+std::size_t firstMessageDataLength(const std::vector<std::uint8_t>& bytes) {
+  const std::string op("\x04\0\0\0op=\x02", 8);
+  const auto at = std::search(bytes.begin(), bytes.end(), op.begin(), op.end());
+  const auto pos = static_cast<std::size_t>(at - bytes.begin());
+  const auto u32 = [&](std::size_t i) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, bytes.data() + i, 4);
+    return v;
+  };
+  for (std::size_t start = pos; start >= 4 && start + 256 > pos; --start) {
+    const std::size_t end = start + u32(start - 4);
+    std::size_t i = start;
+    while (i + 4 <= end && i + 4 + u32(i) <= end) i += 4 + u32(i);
+    if (i == end && end > pos && end + 4 <= bytes.size()) return end;
+  }
+  return 0;
+}
+
+// A message length past its chunk makes rosbag_storage read past its buffer (it trusts the
+// length; ASan: heap-buffer-overflow in Bag::readMessageDataIntoStream). The read runs in a
+// child process: whatever happens there, this process goes on and yields only whole scans.
+// (Under ASan the child prints rosbag_storage's heap-buffer-overflow report and aborts: expected.)
+TEST(DamagedRos1Bag, MessageLengthPastItsChunkNeverCrashesTheReader) {
+  SOCC_REQUIRE_DATA(test::sharedData() / "kitti_00_first16");
+  const fs::path file = kFixtureDir / "clouds_none.bag";
+  ASSERT_TRUE(fs::exists(file)) << file << " missing: run the fixture sensors.bag_writers";
+  const std::vector<std::uint8_t> bytes = fileBytes(file);
+  const std::size_t length_at = firstMessageDataLength(bytes);
+  ASSERT_GT(length_at, 0u) << "no message record found";
+  for (const std::uint32_t length : {0x01000000u, 0x7FFFFFF0u}) {
+    std::vector<std::uint8_t> bad = bytes;
+    std::memcpy(bad.data() + length_at, &length, 4);
+    const DamagedCopy copy(bad, file, "length");
+    bool reported = false;
+    const std::size_t scans = readDamaged(copy.path(), reported);
+    EXPECT_LE(scans, 2u);
+    // All topics: what the reader reports (printed for docs/sensors_bags.md).
+    std::unique_ptr<BagReader> reader = openBagReader(copy.path());
+    std::size_t messages = 0;
+    while (reader->next()) ++messages;
+    std::cout << "length " << length << ": " << scans << " scans, " << messages
+              << " messages of 6; " << reader->problems();
+    if (scans < 2) {
+      EXPECT_TRUE(reported) << "length " << length << ": a scan lost silently";
+    }
+  }
+}
+
+// A cut or an unindexed bag is refused with the reason (rosbag_storage reads the index only).
+TEST(DamagedRos1Bag, TruncatedBagIsRefusedWithTheReason) {
+  SOCC_REQUIRE_DATA(test::sharedData() / "kitti_00_first16");
+  const fs::path file = kFixtureDir / "clouds_lz4.bag";
+  ASSERT_TRUE(fs::exists(file)) << file << " missing: run the fixture sensors.bag_writers";
+  std::vector<std::uint8_t> cut = fileBytes(file);
+  cut.resize(cut.size() / 2);
+  try {
+    openBagReader(DamagedCopy(cut, file, "half").path());
+    FAIL() << "a truncated bag was opened";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("not a readable ROS 1 bag"), std::string::npos) << what;
+  }
+}
 
 const fs::path kDamagedDb3Source =
     test::rawSensors() / "03_velodyne_vlp32c_nebula_db3" / "1713492677464078412_0.db3";

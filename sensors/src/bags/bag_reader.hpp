@@ -1,7 +1,8 @@
 #pragma once
 // One interface over the bag containers: ROS 2 .db3 (SQLite), MCAP, ROS 1 .bag. A reader lists
 // the topics, then yields the serialized messages of the selected topic in the order they are
-// stored, with the recorder's receive time. Readers throw std::runtime_error naming the file
+// stored (ROS 1: in record-time order, as rosbag::View gives them), with the recorder's receive
+// time. Readers throw std::runtime_error naming the file
 // when it cannot be opened at all; damage found later (a truncated or corrupted record or
 // chunk) ends or skips that part, is counted, and is told by problems().
 #include <cstdint>

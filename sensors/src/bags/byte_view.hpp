@@ -38,6 +38,11 @@ struct ByteView {
   std::string str() const { return std::string(reinterpret_cast<const char*>(data), size); }
 };
 
+/// The bytes of a string (no terminating zero).
+inline ByteView textBytes(const std::string& s) {
+  return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};
+}
+
 /// A trivially copyable value stored in little- (or big-) endian byte order at p.
 template <class T>
 T loadValue(const std::uint8_t* p, bool big_endian) {
@@ -52,7 +57,7 @@ T loadValue(const std::uint8_t* p, bool big_endian) {
   return v;
 }
 
-/// Sequential little-endian reads from a ByteView (the MCAP and ROS 1 container records).
+/// Sequential little-endian reads from a ByteView (MCAP records, ROS 1 frames).
 class ByteCursor {
  public:
   explicit ByteCursor(ByteView bytes) : bytes_(bytes) {}

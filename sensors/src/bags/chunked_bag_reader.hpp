@@ -1,9 +1,9 @@
 #pragma once
-// The reading loop of the containers that keep messages in chunks (compressed record buffers)
-// between top-level records: MCAP and ROS 1. Messages come from the open chunk until it is
-// used up, then from the top level, which may open the next chunk. A damaged chunk is skipped
-// and counted; damage at the top level ends the reading (stop()). Each container says how to
-// read its top level and its chunk records.
+// The reading loop of a container that keeps messages in chunks (compressed record buffers)
+// between top-level records: MCAP (ROS 1 bags are read by rosbag_storage). Messages come from the
+// open chunk until it is used up, then from the top level, which may open the next chunk. A damaged
+// chunk is skipped and counted; damage at the top level ends the reading (stop()). Each container
+// says how to read its top level and its chunk records.
 #include <cstdint>
 #include <optional>
 #include <string>

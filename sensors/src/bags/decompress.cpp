@@ -1,11 +1,10 @@
 #include "bags/decompress.hpp"
 
-#include <bzlib.h>
 #include <lz4frame.h>
 #include <zlib.h>
 #include <zstd.h>
 
-#include <limits>
+#include <algorithm>
 #include <memory>
 
 namespace socc::sensors::bags {
@@ -53,21 +52,6 @@ void lz4Into(ByteView in, std::vector<std::uint8_t>& out) {
   if (out_pos != out.size()) throw FormatError("lz4 chunk shorter than announced");
 }
 
-void bz2Into(ByteView in, std::vector<std::uint8_t>& out) {
-  if (in.size > std::numeric_limits<unsigned>::max() ||
-      out.size() > std::numeric_limits<unsigned>::max()) {
-    throw FormatError("bz2 chunk over 4 GiB");
-  }
-  auto out_size = static_cast<unsigned>(out.size());
-  // libbz2 takes non-const pointers but does not write the input.
-  const int rc =
-      BZ2_bzBuffToBuffDecompress(reinterpret_cast<char*>(out.data()), &out_size,
-                                 const_cast<char*>(reinterpret_cast<const char*>(in.data)),
-                                 static_cast<unsigned>(in.size), 0, 0);
-  if (rc != BZ_OK) throw FormatError("bz2: error " + std::to_string(rc));
-  if (out_size != out.size()) throw FormatError("bz2 chunk shorter than announced");
-}
-
 }  // namespace
 
 std::vector<std::uint8_t> decompress(const std::string& compression, ByteView compressed,
@@ -82,8 +66,6 @@ std::vector<std::uint8_t> decompress(const std::string& compression, ByteView co
     zstdInto(compressed, out);
   } else if (compression == "lz4") {
     lz4Into(compressed, out);
-  } else if (compression == "bz2") {
-    bz2Into(compressed, out);
   } else {
     throw FormatError("compression '" + compression + "' is not supported");
   }

@@ -1,7 +1,7 @@
 #pragma once
-// Decompression of bag chunks into a buffer of the size the container announces. Throws
-// FormatError when the bytes do not decompress to exactly that size, and before allocating
-// when the size is implausible for the compressed length (a corrupted size field).
+// Decompression of MCAP chunks and rosbag2 messages into a buffer of the size the container
+// announces. Throws FormatError when the bytes do not decompress to exactly that size, and before
+// allocating when the size is implausible for the compressed length (a corrupted size field).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -10,8 +10,8 @@
 
 namespace socc::sensors::bags {
 
-/// compression: "" / "none", "zstd", "lz4" (LZ4 frame format: MCAP and ROS 1's roslz4),
-/// "bz2"; anything else throws FormatError.
+/// compression: "" / "none", "zstd", "lz4" (LZ4 frame format); anything else throws
+/// FormatError.
 std::vector<std::uint8_t> decompress(const std::string& compression, ByteView compressed,
                                      std::uint64_t uncompressed_size);
 

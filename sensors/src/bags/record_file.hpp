@@ -1,5 +1,5 @@
 #pragma once
-// Random access to the bytes of a container file (MCAP, ROS 1 bag): reads of known length at
+// Random access to the bytes of a container file (MCAP): reads of known length at
 // known offsets, a FormatError when they would run past the end (a truncated file).
 #include <cstdint>
 #include <filesystem>

@@ -397,8 +397,8 @@ class VelodyneDecoder final : public ScanDecoder {
     if (l.two_point) twoPoint(l, cos_az, sin_az, xv, yv);
     const float z = distance * l.sin_vert + l.vert_offset * l.cos_vert;
     // socc's sensor frame: x forward, y left, z up.
-    sweep_.add(yv, -xv, z, static_cast<float>(r.reflectivity), f.stamp_ns + offset_ns_[f.block][c],
-               slot.laser, return_index);
+    sweep_.add(Eigen::Vector3f(yv, -xv, z), static_cast<float>(r.reflectivity),
+               f.stamp_ns + offset_ns_[f.block][c], slot.laser, return_index);
   }
 
   // HDL-64E calibration: the distance correction varies linearly along x and y (LaserTerms);

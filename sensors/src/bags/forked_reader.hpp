@@ -1,0 +1,73 @@
+#pragma once
+// Runs a reader that may crash on damaged input (a library that trusts the lengths in a file)
+// in a forked child process; the child sends what it reads as frames through a pipe and can
+// wait for a value from this process (what to read next) through another. A crash,
+// a sanitizer abort or an exception in the child becomes a failure frame in this process,
+// which goes on. The child only runs the given work and leaves with _exit (no destructors or
+// atexit handlers of this process run there).
+#include <sys/types.h>
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bags/byte_view.hpp"
+
+namespace socc::sensors::bags {
+
+/// The child's ends of the pipes.
+class FrameWriter {
+ public:
+  FrameWriter(int out, int in) : out_(out), in_(in) {}
+  /// One frame: kind (>= kFirstUserFrame) and the concatenation of the parts as payload.
+  void write(std::uint8_t kind, std::initializer_list<ByteView> parts);
+  /// Waits for the value the parent sends (ForkedReader::send); nullopt when it sends none.
+  std::optional<std::uint64_t> receive();
+
+ private:
+  void writeAll(const std::uint8_t* data, std::size_t n);
+  int out_;
+  int in_;
+};
+
+struct Frame {
+  std::uint8_t kind = 0;
+  std::vector<std::uint8_t> payload;
+  std::string text() const { return std::string(payload.begin(), payload.end()); }
+};
+
+class ForkedReader {
+ public:
+  /// Frame kinds of the reader itself; work uses kinds from kFirstUserFrame on.
+  static constexpr std::uint8_t kEnd = 0;     // work returned
+  static constexpr std::uint8_t kFailed = 1;  // payload: why (exception text, or how it died)
+  static constexpr std::uint8_t kFirstUserFrame = 2;
+
+  /// Starts work in a child process. Throws std::runtime_error when no process can be started.
+  explicit ForkedReader(const std::function<void(FrameWriter&)>& work);
+  ~ForkedReader();
+  ForkedReader(const ForkedReader&) = delete;
+  ForkedReader& operator=(const ForkedReader&) = delete;
+
+  /// The next frame of work; a kFailed frame when it threw or the child died (signal, exit
+  /// status) or sent a broken frame; nullopt after the kEnd or kFailed frame.
+  std::optional<Frame> next();
+  /// Sends the child a value (what FrameWriter::receive returns there), e.g. what to read next.
+  void send(std::uint64_t value);
+
+ private:
+  /// Reads n bytes; false at the end of the pipe (the child is gone).
+  bool readAll(std::uint8_t* data, std::size_t n);
+  /// A kFailed frame saying how the child ended (it is reaped).
+  Frame childGone(const std::string& context);
+  void stopChild();
+
+  pid_t pid_ = -1;
+  int fd_ = -1;        // frames from the child
+  int to_child_ = -1;  // values to the child
+  bool done_ = false;
+};
+
+}  // namespace socc::sensors::bags
