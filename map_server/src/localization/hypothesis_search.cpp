@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -55,13 +54,9 @@ class Search {
   }
 
   std::vector<Hypothesis> run() {
-    const auto start = std::chrono::steady_clock::now();
     pcl::Indices source(3), target(3);
-    for (int i = 0; i < params_.max_iterations; ++i) {
-      if (i % 256 == 255 &&
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
-              params_.max_seconds)
-        break;
+    for (; stats_.draws < params_.max_iterations && stats_.inlier_tests < params_.max_inlier_tests;
+         ++stats_.draws) {
       if (!drawSample(source, target)) continue;
       Eigen::Matrix4f m;
       svd_.estimateRigidTransformation(scan_, source, *map_.cloud.keypoints, target, m);
@@ -70,6 +65,8 @@ class Search {
     for (Hypothesis& h : kept_) refine(h);
     return distinctBest(std::move(kept_));
   }
+
+  const SearchStats& stats() const { return stats_; }
 
  private:
   const IndexedFeatures& map_;
@@ -83,6 +80,7 @@ class Search {
   std::vector<Hypothesis> kept_;       // best score first
   pcl::Indices consistent_;            // scratch: a partner's candidates that fit the sample
   pcl::registration::TransformationEstimationSVD<Point, Point> svd_;
+  SearchStats stats_;
 
   const pcl::Indices& similarTo(int i) {
     pcl::Indices& s = similar_[static_cast<std::size_t>(i)];
@@ -169,12 +167,13 @@ class Search {
 
   // The inliers of a pose counted in blocks of the shuffled keypoints; -1 as soon as the share
   // so far lies kSigmas standard deviations below need (most poses are given up after a block).
-  int inliersAbove(const Eigen::Matrix4f& m, double need) const {
+  int inliersAbove(const Eigen::Matrix4f& m, double need) {
     pcl::Indices nearest(1);
     std::vector<float> distance(1);
     int count = 0;
     for (std::size_t done = 0; done < order_.size();) {
       const std::size_t end = std::min(order_.size(), done + kBlock);
+      stats_.inlier_tests += static_cast<long long>(end - done);
       for (; done < end; ++done)
         if (isInlier(m, order_[done], nearest, distance)) ++count;
       if (done == order_.size()) break;
@@ -261,9 +260,13 @@ IndexedFeatures::IndexedFeatures(FeatureCloud c) : cloud(std::move(c)) {
 }
 
 std::vector<Hypothesis> searchHypotheses(const IndexedFeatures& map, const FeatureCloud& scan,
-                                         const ConflictAt& conflict, const SearchParams& params) {
+                                         const ConflictAt& conflict, const SearchParams& params,
+                                         SearchStats* stats) {
   if (scan.size() < 3 || map.cloud.size() < 3) return {};
-  return Search(map, scan, conflict, params).run();
+  Search search(map, scan, conflict, params);
+  std::vector<Hypothesis> found = search.run();
+  if (stats) *stats = search.stats();
+  return found;
 }
 
 }  // namespace socc::localization
