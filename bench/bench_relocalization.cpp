@@ -107,9 +107,10 @@ void diagnose(double when, const Eigen::Isometry3d& truth, const harness::InProc
     if (metresOff(truth, answer.candidates[i].pose) < 2.0 &&
         degreesOff(truth, answer.candidates[i].pose) < 10.0)
       rank = static_cast<int>(i);
-  std::fprintf(stderr, "t=%.2f keypoints %zu draws %d tests %lld server %.2fs true rank %d", when,
-               answer.scan_keypoints, answer.search.draws, answer.search.inlier_tests,
-               access.serverSeconds(), rank);
+  std::fprintf(stderr,
+               "t=%.2f keypoints %zu draws %d tests %lld server %.2fs (cpu %.2fs) true rank %d",
+               when, answer.scan_keypoints, answer.search.draws, answer.search.inlier_tests,
+               access.serverSeconds(), access.serverCpuSeconds(), rank);
   if (rank >= 0)
     std::fprintf(stderr, " (%.2f-%.2f)",
                  answer.candidates[static_cast<std::size_t>(rank)].inlier_fraction,

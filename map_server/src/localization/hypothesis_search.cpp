@@ -1,6 +1,8 @@
 #include "hypothesis_search.hpp"
 
 #include <pcl/registration/transformation_estimation_svd.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
@@ -51,6 +53,7 @@ class Search {
     order_.resize(scan_.size());
     std::iota(order_.begin(), order_.end(), std::size_t{0});
     std::shuffle(order_.begin(), order_.end(), rng_);
+    findSimilar();
   }
 
   std::vector<Hypothesis> run() {
@@ -75,22 +78,28 @@ class Search {
   const ConflictAt& conflict_;
   const SearchParams& params_;
   std::mt19937 rng_;
-  std::vector<pcl::Indices> similar_;  // nearest map features of each scan keypoint (lazily)
+  std::vector<pcl::Indices> similar_;  // nearest map features of each scan keypoint
   std::vector<std::size_t> order_;     // the scan keypoints shuffled: blocks of it are fair draws
   std::vector<Hypothesis> kept_;       // best score first
   pcl::Indices consistent_;            // scratch: a partner's candidates that fit the sample
   pcl::registration::TransformationEstimationSVD<Point, Point> svd_;
   SearchStats stats_;
 
-  const pcl::Indices& similarTo(int i) {
-    pcl::Indices& s = similar_[static_cast<std::size_t>(i)];
-    if (s.empty()) {
-      std::vector<float> distances;
-      map_.features.nearestKSearch(scan_features_[static_cast<std::size_t>(i)],
-                                   params_.correspondence_randomness, s, distances);
-    }
-    return s;
+  // The nearest map features of every scan keypoint, in parallel: the draws of a full budget
+  // touch nearly all of them, and these searches in 33 dimensions are a large part of a
+  // request's cost. Each keypoint's list is the same however the work is split.
+  void findSimilar() {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, scan_.size()),
+                      [this](const tbb::blocked_range<std::size_t>& r) {
+                        std::vector<float> distances;
+                        for (std::size_t i = r.begin(); i != r.end(); ++i)
+                          map_.features.nearestKSearch(scan_features_[i],
+                                                       params_.correspondence_randomness,
+                                                       similar_[i], distances);
+                      });
   }
+
+  const pcl::Indices& similarTo(int i) const { return similar_[static_cast<std::size_t>(i)]; }
 
   // A sample grown from one random correspondence (a scan keypoint and one of its nearest map
   // features): each further scan keypoint takes one of its candidates whose distances to the
