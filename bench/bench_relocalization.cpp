@@ -107,7 +107,15 @@ void diagnose(double when, const Eigen::Isometry3d& truth, const harness::InProc
     if (metresOff(truth, answer.candidates[i].pose) < 2.0 &&
         degreesOff(truth, answer.candidates[i].pose) < 10.0)
       rank = static_cast<int>(i);
-  std::fprintf(stderr, "t=%.2f keypoints %zu true rank %d:", when, answer.scan_keypoints, rank);
+  std::fprintf(stderr,
+               "t=%.2f keypoints %zu draws %d tests %lld server %.2fs (cpu %.2fs) true rank %d",
+               when, answer.scan_keypoints, answer.search.draws, answer.search.inlier_tests,
+               access.serverSeconds(), access.serverCpuSeconds(), rank);
+  if (rank >= 0)
+    std::fprintf(stderr, " (%.2f-%.2f)",
+                 answer.candidates[static_cast<std::size_t>(rank)].inlier_fraction,
+                 answer.candidates[static_cast<std::size_t>(rank)].conflict);
+  std::fprintf(stderr, ":");
   for (std::size_t i = 0; i < answer.candidates.size() && i < 6; ++i) {
     const auto& c = answer.candidates[i];
     std::fprintf(stderr, " [%.2f-%.2f %.1fm]", c.inlier_fraction, c.conflict,
@@ -252,8 +260,7 @@ void addOptions(CLI::App& app, Options& o) {
       ->capture_default_str();
   app.add_option("--keypoint-voxel", p.features.keypoint_voxel, "[m]")->capture_default_str();
   SearchParams& s = p.search;
-  app.add_option("--iterations", s.max_iterations, "RANSAC samples at most")->capture_default_str();
-  app.add_option("--search-seconds", s.max_seconds, "RANSAC time budget [s]")
+  app.add_option("--iterations", s.max_iterations, "RANSAC samples drawn (the search's budget)")
       ->capture_default_str();
   app.add_option("--randomness", s.correspondence_randomness,
                  "candidates per scan keypoint (nearest map features)")
@@ -261,6 +268,9 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--edge-tolerance", s.edge_tolerance, "sample edge lengths agree within [m]")
       ->capture_default_str();
   app.add_option("--min-edge", s.min_edge, "sample edge length at least [m]")
+      ->capture_default_str();
+  app.add_option("--inlier-tests", s.max_inlier_tests,
+                 "scan keypoints tested as inliers at most (bounds the search's work)")
       ->capture_default_str();
   app.add_option("--keep", s.keep, "distinct hypotheses kept")->capture_default_str();
   app.add_option("--conflict-points", p.conflict_points,

@@ -1,7 +1,9 @@
 #pragma once
 // Relocalization's MapAccess over an in-process grid: what map_server answers to LOCALIZE
 // (GlobalLocalizer) and GET_CHUNK, without LCM. For the relocalization tests and benchmark.
+#include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <optional>
 #include <vector>
 
@@ -13,6 +15,8 @@ namespace socc::odom::harness {
 
 class InProcessMap : public MapAccess {
  public:
+  static constexpr int kDiagnosed = 32;
+
   InProcessMap(const socc::map::SemanticOccupancyMap& map, const OdomConfig& cfg,
                const socc::localization::LocalizerParams& params = {})
       : map_(map), cfg_(cfg), localizer_(params) {}
@@ -24,11 +28,16 @@ class InProcessMap : public MapAccess {
       h = socc::localization::LocalizeHint{hint->position, hint->yaw, hint->radius,
                                            hint->yaw_tolerance};
     const auto start = std::chrono::steady_clock::now();
-    last_ = localizer_.localize(map_, scan, h, max);
+    const std::clock_t cpu_start = std::clock();
+    // All kept hypotheses (the ranking does not depend on how many are asked for), so that a
+    // diagnosis sees the true place's rank beyond the max returned.
+    last_ = localizer_.localize(map_, scan, h, std::max(max, kDiagnosed));
     server_seconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    server_cpu_seconds_ = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
     std::vector<Eigen::Isometry3d> out;
-    for (const auto& c : last_.candidates) out.push_back(c.pose);
+    for (const auto& c : last_.candidates)
+      if (static_cast<int>(out.size()) < max) out.push_back(c.pose);
     return out;
   }
   LocalMap chunk(const Eigen::Vector3d& center) override { return chunkAround(map_, center, cfg_); }
@@ -44,8 +53,11 @@ class InProcessMap : public MapAccess {
 
   /// Server time of the last candidates() call (descriptor upkeep included) [s].
   double serverSeconds() const { return server_seconds_; }
+  /// CPU time of the last candidates() call, all threads [s]: what it costs whatever the load.
+  double serverCpuSeconds() const { return server_cpu_seconds_; }
   std::size_t mapKeypoints() const { return localizer_.mapKeypoints(); }
-  /// The search's answer to the last candidates() call (scores of the candidates).
+  /// The search's answer to the last candidates() call (scores of the candidates), with up to
+  /// kDiagnosed candidates of which the first max were returned.
   const socc::localization::LocalizeAnswer& lastAnswer() const { return last_; }
   const socc::map::SemanticOccupancyMap& map() const { return map_; }
 
@@ -54,6 +66,7 @@ class InProcessMap : public MapAccess {
   OdomConfig cfg_;
   socc::localization::GlobalLocalizer localizer_;
   double server_seconds_ = 0.0;
+  double server_cpu_seconds_ = 0.0;
   socc::localization::LocalizeAnswer last_;
 };
 

@@ -183,9 +183,9 @@ LocalizeAnswer GlobalLocalizer::localize(const map::SemanticOccupancyMap& map,
     // Only the map a scan from within the hint can see: a smaller feature tree, fewer lookalikes.
     const IndexedFeatures target(nearHint(impl_->map->cloud, *hint, reachOf(source)));
     if (target.cloud.size() < 3) return answer;
-    found = searchHypotheses(target, source, conflict, impl_->params.search);
+    found = searchHypotheses(target, source, conflict, impl_->params.search, &answer.search);
   } else {
-    found = searchHypotheses(*impl_->map, source, conflict, impl_->params.search);
+    found = searchHypotheses(*impl_->map, source, conflict, impl_->params.search, &answer.search);
   }
   for (const Hypothesis& h : found)
     if (withinHint(h.pose, hint) && static_cast<int>(answer.candidates.size()) < max_candidates)

@@ -48,6 +48,7 @@ struct LocalizeAnswer {
   std::vector<PoseCandidate> candidates;  // best first
   std::size_t map_keypoints = 0;
   std::size_t scan_keypoints = 0;
+  SearchStats search;  // the budget the search spent
 };
 
 class GlobalLocalizer {

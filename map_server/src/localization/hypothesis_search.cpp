@@ -1,10 +1,11 @@
 #include "hypothesis_search.hpp"
 
 #include <pcl/registration/transformation_estimation_svd.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -52,16 +53,13 @@ class Search {
     order_.resize(scan_.size());
     std::iota(order_.begin(), order_.end(), std::size_t{0});
     std::shuffle(order_.begin(), order_.end(), rng_);
+    findSimilar();
   }
 
   std::vector<Hypothesis> run() {
-    const auto start = std::chrono::steady_clock::now();
     pcl::Indices source(3), target(3);
-    for (int i = 0; i < params_.max_iterations; ++i) {
-      if (i % 256 == 255 &&
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
-              params_.max_seconds)
-        break;
+    for (; stats_.draws < params_.max_iterations && stats_.inlier_tests < params_.max_inlier_tests;
+         ++stats_.draws) {
       if (!drawSample(source, target)) continue;
       Eigen::Matrix4f m;
       svd_.estimateRigidTransformation(scan_, source, *map_.cloud.keypoints, target, m);
@@ -71,6 +69,8 @@ class Search {
     return distinctBest(std::move(kept_));
   }
 
+  const SearchStats& stats() const { return stats_; }
+
  private:
   const IndexedFeatures& map_;
   const Cloud& scan_;
@@ -78,21 +78,28 @@ class Search {
   const ConflictAt& conflict_;
   const SearchParams& params_;
   std::mt19937 rng_;
-  std::vector<pcl::Indices> similar_;  // nearest map features of each scan keypoint (lazily)
+  std::vector<pcl::Indices> similar_;  // nearest map features of each scan keypoint
   std::vector<std::size_t> order_;     // the scan keypoints shuffled: blocks of it are fair draws
   std::vector<Hypothesis> kept_;       // best score first
   pcl::Indices consistent_;            // scratch: a partner's candidates that fit the sample
   pcl::registration::TransformationEstimationSVD<Point, Point> svd_;
+  SearchStats stats_;
 
-  const pcl::Indices& similarTo(int i) {
-    pcl::Indices& s = similar_[static_cast<std::size_t>(i)];
-    if (s.empty()) {
-      std::vector<float> distances;
-      map_.features.nearestKSearch(scan_features_[static_cast<std::size_t>(i)],
-                                   params_.correspondence_randomness, s, distances);
-    }
-    return s;
+  // The nearest map features of every scan keypoint, in parallel: the draws of a full budget
+  // touch nearly all of them, and these searches in 33 dimensions are a large part of a
+  // request's cost. Each keypoint's list is the same however the work is split.
+  void findSimilar() {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, scan_.size()),
+                      [this](const tbb::blocked_range<std::size_t>& r) {
+                        std::vector<float> distances;
+                        for (std::size_t i = r.begin(); i != r.end(); ++i)
+                          map_.features.nearestKSearch(scan_features_[i],
+                                                       params_.correspondence_randomness,
+                                                       similar_[i], distances);
+                      });
   }
+
+  const pcl::Indices& similarTo(int i) const { return similar_[static_cast<std::size_t>(i)]; }
 
   // A sample grown from one random correspondence (a scan keypoint and one of its nearest map
   // features): each further scan keypoint takes one of its candidates whose distances to the
@@ -169,12 +176,13 @@ class Search {
 
   // The inliers of a pose counted in blocks of the shuffled keypoints; -1 as soon as the share
   // so far lies kSigmas standard deviations below need (most poses are given up after a block).
-  int inliersAbove(const Eigen::Matrix4f& m, double need) const {
+  int inliersAbove(const Eigen::Matrix4f& m, double need) {
     pcl::Indices nearest(1);
     std::vector<float> distance(1);
     int count = 0;
     for (std::size_t done = 0; done < order_.size();) {
       const std::size_t end = std::min(order_.size(), done + kBlock);
+      stats_.inlier_tests += static_cast<long long>(end - done);
       for (; done < end; ++done)
         if (isInlier(m, order_[done], nearest, distance)) ++count;
       if (done == order_.size()) break;
@@ -261,9 +269,13 @@ IndexedFeatures::IndexedFeatures(FeatureCloud c) : cloud(std::move(c)) {
 }
 
 std::vector<Hypothesis> searchHypotheses(const IndexedFeatures& map, const FeatureCloud& scan,
-                                         const ConflictAt& conflict, const SearchParams& params) {
+                                         const ConflictAt& conflict, const SearchParams& params,
+                                         SearchStats* stats) {
   if (scan.size() < 3 || map.cloud.size() < 3) return {};
-  return Search(map, scan, conflict, params).run();
+  Search search(map, scan, conflict, params);
+  std::vector<Hypothesis> found = search.run();
+  if (stats) *stats = search.stats();
+  return found;
 }
 
 }  // namespace socc::localization

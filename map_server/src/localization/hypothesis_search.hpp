@@ -30,8 +30,12 @@
 namespace socc::localization {
 
 struct SearchParams {
-  int max_iterations = 2'000'000;      // samples drawn at most
-  double max_seconds = 1.0;            // and no more after this long
+  // Samples drawn (a draw that finds no partners counts too). A count, not a time: the answer
+  // is the same on a quiet and a loaded machine; each draw's cost is bounded (docs).
+  int max_iterations = 30'000;
+  // Scan keypoints tested as inliers, over all draws, at most: bounds the search's work (and so
+  // its latency) whatever the scan, again as a count.
+  long long max_inlier_tests = 4'000'000;
   int correspondence_randomness = 30;  // candidates of a scan keypoint: its nearest map features
   double edge_tolerance = 1.0;        // [m] a sample's edge lengths in scan and map agree this well
   double min_edge = 2.0;              // [m] sample points closer than this fix no rotation
@@ -62,8 +66,15 @@ struct Hypothesis {
   double score = 0.0;  // inlier_fraction - conflict: the rank
 };
 
+/// The work a search did (the budget spent).
+struct SearchStats {
+  int draws = 0;               // samples drawn
+  long long inlier_tests = 0;  // scan keypoints tested against the map's keypoints
+};
+
 /// Distinct hypotheses, best score first (at most params.keep).
 std::vector<Hypothesis> searchHypotheses(const IndexedFeatures& map, const FeatureCloud& scan,
-                                         const ConflictAt& conflict, const SearchParams& params);
+                                         const ConflictAt& conflict, const SearchParams& params,
+                                         SearchStats* stats = nullptr);
 
 }  // namespace socc::localization
