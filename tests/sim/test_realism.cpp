@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 
 #include "socc/sim/beam_calibration.hpp"
 #include "socc/sim/body_motion.hpp"
@@ -53,6 +54,17 @@ TEST(Realism, EveryGroupSwitchesOff) {
   EXPECT_THROW(disableRealism(r, {"weather"}), std::invalid_argument);
 }
 
+TEST(Realism, SingleModelsSwitchOffForAblations) {
+  Realism r = realismPreset("kitti");
+  disableRealism(r, {"range_walk", "body", "elevation_bias"});
+  EXPECT_EQ(r.returns.range_walk, 0.0);
+  EXPECT_GT(r.returns.glass_fraction, 0.0);
+  EXPECT_EQ(r.motion.bump_pitch_deg, 0.0);
+  EXPECT_GT(r.motion.vibration_deg, 0.0);
+  EXPECT_EQ(r.beams.elevation_bias_deg, 0.0);
+  EXPECT_GT(r.beams.elevation_sigma_deg, 0.0);
+}
+
 TEST(Realism, BeamCalibrationIsFixedPerSensorAtTheStatedSpread) {
   const BeamErrors e = realismPreset("kitti").beams;
   const BeamCalibration a = drawBeamCalibration(e, 64, 7);
@@ -84,6 +96,28 @@ TEST(Realism, ReturnsAreNoisierAndBiasedButStayOnTheWall) {
   EXPECT_GT(behind, real.points.size() / 20);
   EXPECT_LT(real.points.size(), exact.points.size());
   EXPECT_EQ(real.exact_labels.size(), real.points.size());
+}
+
+TEST(Realism, WindowsShowTheSameStaticRoomInEveryScan) {
+  Realism r = realismPreset("none");
+  r.returns.glass_fraction = 1.0;  // the whole facade is glass
+  const Scene scene = wallScene(raw::kBuilding);
+  LidarModel m = lidarPreset("vlp16");
+  m.range_noise = 0.0;
+  std::set<long> depths;  // [mm] of the rooms' back walls behind the facade at x = 14.5
+  std::size_t behind = 0;
+  for (const std::uint64_t frame : {0u, 1u}) {
+    for (const auto& p : simulateScan(scene, m, 0.0, frame, {false, 3, &r}).points) {
+      const double depth = p.x() - 14.5;
+      EXPECT_GT(depth, 0.49);
+      EXPECT_LT(depth, 6.01);
+      depths.insert(std::lround(1000.0 * depth));
+      ++behind;
+    }
+  }
+  // One back wall per 1.5 m window in both scans (not a new random depth for every return).
+  EXPECT_GT(behind, 2000u);
+  EXPECT_LT(depths.size(), 500u);
 }
 
 TEST(Realism, DarkFarSurfacesDropOut) {
