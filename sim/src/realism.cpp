@@ -60,6 +60,12 @@ bool disableModel(Realism& r, const std::string& name) {
     e.beam_divergence_mrad = e.mixed_pixel_probability = 0.0;
   } else if (name == "surfaces") {
     e.dark_fraction = e.glass_fraction = e.foliage_depth = e.foliage_dropout = 0.0;
+  } else if (name == "dark") {
+    e.dark_fraction = 0.0;
+  } else if (name == "glass") {
+    e.glass_fraction = 0.0;
+  } else if (name == "foliage") {
+    e.foliage_depth = e.foliage_dropout = 0.0;
   } else if (name == "body") {
     const double vibration = r.motion.vibration_deg;
     r.motion = {};

@@ -20,12 +20,18 @@ constexpr std::uint64_t kSurfaceStream = 0x5A17;
 constexpr std::uint64_t kReturnStream = 0x5A18;
 constexpr std::uint64_t kEdgeStream = 0x5A19;
 constexpr std::uint64_t kLabelStream = 0x5A1A;
+// Behind every facade one static back wall [m]: a return through a window lands on the same
+// interior surface from every viewpoint, as a real room's walls do. (Depths drawn per return, or
+// per window, put the interior where the viewpoint says and skew registration along the rays.)
+constexpr double kRoomDepth = 3.0;
+// Below this incidence cosine (beyond ~73 deg) glass reflects the pulse away (Fresnel).
+constexpr double kGlassGrazingCosine = 0.3;
 
 // What the beam physically met (pass 1), before the receiver's errors.
 struct Return {
-  float true_range = 0.0f;  // geometric range along the true beam (for neighbours' geometry)
-  float range = 0.0f;       // range the pulse travelled (foliage added)
-  float room_depth = 0.0f;  // > 0: through a window, from a wall this far behind the facade
+  float true_range = 0.0f;     // geometric range along the true beam (for neighbours' geometry)
+  float range = 0.0f;          // range the pulse travelled (foliage added)
+  bool through_glass = false;  // the return comes from the room behind a window
   float albedo = 0.0f;
   std::uint16_t label = 0;
   bool valid = false;
@@ -128,14 +134,12 @@ void castBeams(const Scene& scene, const LidarModel& model, double sweep_start, 
         if (draw.u1 < e.foliage_dropout) continue;
         travelled += -e.foliage_depth * std::log(1.0 - draw.u2);
       }
-      // A window: no return (specular) or one from the room's static back wall (pass 2 adds
-      // its depth along the ray once the facade's incidence is known).
-      double room = 0.0;
+      // A window: no return (specular) or one from the room's back wall (pass 2 adds its depth
+      // along the ray once the facade's incidence is known).
       const bool glass = surface.isGlass(hit->label, p);
-      if (glass) room = surface.roomDepth(p);
       image.at(c, b) = {static_cast<float>(range),
                         static_cast<float>(travelled),
-                        static_cast<float>(room),
+                        glass,
                         surface.albedo(hit->label, p),
                         hit->label,
                         true,
@@ -170,9 +174,11 @@ void measure(const LidarModel& model, std::uint64_t frame, const ScanOptions& op
       if (d.u3 < model.dropout) continue;
       double range = r->range;
       const double cosine = incidenceCosine(image, dirs, c, b, r->true_range);
-      // A back wall parallel to the facade: the ray travels its depth over the incidence's
-      // cosine (capped where the room's side walls would stop it).
-      if (r->room_depth > 0.0f) range += r->room_depth / std::max(cosine, 0.3);
+      // The back wall is parallel to the facade: the ray travels its depth over the cosine.
+      if (r->through_glass) {
+        if (cosine < kGlassGrazingCosine) continue;
+        range += kRoomDepth / cosine;
+      }
       // Detection: the signal falls with albedo, incidence and range squared.
       double walk = 0.0;
       if (e.detection_threshold > 0.0) {

@@ -70,10 +70,6 @@ bool SurfaceModel::isGlass(std::uint16_t label, const Eigen::Vector3d& p) const 
          toUnit(patch(p, 1.5, 0x61A55)) < returns_.glass_fraction;
 }
 
-double SurfaceModel::roomDepth(const Eigen::Vector3d& p) const {
-  return 0.5 + 5.5 * toUnit(patch(p, 1.5, 0x200D));
-}
-
 double SurfaceModel::groundHeight(std::uint16_t label, const Eigen::Vector3d& p) const {
   if (!isGroundLabel(label)) return 0.0;
   const double amplitude =

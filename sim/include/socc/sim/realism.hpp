@@ -73,7 +73,7 @@ Realism realismPreset(const std::string& name);
 /// "body" is the motion group without its vibration).
 inline constexpr const char* kRealismSwitches =
     "beams, returns, terrain, motion, labels; elevation_bias, beam_angles, beam_ranges, "
-    "range_noise, range_walk, edges, surfaces, body";
+    "range_noise, range_walk, edges, surfaces (dark, glass, foliage), body";
 
 /// Switches groups or single models off (kRealismSwitches).
 /// Throws std::invalid_argument on an unknown name.

@@ -21,9 +21,6 @@ class SurfaceModel {
   float albedo(std::uint16_t label, const Eigen::Vector3d& p) const;
   /// Whether p of a facade lies in a window (glass).
   bool isGlass(std::uint16_t label, const Eigen::Vector3d& p) const;
-  /// Depth [m] behind the window at p of the room's back wall (0.5-6 m, fixed per window), so
-  /// returns through the glass come from the same static interior in every scan.
-  double roomDepth(const Eigen::Vector3d& p) const;
   /// Height [m] of the real ground above the primitive's flat surface at p (0 off the ground).
   double groundHeight(std::uint16_t label, const Eigen::Vector3d& p) const;
   /// A key of the 2 m patch holding p (for effects that come in blobs).
