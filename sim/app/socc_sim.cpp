@@ -139,10 +139,10 @@ int main(int argc, char** argv) {
                  "(unit tests), kitti = a KITTI-like HDL-64 on a car (the benchmarks' default)")
       ->check(CLI::IsMember({"none", "kitti"}))
       ->capture_default_str();
-  app.add_option("--realism-off", a.realism_off,
-                 "Switch groups of the preset off: beams, returns, terrain, motion, labels")
-      ->delimiter(',')
-      ->check(CLI::IsMember({"beams", "returns", "terrain", "motion", "labels"}));
+  app.add_option(
+         "--realism-off", a.realism_off,
+         std::string("Switch groups (or single models) of the preset off: ") + kRealismSwitches)
+      ->delimiter(',');
   app.add_option("--realism-scale", a.realism_scale,
                  "Multiply every magnitude of the preset (probabilities saturate at 1)")
       ->check(CLI::Range(0.0, 10.0))

@@ -41,6 +41,43 @@ Realism realismPreset(const std::string& name) {
   return r;
 }
 
+namespace {
+
+// Single models inside a group, for ablations (which error drives a peer's drift).
+bool disableModel(Realism& r, const std::string& name) {
+  ReturnErrors& e = r.returns;
+  if (name == "elevation_bias") {
+    r.beams.elevation_bias_deg = 0.0;
+  } else if (name == "beam_angles") {
+    r.beams.elevation_sigma_deg = r.beams.azimuth_sigma_deg = 0.0;
+  } else if (name == "beam_ranges") {
+    r.beams.range_offset_sigma = r.beams.range_scale_sigma = 0.0;
+  } else if (name == "range_noise") {
+    e.noise_per_metre = e.incidence_noise_gain = 0.0;
+  } else if (name == "range_walk") {
+    e.range_walk = 0.0;
+  } else if (name == "edges") {
+    e.beam_divergence_mrad = e.mixed_pixel_probability = 0.0;
+  } else if (name == "surfaces") {
+    e.dark_fraction = e.glass_fraction = e.foliage_depth = e.foliage_dropout = 0.0;
+  } else if (name == "dark") {
+    e.dark_fraction = 0.0;
+  } else if (name == "glass") {
+    e.glass_fraction = 0.0;
+  } else if (name == "foliage") {
+    e.foliage_depth = e.foliage_dropout = 0.0;
+  } else if (name == "body") {
+    const double vibration = r.motion.vibration_deg;
+    r.motion = {};
+    r.motion.vibration_deg = vibration;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 void disableRealism(Realism& r, const std::vector<std::string>& groups) {
   for (const auto& g : groups) {
     if (g == "beams") {
@@ -53,9 +90,8 @@ void disableRealism(Realism& r, const std::vector<std::string>& groups) {
       r.motion = {};
     } else if (g == "labels") {
       r.labels = {};
-    } else {
-      throw std::invalid_argument("unknown realism group '" + g +
-                                  "' (beams, returns, terrain, motion, labels)");
+    } else if (!disableModel(r, g)) {
+      throw std::invalid_argument("unknown realism group '" + g + "' (" + kRealismSwitches + ")");
     }
   }
 }

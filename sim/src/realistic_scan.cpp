@@ -20,15 +20,23 @@ constexpr std::uint64_t kSurfaceStream = 0x5A17;
 constexpr std::uint64_t kReturnStream = 0x5A18;
 constexpr std::uint64_t kEdgeStream = 0x5A19;
 constexpr std::uint64_t kLabelStream = 0x5A1A;
+// Behind every facade one static back wall [m]: a return through a window lands on the same
+// interior surface from every viewpoint, as a real room's walls do. (Depths drawn per return, or
+// per window, put the interior where the viewpoint says and skew registration along the rays.)
+constexpr double kRoomDepth = 3.0;
+// Below this incidence cosine (beyond ~73 deg) glass reflects the pulse away (Fresnel).
+constexpr double kGlassGrazingCosine = 0.3;
 
 // What the beam physically met (pass 1), before the receiver's errors.
 struct Return {
-  float true_range = 0.0f;  // geometric range along the true beam (for neighbours' geometry)
-  float range = 0.0f;       // range the pulse travelled (glass, foliage added)
+  float true_range = 0.0f;     // geometric range along the true beam (for neighbours' geometry)
+  float range = 0.0f;          // range the pulse travelled (foliage added)
+  bool through_glass = false;  // the return comes from the room behind a window
   float albedo = 0.0f;
   std::uint16_t label = 0;
   bool valid = false;
   std::uint64_t patch = 0;  // 2 m world patch (label-error blobs)
+  bool echo = true;         // false: a window reflected the pulse away (geometry still known)
 };
 
 class RangeImage {
@@ -125,17 +133,18 @@ void castBeams(const Scene& scene, const LidarModel& model, double sweep_start, 
         // Foliage: the pulse passes through gaps or returns from leaves deeper inside.
         if (draw.u1 < e.foliage_dropout) continue;
         travelled += -e.foliage_depth * std::log(1.0 - draw.u2);
-      } else if (surface.isGlass(hit->label, p)) {
-        // A window: no return (specular) or one from inside the building.
-        if (draw.u1 < 0.5) continue;
-        travelled += 0.5 + 5.5 * draw.u2;
       }
+      // A window: no return (specular) or one from the room's back wall (pass 2 adds its depth
+      // along the ray once the facade's incidence is known).
+      const bool glass = surface.isGlass(hit->label, p);
       image.at(c, b) = {static_cast<float>(range),
                         static_cast<float>(travelled),
+                        glass,
                         surface.albedo(hit->label, p),
                         hit->label,
                         true,
-                        surface.patch(p, 2.0, 0x1AB3)};
+                        surface.patch(p, 2.0, 0x1AB3),
+                        !glass || draw.u1 >= 0.5};
     }
   });
 }
@@ -159,12 +168,17 @@ void measure(const LidarModel& model, std::uint64_t frame, const ScanOptions& op
     for (int b = 0; b < image.beams(); ++b) {
       const std::size_t i = image.index(c, b);
       const Return* r = image.neighbour(c, b);
-      if (!r) continue;
+      if (!r || !r->echo) continue;
       const RayDraw d = rayDraw(options.seed ^ kReturnStream, frame, i);
       const RayDraw edge = rayDraw(options.seed ^ kEdgeStream, frame, i);
       if (d.u3 < model.dropout) continue;
       double range = r->range;
       const double cosine = incidenceCosine(image, dirs, c, b, r->true_range);
+      // The back wall is parallel to the facade: the ray travels its depth over the cosine.
+      if (r->through_glass) {
+        if (cosine < kGlassGrazingCosine) continue;
+        range += kRoomDepth / cosine;
+      }
       // Detection: the signal falls with albedo, incidence and range squared.
       double walk = 0.0;
       if (e.detection_threshold > 0.0) {

@@ -53,6 +53,17 @@ TEST(Realism, EveryGroupSwitchesOff) {
   EXPECT_THROW(disableRealism(r, {"weather"}), std::invalid_argument);
 }
 
+TEST(Realism, SingleModelsSwitchOffForAblations) {
+  Realism r = realismPreset("kitti");
+  disableRealism(r, {"range_walk", "body", "elevation_bias"});
+  EXPECT_EQ(r.returns.range_walk, 0.0);
+  EXPECT_GT(r.returns.glass_fraction, 0.0);
+  EXPECT_EQ(r.motion.bump_pitch_deg, 0.0);
+  EXPECT_GT(r.motion.vibration_deg, 0.0);
+  EXPECT_EQ(r.beams.elevation_bias_deg, 0.0);
+  EXPECT_GT(r.beams.elevation_sigma_deg, 0.0);
+}
+
 TEST(Realism, BeamCalibrationIsFixedPerSensorAtTheStatedSpread) {
   const BeamErrors e = realismPreset("kitti").beams;
   const BeamCalibration a = drawBeamCalibration(e, 64, 7);
@@ -84,6 +95,23 @@ TEST(Realism, ReturnsAreNoisierAndBiasedButStayOnTheWall) {
   EXPECT_GT(behind, real.points.size() / 20);
   EXPECT_LT(real.points.size(), exact.points.size());
   EXPECT_EQ(real.exact_labels.size(), real.points.size());
+}
+
+TEST(Realism, WindowsShowTheSameStaticRoomInEveryScan) {
+  Realism r = realismPreset("none");
+  r.returns.glass_fraction = 1.0;  // the whole facade is glass
+  const Scene scene = wallScene(raw::kBuilding);
+  LidarModel m = lidarPreset("vlp16");
+  m.range_noise = 0.0;
+  // Seen from two places, the room behind the facade (x = 14.5) is one static back wall.
+  for (const double y : {0.0, 4.0}) {
+    Poses at(2, Eigen::Isometry3d::Identity());
+    for (auto& pose : at) pose.translation().y() = y;
+    const Scene moved{scene.world, Trajectory(at, 0.1)};
+    const SimulatedScan s = simulateScan(moved, m, 0.0, 1, {false, 3, &r});
+    EXPECT_GT(s.points.size(), 2000u);
+    for (const auto& p : s.points) EXPECT_NEAR(p.x(), 14.5 + 3.0, 0.01);
+  }
 }
 
 TEST(Realism, DarkFarSurfacesDropOut) {

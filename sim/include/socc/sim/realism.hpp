@@ -69,7 +69,13 @@ struct Realism {
 /// "none" (exact) or "kitti" (a KITTI-like HDL-64 on a car). Throws std::invalid_argument.
 Realism realismPreset(const std::string& name);
 
-/// Switches groups off: names from "beams", "returns", "terrain", "motion", "labels".
+/// Names disableRealism accepts: the groups, then single models of a group (for ablations;
+/// "body" is the motion group without its vibration).
+inline constexpr const char* kRealismSwitches =
+    "beams, returns, terrain, motion, labels; elevation_bias, beam_angles, beam_ranges, "
+    "range_noise, range_walk, edges, surfaces (dark, glass, foliage), body";
+
+/// Switches groups or single models off (kRealismSwitches).
 /// Throws std::invalid_argument on an unknown name.
 void disableRealism(Realism& realism, const std::vector<std::string>& groups);
 
