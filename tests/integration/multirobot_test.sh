@@ -79,6 +79,10 @@ require_multicast_on_loopback
 
 make_work_dir
 keep_work=1
+# Every map_server here serves a small socc-sim world (tens of frames): its LOCALIZE search gets
+# the budget the in-process relocalization tests use on such maps (test_relocalization.cpp),
+# a third of the default that KITTI-shaped streets of 0.5-1 M voxels need (server.yaml).
+printf 'localization:\n  max_draws: 10000\n' >"$work/server.yaml"
 
 fail() { echo "FAIL: $*"; exit 1; }
 new_url() { url=$(random_lcm_url 50000); }
@@ -91,7 +95,8 @@ start_server() {  # start_server NAME [map_server options]: a fresh map_server o
 launch_server() {  # launch_server NAME [map_server options]: map_server on the current URL
   local name=$1; shift
   echo "map_server ($name) on $url"
-  "$server_bin" --lcm-url "$url" --quiet --status-period 0 "$@" >"$work/server_$name.log" 2>&1 &
+  "$server_bin" --lcm-url "$url" --quiet --status-period 0 --config "$work/server.yaml" "$@" \
+    >"$work/server_$name.log" 2>&1 &
   server_pid=$!
   for _ in $(seq 100); do
     cli --timeout-ms 100 --attempts 1 stats >/dev/null 2>&1 && return 0

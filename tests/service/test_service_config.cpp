@@ -37,8 +37,7 @@ TEST(ServerConfig, RelativePathsResolveBesideTheFile) {
 TEST(ServerConfig, ShippedFileStatesTheConsistencyDefaults) {
   const auto shipped = std::filesystem::path(__FILE__).parent_path() / "../../map_server/config";
   const consistency::ConsistencyParams defaults;
-  const consistency::ConsistencyParams read =
-      loadServerConfig(shipped / "server.yaml").consistency;
+  const consistency::ConsistencyParams read = loadServerConfig(shipped / "server.yaml").consistency;
   EXPECT_EQ(read.enabled, defaults.enabled);
   EXPECT_EQ(read.keyframe_distance, defaults.keyframe_distance);
   EXPECT_EQ(read.keyframe_voxel, defaults.keyframe_voxel);
@@ -46,6 +45,15 @@ TEST(ServerConfig, ShippedFileStatesTheConsistencyDefaults) {
   EXPECT_EQ(read.search_radius, defaults.search_radius);
   EXPECT_EQ(read.drift_share, defaults.drift_share);
   EXPECT_EQ(read.max_descriptor_distance, defaults.max_descriptor_distance);
+}
+
+TEST(ServerConfig, ShippedFileStatesTheLocalizationBudget) {
+  const auto shipped = std::filesystem::path(__FILE__).parent_path() / "../../map_server/config";
+  const localization::SearchParams defaults;
+  const localization::SearchParams read =
+      loadServerConfig(shipped / "server.yaml").localization.search;
+  EXPECT_EQ(read.max_iterations, defaults.max_iterations);
+  EXPECT_EQ(read.max_inlier_tests, defaults.max_inlier_tests);
 }
 
 TEST(ServerConfig, ErrorsNameTheFileAndTheKey) {
@@ -72,6 +80,8 @@ TEST(ServerConfig, ErrorsNameTheFileAndTheKey) {
             at + "consistency.keyframe_distance must be > 0");
   EXPECT_EQ(error("consistency:\n  max_descriptor_distance: 2\n"),
             at + "consistency.max_descriptor_distance must be in [0, 1]");
+  EXPECT_EQ(error("localization:\n  max_draws: 0\n"), at + "localization.max_draws must be > 0");
+  EXPECT_EQ(error("localization:\n  max_draws: 5000\n  max_inlier_tests: 100000\n"), "accepted");
   EXPECT_EQ(error("limits:\n  max_robots: many\n"),
             at + "key 'limits.max_robots': bad value 'many' (expected an integer)");
   // The grid file reports its own name.

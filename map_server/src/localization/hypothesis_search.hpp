@@ -22,6 +22,7 @@
 #include <pcl/kdtree/kdtree_flann.h>
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -35,7 +36,7 @@ struct SearchParams {
   int max_iterations = 30'000;
   // Scan keypoints tested as inliers, over all draws, at most: bounds the search's work (and so
   // its latency) whatever the scan, again as a count.
-  long long max_inlier_tests = 4'000'000;
+  std::int64_t max_inlier_tests = 4'000'000;
   int correspondence_randomness = 30;  // candidates of a scan keypoint: its nearest map features
   double edge_tolerance = 1.0;        // [m] a sample's edge lengths in scan and map agree this well
   double min_edge = 2.0;              // [m] sample points closer than this fix no rotation

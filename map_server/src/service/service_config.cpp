@@ -20,6 +20,9 @@ std::string validate(const ServerConfig& c) {
       {"limits.max_render_pixels", static_cast<double>(l.max_render_pixels)},
       {"limits.max_robots", static_cast<double>(l.max_robots)},
       {"limits.max_localize_points", static_cast<double>(l.max_localize_points)},
+      {"localization.max_draws", static_cast<double>(c.localization.search.max_iterations)},
+      {"localization.max_inlier_tests",
+       static_cast<double>(c.localization.search.max_inlier_tests)},
       {"plausibility.max_linear_speed", p.max_linear_speed},
       {"plausibility.max_angular_speed", p.max_angular_speed},
   };
@@ -75,6 +78,11 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
       {"max_descriptor_distance", &k.max_descriptor_distance},
       {"max_pending_scans", &k.max_pending_scans},
   };
+  localization::SearchParams& search = config.localization.search;
+  const YamlFields localization = {
+      {"max_draws", &search.max_iterations},
+      {"max_inlier_tests", &search.max_inlier_tests},
+  };
   // Paths are kept as given until the file is read, so relative ones resolve against it.
   std::optional<std::string> map_config, file_dir, key_file;
   loadYamlFields(file, "server config",
@@ -84,7 +92,8 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
                   {"auth_queries", &config.auth_queries},
                   {"limits", &limits},
                   {"plausibility", &plausibility},
-                  {"consistency", &consistency}},
+                  {"consistency", &consistency},
+                  {"localization", &localization}},
                  [&config] { return validate(config); });
   const auto beside = [&file](const std::filesystem::path& path) {
     return path.is_relative() ? file.parent_path() / path : path;
