@@ -39,7 +39,7 @@ if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
     # down again on its route recovers by itself (issue 27).
     add_test(NAME integration.odom_lost
              COMMAND bash ${_socc_mr_script} lost ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
-    set_tests_properties(integration.odom_lost PROPERTIES LABELS integration TIMEOUT 240 COST 150)
+    set_tests_properties(integration.odom_lost PROPERTIES LABELS integration TIMEOUT 300 COST 150)
     # Healthy robots stay healthy (issue 27): a 2 Hz PCD folder without time stamps, an indoor
     # lap, a recording with dropped scans.
     add_test(NAME integration.odom_health
