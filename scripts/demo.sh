@@ -56,8 +56,8 @@ fi
 # shellcheck source=../tests/integration/test_env.sh
 source "$root/tests/integration/test_env.sh"  # realism_odom_config
 # The simulated sensor's known calibration (kitti.yaml under --realism kitti) for every method.
-sensor_config=()
-[ -n "$(realism_odom_config "$realism")" ] && sensor_config=(--config "$(realism_odom_config "$realism")")
+sensor_config=() realism_config="$(realism_odom_config "$realism")"
+[ -n "$realism_config" ] && sensor_config=(--config "$realism_config")
 sim=(--scene street --trajectory figure8 --distortion --seed "$seed" --realism "$realism")
 "$root/build/sim/socc-sim" --out "$out/seq" --frames "$frames" "${sim[@]}"
 
