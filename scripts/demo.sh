@@ -73,7 +73,7 @@ for v in "${variants[@]}"; do
 done
 
 echo "demo: two robots, one map" >&2
-# Its PASS/FAIL compares aligned ATE with each robot alone; the demo reports it, it does not gate.
+# Its PASS/FAIL compares map-frame ATE with each robot alone; the demo reports it, it does not gate.
 bash scripts/demo_multirobot.sh --robots 2 --frames $((frames / 2)) --seed "$seed" \
   --trajectory figure8 --distortion --realism "$realism" --build "$root/build" \
   --out "$out/two_robots" "${multirobot_url[@]}" >"$out/two_robots.md" || true

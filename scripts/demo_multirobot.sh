@@ -5,8 +5,10 @@
 # server each) on the same segment, and the accuracy with N robots is compared with alone.
 # Writes: OUT/map_class.png (combined map, class colours), OUT/together/robotI/ and
 # OUT/alone/robotI/ (poses, frames.csv, eval.json, plots/), OUT/summary.md; prints the table
-# and PASS/FAIL per robot (PASS: ATE RMSE with N robots <= 1.1 x alone + 1 mm, the spread
-# between runs with N robots).
+# and PASS/FAIL per robot (PASS: map-frame ATE RMSE with N robots <= 1.1 x alone + 1 mm, the
+# spread between runs with N robots). Map-frame, not aligned: every robot starts at its true pose
+# in the shared frame, and what sharing fixes (one robot's drift pulled back onto another's
+# walls) is an error in that frame that a per-robot best-fit alignment would hide.
 # With --relocalize, a mapping robot first drives the whole sequence from its GT start; then
 # robot0 starts at its GT pose as before and robots 1..N-1 join with odom_client --relocalize
 # (no start pose: found in the map and verified, docs/relocalization.md). Same criterion.
@@ -183,24 +185,26 @@ def load(mode, i):
     ev = json.load(open(f"{d}/eval.json"))
     hz = re.search(r"rate: ([0-9.]+) Hz", open(f"{d}/summary.txt").read())
     return ev, float(hz.group(1)) if hz else float("nan")
-print(f"| robot | frames | ATE RMSE N={robots} [m] | ATE RMSE alone [m] | map-frame ATE N={robots} / "
-      f"alone [m] | RPE trans N={robots} [m] | RPE rot N={robots} [deg] | RPE trans alone [m] "
+print(f"| robot | frames | aligned ATE RMSE N={robots} [m] | aligned ATE RMSE alone [m] | map-frame ATE "
+      f"N={robots} / alone [m] | RPE trans N={robots} [m] | RPE rot N={robots} [deg] | RPE trans alone [m] "
       f"| Hz N={robots} | Hz alone | result |")
 print("|---|---|---|---|---|---|---|---|---|---|---|")
 failed = 0
 for i in range(robots):
     (t, hz_t), (a, hz_a) = load("together", i), load("alone", i)
     ate_t, ate_a = t["ate_m"]["rmse"], a["ate_m"]["rmse"]
-    ok = ate_t <= 1.1 * ate_a + 0.001  # 1 mm: spread between runs with N robots
-    failed += not ok
     map_t, map_a = t["ate_unaligned_m"]["rmse"], a["ate_unaligned_m"]["rmse"]
+    ok = map_t <= 1.1 * map_a + 0.001  # 1 mm: spread between runs with N robots
+    failed += not ok
     print(f"| robot{i} | {i * frames}-{i * frames + frames - 1} ({t['frames']}) | {ate_t:.4f} | "
           f"{ate_a:.4f} | {map_t:.4f} / {map_a:.4f} | {t['rpe_trans_m']['rmse']:.4f} | "
           f"{t['rpe_rot_deg']['rmse']:.4f} | "
           f"{a['rpe_trans_m']['rmse']:.4f} | {hz_t:.1f} | {hz_a:.1f} | {'PASS' if ok else 'FAIL'} |")
-print(f"\nPASS: ATE RMSE with {robots} robots <= 1.1 x alone + 1 mm (run-to-run spread). "
-      f"{'all PASS' if not failed else f'{failed} FAIL'}. Map-frame ATE: without alignment, in "
-      "the shared map's frame (every robot starts at its true pose): what the other robots see.")
+print(f"\nPASS: map-frame ATE RMSE with {robots} robots <= 1.1 x alone + 1 mm (run-to-run "
+      f"spread). {'all PASS' if not failed else f'{failed} FAIL'}. Map-frame ATE: without "
+      "alignment, in the shared map's frame (every robot starts at its true pose): what the other "
+      "robots see. The aligned ATE (each robot's own best fit) hides the shared frame's errors "
+      "and grows when a robot is pulled back onto another robot's map.")
 sys.exit(1 if failed else 0)
 PY
 log "map image: $out/map_class.png; per-robot plots: $out/{together,alone}/robot*/plots/"
