@@ -639,10 +639,13 @@ PY
 
 busy_search() {
   [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
-  local sim=("$sim_bin" --frames 40 --sensor vlp32 --quiet)
+  local sim=("$sim_bin" --frames 60 --sensor vlp32 --quiet)
   "${sim[@]}" --out "$work/here" --seed 7 >/dev/null || fail "socc-sim failed"
   "${sim[@]}" --out "$work/other" --seed 8 >/dev/null || fail "socc-sim failed"
-  printf 'relocalize_timeout: 1000.0\n' >"$work/patient.yaml"  # searches until stopped
+  printf 'relocalize_timeout: 1000.0\n' >"$work/patient.yaml"  # S searches until stopped
+  # The default search budget (server.yaml): 1.5-5 s of server CPU per search here, more than a
+  # client waits per attempt (2 s) when the search blocks its requests.
+  printf 'localization:\n  max_draws: 30000\n' >"$work/server.yaml"
   start_server busy
   "$client_bin" --lcm-url "$url" --robot-id mapper --quiet --kitti "$work/here" --last-frame 19 \
     >"$work/mapper.log" 2>&1 || fail "robot A failed: $(tail -5 "$work/mapper.log")"
@@ -661,7 +664,7 @@ busy_search() {
   pose=$(kitti_pose "$work/here/poses.txt" 20)
   start=$(date +%s.%N)
   "$client_bin" --lcm-url "$url" --robot-id tracker --quiet --kitti "$work/here" --first-frame 20 \
-    --last-frame 39 --initial-pose "$pose" --out-dir "$work/tracker" >"$work/tracker.log" 2>&1 || rc=$?
+    --last-frame 59 --initial-pose "$pose" --out-dir "$work/tracker" >"$work/tracker.log" 2>&1 || rc=$?
   end=$(date +%s.%N)
   kill -0 "$searcher" 2>/dev/null || fail "robot S stopped searching before T ended: $(tail -5 "$work/searcher.log")"
   kill "$searcher" 2>/dev/null || true
@@ -671,9 +674,9 @@ busy_search() {
   local bad; bad=$(grep -c ",unhealthy,\|,lost,\|,relocalizing," "$work/tracker/frames.csv" || true)
   ((bad == 0)) || fail "robot T: $bad unhealthy/lost frames: $(grep -m3 ",unhealthy,\|,lost," "$work/tracker/frames.csv")"
   round_trips "$work/tracker/frames.csv" | tee "$work/round_trips.txt" | sed 's/^/  robot T round trips [ms]: /'
-  awk '{ split($4, m, "="); if (m[2] >= 1000) exit 1 }' "$work/round_trips.txt" ||
-    fail "robot T waited 1 s or more for a reply while S searched"
-  echo "robot T tracked 20 frames in $(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.1f", b - a }') s while robot S searched"
+  awk '{ split($4, m, "="); if (m[2] >= 2000) exit 1 }' "$work/round_trips.txt" ||
+    fail "robot T waited the client's timeout per attempt (2 s) or more for a reply while S searched"
+  echo "robot T tracked 40 frames in $(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.1f", b - a }') s while robot S searched"
   stop_server
 }
 

@@ -20,7 +20,9 @@
 namespace socc::service {
 namespace {
 
-std::string randomUrl() { return socc::testing::randomLoopbackLcmUrl(); }
+std::string randomUrl() {
+  return socc::testing::randomLoopbackLcmUrl();
+}
 
 // map_server's loop in a thread: the MapService is only touched by that thread.
 class InProcessServer {
