@@ -16,40 +16,15 @@
 #include "service/request_gate.hpp"
 #include "service/request_router.hpp"
 #include "service_test_helpers.hpp"
-#include "socc/sim/lidar_model.hpp"
-#include "socc/sim/scan_simulator.hpp"
-#include "socc/sim/scene.hpp"
+#include "sim_street.hpp"
 
 namespace socc::service {
 namespace {
 
 using namespace std::chrono_literals;
 
-// Every 4th point of frame k of a socc-sim street (VLP-32, no distortion): sensor frame.
-std::vector<Eigen::Vector3f> simulatedPoints(const sim::Scene& scene, int k) {
-  const sim::SimulatedScan s =
-      sim::simulateScan(scene, sim::lidarPreset("vlp32"), 0.1 * k, static_cast<std::uint64_t>(k),
-                        {false, 11, nullptr});
-  std::vector<Eigen::Vector3f> out;
-  for (std::size_t i = 0; i < s.points.size(); i += 4) out.push_back(s.points[i]);
-  return out;
-}
-
-sim::Scene street() {
-  sim::SceneOptions options;
-  options.frames = 20;
-  options.seed = 7;
-  return sim::buildScene(options);
-}
-
-// The budget of the in-process relocalization tests' small maps (test_relocalization.cpp),
-// smaller still: these tests check the threading, not the search's recall.
-ServerConfig searchConfig(int max_waiting) {
-  ServerConfig config;
-  config.localization.search.max_iterations = 3'000;
-  config.limits.max_waiting_searches = max_waiting;
-  return config;
-}
+using test::searchConfig;
+using test::simulatedPoints;
 
 localize_request_t localizeRequest(const std::vector<Eigen::Vector3f>& points,
                                    const std::string& client, std::int64_t id) {
@@ -65,15 +40,9 @@ localize_request_t localizeRequest(const std::vector<Eigen::Vector3f>& points,
 class Harness {
  public:
   explicit Harness(int max_waiting = 2) : service(searchConfig(max_waiting)) {
-    for (int k = 0; k < 10; ++k) {
-      LabeledCloud cloud;
-      cloud.points = simulatedPoints(scene, k);
-      cloud.labels.assign(cloud.points.size(), 0);
-      integrate_request_t request =
-          rpc::makeIntegrateRequest(k, k * 100000, scene.trajectory.poseAt(0.1 * k), cloud);
-      request.header.client_id = "mapper";
-      EXPECT_EQ(service.integrate(request).header.status, +reply_header_t::OK);
-    }
+    for (int k = 0; k < 10; ++k)
+      EXPECT_EQ(service.integrate(test::streetIntegrate(scene, k)).header.status,
+                +reply_header_t::OK);
     router.emplace(lcm, service, gate, false);
     lcm_subscribe(lcm.getUnderlyingLCM(), "SOCC/.*/REP/.*", &Harness::onReply, this);
   }
@@ -109,7 +78,7 @@ class Harness {
     return out;
   }
 
-  sim::Scene scene = street();
+  sim::Scene scene = test::street();
   lcm::LCM lcm{"memq://"};
   MapService service;
   AllowAllGate gate;

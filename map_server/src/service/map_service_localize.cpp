@@ -7,6 +7,7 @@
 #include "map_service.hpp"
 #include "request_checks.hpp"
 #include "socc/pose_conversion.hpp"
+#include "socc/rpc/status_names.hpp"
 
 namespace socc::service {
 namespace {
@@ -90,7 +91,7 @@ std::variant<localize_reply_t, MapService::PendingLocalize> MapService::beginLoc
                        Status::exhausted("every relocalization search of the server is taken (one "
                                          "running, limits.max_waiting_searches = " +
                                          std::to_string(config_.limits.max_waiting_searches) +
-                                         " waiting); try again later"));
+                                         " waiting): " + std::string(rpc::kSearchesBusy)));
     PendingLocalize pending;
     pending.search =
         localizer_.prepare(map_, std::move(points), hintOf(request), request.max_candidates);
