@@ -35,16 +35,14 @@ TEST(RobotRateLimiter, BurstThenRate) {
 TEST(RobotRateLimiter, LimitsBiteUnderContentionOnly) {
   RobotRateLimiter limiter(10.0, 5.0);
   const auto t0 = Clock::now();
-  for (int i = 0; i < 100; ++i)
-    ASSERT_TRUE(limiter.admit("a", t0 + std::chrono::milliseconds(i))) << i;
+  for (int i = 0; i < 100; ++i) ASSERT_TRUE(limiter.admit("a", t0 + std::chrono::milliseconds(i))) << i;
   EXPECT_TRUE(limiter.admit("b", t0 + std::chrono::milliseconds(100)));
   int admitted = 0;  // b is active now: a gets at most what its budget refilled
   for (int i = 0; i < 5; ++i) admitted += limiter.admit("a", t0 + std::chrono::milliseconds(101));
   EXPECT_LE(admitted, 1);
   // b idle for more than a second: a is alone again.
   EXPECT_TRUE(limiter.admit("a", t0 + std::chrono::milliseconds(1200)));
-  for (int i = 0; i < 50; ++i)
-    ASSERT_TRUE(limiter.admit("a", t0 + std::chrono::milliseconds(1201))) << i;
+  for (int i = 0; i < 50; ++i) ASSERT_TRUE(limiter.admit("a", t0 + std::chrono::milliseconds(1201))) << i;
 }
 
 TEST(RobotRateLimiter, ZeroRateMeansNoLimit) {
