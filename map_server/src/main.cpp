@@ -147,8 +147,9 @@ void announce(const Options& options, const socc::service::ServerConfig& config,
 }
 
 // Handles the request that arrives within 10 ms and up to kMaxGroup more already waiting, then
-// commits them (one journal sync for the group's INTEGRATEs, then their replies) and asks for
-// missing parts of stalled requests sent in parts. Returns false when LCM fails.
+// commits them (one journal sync for the group's INTEGRATEs, then their replies), asks for
+// missing parts of stalled requests sent in parts and replies to the LOCALIZE searches that
+// ended (router.poll()). Returns false when LCM fails.
 bool handleGroup(lcm::LCM& lcm, socc::service::RequestRouter& router) {
   constexpr int kMaxGroup = 32;
   int handled = lcm.handleTimeout(10);

@@ -50,5 +50,10 @@ if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
     add_test(NAME integration.relocalize
              COMMAND bash ${_socc_mr_script} relocalize ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
     set_tests_properties(integration.relocalize PROPERTIES LABELS integration TIMEOUT 300 COST 110)
+    # Issue 27: a robot tracks with short round trips (no timeout, no unhealthy frame) while
+    # another robot's LOCALIZE searches run on the server's search thread.
+    add_test(NAME integration.busy_search
+             COMMAND bash ${_socc_mr_script} busy_search ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
+    set_tests_properties(integration.busy_search PROPERTIES LABELS integration TIMEOUT 180 COST 60)
   endif()
 endif()

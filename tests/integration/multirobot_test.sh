@@ -3,7 +3,7 @@
 # socc-cli processes and lcm-logplayer over UDP multicast on loopback (random group, port
 # 50000-59999).
 #
-# Usage: multirobot_test.sh logplayer|robots|client_restart|server_restart|lost|relocalize|health --server BIN --client BIN --cli BIN
+# Usage: multirobot_test.sh logplayer|robots|client_restart|server_restart|lost|relocalize|health|busy_search --server BIN --client BIN --cli BIN
 #                           [--to-lcmlog BIN] [--sim BIN] [--data DIR]
 #   logplayer: socc-to-lcmlog converts frames 0-7 of DATA/kitti_00_first16 to a log,
 #              odom_client --live consumes it from lcm-logplayer; its poses must equal an offline
@@ -53,7 +53,7 @@ usage() { sed -n '2,40p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 case "${1:-}" in
   -h|--help) usage 0 ;;
-  logplayer|robots|client_restart|server_restart|lost|relocalize|health) mode=$1; shift ;;
+  logplayer|robots|client_restart|server_restart|lost|relocalize|health|busy_search) mode=$1; shift ;;
   *) usage 2 ;;
 esac
 server_bin="" client_bin="" cli_bin="" to_lcmlog_bin="" sim_bin="" data=""
@@ -622,6 +622,61 @@ health() {
   stop_server
   start_server dropped
   tracks dropped "$work/dropped/poses.txt" --kitti "$work/dropped"
+  stop_server
+}
+
+# round_trips CSV: median and max of the GET_CHUNK and INTEGRATE round trips [ms] in an
+# odom_client frames.csv (columns chunk_ms, integrate_ms; frames without a fetch left out).
+round_trips() {
+  python3 - "$1" <<'PY'
+import csv, statistics, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+for col in ("chunk_ms", "integrate_ms"):
+    v = [float(r[col]) for r in rows if float(r[col]) > 0]
+    print(f"{col} n={len(v)} median={statistics.median(v) if v else 0:.1f} max={max(v, default=0):.1f}")
+PY
+}
+
+busy_search() {
+  [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
+  local sim=("$sim_bin" --frames 60 --sensor vlp32 --quiet)
+  "${sim[@]}" --out "$work/here" --seed 7 >/dev/null || fail "socc-sim failed"
+  "${sim[@]}" --out "$work/other" --seed 8 >/dev/null || fail "socc-sim failed"
+  printf 'relocalize_timeout: 1000.0\n' >"$work/patient.yaml"  # S searches until stopped
+  # The default search budget (server.yaml): 1.5-5 s of server CPU per search here, more than a
+  # client waits per attempt (2 s) when the search blocks its requests.
+  printf 'localization:\n  max_draws: 30000\n' >"$work/server.yaml"
+  start_server busy
+  "$client_bin" --lcm-url "$url" --robot-id mapper --quiet --kitti "$work/here" --last-frame 19 \
+    >"$work/mapper.log" 2>&1 || fail "robot A failed: $(tail -5 "$work/mapper.log")"
+
+  "$client_bin" --lcm-url "$url" --robot-id searcher --quiet --kitti "$work/other" --relocalize \
+    --config "$work/patient.yaml" --out-dir "$work/searcher" >"$work/searcher.log" 2>&1 &
+  local searcher=$!
+  for _ in $(seq 300); do
+    grep -q "searching the robot's pose" "$work/searcher.log" && break
+    kill -0 "$searcher" 2>/dev/null || fail "robot S exited: $(tail -5 "$work/searcher.log")"
+    sleep 0.1
+  done
+  sleep 1  # its first LOCALIZE is under way
+
+  local pose rc=0 start end
+  pose=$(kitti_pose "$work/here/poses.txt" 20)
+  start=$(date +%s.%N)
+  "$client_bin" --lcm-url "$url" --robot-id tracker --quiet --kitti "$work/here" --first-frame 20 \
+    --last-frame 59 --initial-pose "$pose" --out-dir "$work/tracker" >"$work/tracker.log" 2>&1 || rc=$?
+  end=$(date +%s.%N)
+  kill -0 "$searcher" 2>/dev/null || fail "robot S stopped searching before T ended: $(tail -5 "$work/searcher.log")"
+  kill "$searcher" 2>/dev/null || true
+  wait "$searcher" 2>/dev/null || true
+  grep -q "localized in the map at" "$work/searcher.log" && fail "robot S was localized in a street it never saw"
+  ((rc == 0)) || fail "robot T exited $rc: $(tail -5 "$work/tracker.log")"
+  local bad; bad=$(grep -c ",unhealthy,\|,lost,\|,relocalizing," "$work/tracker/frames.csv" || true)
+  ((bad == 0)) || fail "robot T: $bad unhealthy/lost frames: $(grep -m3 ",unhealthy,\|,lost," "$work/tracker/frames.csv")"
+  round_trips "$work/tracker/frames.csv" | tee "$work/round_trips.txt" | sed 's/^/  robot T round trips [ms]: /'
+  awk '{ split($4, m, "="); if (m[2] >= 2000) exit 1 }' "$work/round_trips.txt" ||
+    fail "robot T waited the client's timeout per attempt (2 s) or more for a reply while S searched"
+  echo "robot T tracked 40 frames in $(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.1f", b - a }') s while robot S searched"
   stop_server
 }
 

@@ -15,26 +15,34 @@
 #include "service/auth_gate.hpp"
 #include "service/request_router.hpp"
 #include "service_test_helpers.hpp"
+#include "sim_street.hpp"
 #include "socc/auth/message_auth.hpp"
 
 namespace socc::service {
 namespace {
 
-std::string randomUrl() { return socc::testing::randomLoopbackLcmUrl(); }
+std::string randomUrl() {
+  return socc::testing::randomLoopbackLcmUrl();
+}
 
 // map_server's loop in a thread: the MapService is only touched by that thread.
 class InProcessServer {
  public:
   explicit InProcessServer(const std::string& url,
-                           std::unique_ptr<RequestGate> gate = std::make_unique<AllowAllGate>())
+                           std::unique_ptr<RequestGate> gate = std::make_unique<AllowAllGate>(),
+                           const ServerConfig& config = test::smallConfig())
       : lcm_(url),
-        service_(test::smallConfig()),
+        service_(config),
         gate_(std::move(gate)),
         router_(lcm_, service_, *gate_, false) {
     thread_ = std::thread([this] {
-      while (!stop_) lcm_.handleTimeout(20);
+      while (!stop_) {
+        lcm_.handleTimeout(20);
+        router_.poll();  // replies of finished LOCALIZE searches
+      }
     });
   }
+
   ~InProcessServer() {
     stop_ = true;
     thread_.join();
@@ -311,6 +319,37 @@ TEST(MapClientAuth, EveryRetryIsResignedWithANewCounter) {
     EXPECT_EQ(request.seq, 7);
   }
   EXPECT_FALSE(verifier.verifyEncoded(first->header, attempts[0].data(), attempts[0].size()).ok);
+}
+
+}  // namespace
+}  // namespace socc::service
+
+namespace socc::service {
+namespace {
+
+// A search refused because the server's searches are all taken is sent again until one is free.
+TEST(MapClient, LocalizeWaitsWhileTheServersSearchesAreTaken) {
+  const std::string url = randomUrl();
+  InProcessServer server(url, std::make_unique<AllowAllGate>(), test::searchConfig(0));
+  ASSERT_TRUE(server.good());
+  const sim::Scene scene = test::street();
+  rpc::MapClient mapper(clientOptions(url, "mapper"));
+  for (int k = 0; k < 10; ++k) ASSERT_TRUE(mapper.integrate(test::streetIntegrate(scene, k)).ok());
+
+  rpc::MapClient first(clientOptions(url, "first")), second(clientOptions(url, "second"));
+  rpc::Result<localize_reply_t> first_reply;
+  std::thread searching([&] {
+    first_reply = first.localize(rpc::makeLocalizeRequest(test::simulatedPoints(scene, 5), 4));
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // first's search under way
+  const rpc::Result<localize_reply_t> second_reply =
+      second.localize(rpc::makeLocalizeRequest(test::simulatedPoints(scene, 6), 4));
+  searching.join();
+  EXPECT_TRUE(first_reply.ok()) << first_reply.error.message;
+  EXPECT_TRUE(second_reply.ok()) << second_reply.error.message;
+  const rpc::Result<stats_reply_t> stats = mapper.getStats();
+  ASSERT_TRUE(stats.ok());
+  EXPECT_GE(stats.reply->stats.rejected_requests, 1) << "second was never refused as busy";
 }
 
 }  // namespace

@@ -75,6 +75,9 @@ TEST(ServerConfig, ErrorsNameTheFileAndTheKey) {
   EXPECT_EQ(error("limits:\n  robot_chunk_rate: -1\n"),
             at + "limits.robot_chunk_rate must be >= 0");
   EXPECT_EQ(error("limits:\n  robot_integrate_rate: 0\n"), "accepted");  // 0: no limit
+  EXPECT_EQ(error("limits:\n  max_waiting_searches: -1\n"),
+            at + "limits.max_waiting_searches must be >= 0");
+  EXPECT_EQ(error("limits:\n  max_waiting_searches: 0\n"), "accepted");  // only the running one
   EXPECT_EQ(error("plausibility:\n  speed: 3\n"), at + "unknown key 'plausibility.speed'");
   EXPECT_EQ(error("consistency:\n  keyframe_distance: 0\n"),
             at + "consistency.keyframe_distance must be > 0");

@@ -46,25 +46,6 @@ bool withinHint(const Eigen::Isometry3d& pose, const std::optional<LocalizeHint>
   return std::abs(d) <= hint->yaw_tolerance;
 }
 
-// The map keypoints a scan seen from within the hint can overlap.
-FeatureCloud nearHint(const FeatureCloud& map, const LocalizeHint& hint, double reach) {
-  FeatureCloud out;
-  for (std::size_t i = 0; i < map.size(); ++i) {
-    const Eigen::Vector3d p = (*map.keypoints)[i].getVector3fMap().cast<double>();
-    if ((p - hint.position).norm() > hint.radius + reach) continue;
-    out.keypoints->push_back((*map.keypoints)[i]);
-    out.features->push_back((*map.features)[i]);
-  }
-  return out;
-}
-
-double reachOf(const FeatureCloud& scan) {
-  double reach = 0.0;
-  for (const pcl::PointNormal& p : *scan.keypoints)
-    reach = std::max(reach, static_cast<double>(p.getVector3fMap().norm()));
-  return reach;
-}
-
 // Every k-th point: a spread of the scan on which the search checks free space cheaply.
 std::vector<Eigen::Vector3f> spread(const std::vector<Eigen::Vector3f>& scan, int count) {
   if (count <= 0 || scan.size() <= static_cast<std::size_t>(count)) return scan;
@@ -162,35 +143,44 @@ std::size_t GlobalLocalizer::mapKeypoints() const {
   return impl_->map ? impl_->map->cloud.size() : 0;
 }
 
+LocalizeSearch GlobalLocalizer::prepare(const map::SemanticOccupancyMap& map,
+                                        std::vector<Eigen::Vector3f> scan,
+                                        const std::optional<LocalizeHint>& hint,
+                                        int max_candidates) {
+  impl_->refresh(map);
+  LocalizeSearch search;
+  search.params_ = impl_->params;
+  search.map_ = impl_->map;
+  search.scan_ = std::move(scan);
+  search.hint_ = hint;
+  search.max_candidates_ = max_candidates;
+  return search;
+}
+
+LocalizeAnswer GlobalLocalizer::finish(const map::SemanticOccupancyMap& map,
+                                       LocalizeSearch search) {
+  LocalizeAnswer answer = std::move(search.answer_);
+  if (search.found_.empty()) return answer;
+  const std::vector<Eigen::Vector3f> checked = spread(search.scan_, search.params_.conflict_points);
+  const double margin = search.params_.search.inlier_distance;
+  const ConflictAt conflict = [&map, &checked, margin](const Eigen::Isometry3d& pose) {
+    return conflictOf(map, checked, pose, margin);
+  };
+  for (const Hypothesis& h :
+       rankHypotheses(std::move(search.found_), conflict, search.params_.search))
+    if (withinHint(h.pose, search.hint_) &&
+        static_cast<int>(answer.candidates.size()) < search.max_candidates_)
+      answer.candidates.push_back({h.pose, h.inliers, h.inlier_fraction, h.conflict, h.score});
+  return answer;
+}
+
 LocalizeAnswer GlobalLocalizer::localize(const map::SemanticOccupancyMap& map,
                                          const std::vector<Eigen::Vector3f>& scan,
                                          const std::optional<LocalizeHint>& hint,
                                          int max_candidates) {
-  impl_->refresh(map);
-  LocalizeAnswer answer;
-  answer.map_keypoints = impl_->map->cloud.size();
-  const FeatureCloud source = describe(scan, impl_->params.features);
-  answer.scan_keypoints = source.size();
-  if (source.size() < 3 || impl_->map->cloud.size() < 3) return answer;
-
-  const std::vector<Eigen::Vector3f> checked = spread(scan, impl_->params.conflict_points);
-  const double margin = impl_->params.search.inlier_distance;
-  const ConflictAt conflict = [&map, &checked, margin](const Eigen::Isometry3d& pose) {
-    return conflictOf(map, checked, pose, margin);
-  };
-  std::vector<Hypothesis> found;
-  if (hint) {
-    // Only the map a scan from within the hint can see: a smaller feature tree, fewer lookalikes.
-    const IndexedFeatures target(nearHint(impl_->map->cloud, *hint, reachOf(source)));
-    if (target.cloud.size() < 3) return answer;
-    found = searchHypotheses(target, source, conflict, impl_->params.search, &answer.search);
-  } else {
-    found = searchHypotheses(*impl_->map, source, conflict, impl_->params.search, &answer.search);
-  }
-  for (const Hypothesis& h : found)
-    if (withinHint(h.pose, hint) && static_cast<int>(answer.candidates.size()) < max_candidates)
-      answer.candidates.push_back({h.pose, h.inliers, h.inlier_fraction, h.conflict, h.score});
-  return answer;
+  LocalizeSearch search = prepare(map, scan, hint, max_candidates);
+  search.run();
+  return finish(map, std::move(search));
 }
 
 }  // namespace socc::localization

@@ -9,47 +9,18 @@
 // The map's descriptors are cached. They are rebuilt when the map's occupied voxels changed by
 // more than rebuild_change since the last build (new ground mapped), not at every Integrate: a
 // live map changes with every scan, a rebuild of a large map takes seconds.
+//
+// A search runs in three parts (localize_search.hpp): prepare and finish need the map (its
+// thread), LocalizeSearch::run does not; localize() runs all three in turn.
 #include <Eigen/Geometry>
-#include <cstdint>
 #include <memory>
 #include <optional>
 #include <vector>
 
-#include "feature_cloud.hpp"
-#include "hypothesis_search.hpp"
+#include "localize_search.hpp"
 #include "socc/map/semantic_occupancy_map.hpp"
 
 namespace socc::localization {
-
-struct LocalizerParams {
-  FeatureParams features;
-  SearchParams search;
-  // Scan points (of those sent) on which the search checks a hypothesis' free-space conflict.
-  int conflict_points = 512;
-  double rebuild_change = 0.02;  // relative change of occupied voxels that rebuilds
-};
-
-struct LocalizeHint {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  double yaw = 0.0;            // [rad]
-  double radius = 0.0;         // [m]
-  double yaw_tolerance = 4.0;  // [rad]; >= pi: any heading
-};
-
-struct PoseCandidate {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // map_T_sensor
-  int inliers = 0;
-  double inlier_fraction = 0.0;
-  double conflict = 0.0;  // share of the checked scan points in the map's free space
-  double score = 0.0;     // inlier_fraction - conflict: the rank
-};
-
-struct LocalizeAnswer {
-  std::vector<PoseCandidate> candidates;  // best first
-  std::size_t map_keypoints = 0;
-  std::size_t scan_keypoints = 0;
-  SearchStats search;  // the budget the search spent
-};
 
 class GlobalLocalizer {
  public:
@@ -62,6 +33,15 @@ class GlobalLocalizer {
   LocalizeAnswer localize(const map::SemanticOccupancyMap& map,
                           const std::vector<Eigen::Vector3f>& scan,
                           const std::optional<LocalizeHint>& hint, int max_candidates);
+
+  /// The search of localize() before it runs: map's descriptors (rebuilt when map changed
+  /// enough) and the scan. On the map's thread.
+  LocalizeSearch prepare(const map::SemanticOccupancyMap& map, std::vector<Eigen::Vector3f> scan,
+                         const std::optional<LocalizeHint>& hint, int max_candidates);
+  /// localize()'s answer from a search that ran: its hypotheses ranked by their free-space
+  /// conflict in map as it is now, those within the hint, at most max_candidates. On the map's
+  /// thread.
+  static LocalizeAnswer finish(const map::SemanticOccupancyMap& map, LocalizeSearch search);
 
   /// Map keypoints of the current descriptor cache (0 before the first localize()).
   std::size_t mapKeypoints() const;

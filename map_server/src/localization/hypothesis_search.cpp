@@ -41,13 +41,13 @@ Eigen::Isometry3d toIsometry(const Eigen::Matrix4f& m) {
 
 class Search {
  public:
-  Search(const IndexedFeatures& map, const FeatureCloud& scan, const ConflictAt& conflict,
-         const SearchParams& params)
+  Search(const IndexedFeatures& map, const FeatureCloud& scan, const SearchParams& params,
+         const std::atomic<bool>* cancel)
       : map_(map),
         scan_(*scan.keypoints),
         scan_features_(*scan.features),
-        conflict_(conflict),
         params_(params),
+        cancel_(cancel),
         rng_(params.seed),
         similar_(scan_.size()) {
     order_.resize(scan_.size());
@@ -60,13 +60,17 @@ class Search {
     pcl::Indices source(3), target(3);
     for (; stats_.draws < params_.max_iterations && stats_.inlier_tests < params_.max_inlier_tests;
          ++stats_.draws) {
+      if (cancel_ != nullptr && cancel_->load(std::memory_order_relaxed)) {
+        stats_.cancelled = true;
+        return {};
+      }
       if (!drawSample(source, target)) continue;
       Eigen::Matrix4f m;
       svd_.estimateRigidTransformation(scan_, source, *map_.cloud.keypoints, target, m);
       consider(m);
     }
     for (Hypothesis& h : kept_) refine(h);
-    return distinctBest(std::move(kept_));
+    return std::move(kept_);
   }
 
   const SearchStats& stats() const { return stats_; }
@@ -75,8 +79,8 @@ class Search {
   const IndexedFeatures& map_;
   const Cloud& scan_;
   const pcl::PointCloud<pcl::FPFHSignature33>& scan_features_;
-  const ConflictAt& conflict_;
   const SearchParams& params_;
+  const std::atomic<bool>* cancel_;  // may be null
   std::mt19937 rng_;
   std::vector<pcl::Indices> similar_;  // nearest map features of each scan keypoint
   std::vector<std::size_t> order_;     // the scan keypoints shuffled: blocks of it are fair draws
@@ -241,22 +245,7 @@ class Search {
       h.inliers = count;
     }
     h.inlier_fraction = static_cast<double>(h.inliers) / static_cast<double>(scan_.size());
-    h.conflict = conflict_ ? conflict_(h.pose) : 0.0;
-    h.score = h.inlier_fraction - h.conflict;
-  }
-
-  // Refinement may bring two hypotheses together: one per place, best score first.
-  std::vector<Hypothesis> distinctBest(std::vector<Hypothesis> all) const {
-    std::sort(all.begin(), all.end(),
-              [](const Hypothesis& a, const Hypothesis& b) { return a.score > b.score; });
-    std::vector<Hypothesis> out;
-    for (const Hypothesis& h : all) {
-      const auto same = [&](const Hypothesis& o) {
-        return sameHypothesis(o.pose, h.pose, params_);
-      };
-      if (std::none_of(out.begin(), out.end(), same)) out.push_back(h);
-    }
-    return out;
+    h.score = h.inlier_fraction;  // until rankHypotheses weighs the free space
   }
 };
 
@@ -269,13 +258,30 @@ IndexedFeatures::IndexedFeatures(FeatureCloud c) : cloud(std::move(c)) {
 }
 
 std::vector<Hypothesis> searchHypotheses(const IndexedFeatures& map, const FeatureCloud& scan,
-                                         const ConflictAt& conflict, const SearchParams& params,
-                                         SearchStats* stats) {
+                                         const SearchParams& params, SearchStats* stats,
+                                         const std::atomic<bool>* cancel) {
   if (scan.size() < 3 || map.cloud.size() < 3) return {};
-  Search search(map, scan, conflict, params);
+  Search search(map, scan, params, cancel);
   std::vector<Hypothesis> found = search.run();
   if (stats) *stats = search.stats();
   return found;
+}
+
+// Refinement may have brought two hypotheses together: one per place, best score first.
+std::vector<Hypothesis> rankHypotheses(std::vector<Hypothesis> found, const ConflictAt& conflict,
+                                       const SearchParams& params) {
+  for (Hypothesis& h : found) {
+    h.conflict = conflict ? conflict(h.pose) : 0.0;
+    h.score = h.inlier_fraction - h.conflict;
+  }
+  std::sort(found.begin(), found.end(),
+            [](const Hypothesis& a, const Hypothesis& b) { return a.score > b.score; });
+  std::vector<Hypothesis> out;
+  for (const Hypothesis& h : found) {
+    const auto same = [&](const Hypothesis& o) { return sameHypothesis(o.pose, h.pose, params); };
+    if (std::none_of(out.begin(), out.end(), same)) out.push_back(h);
+  }
+  return out;
 }
 
 }  // namespace socc::localization

@@ -15,13 +15,14 @@
 // chosen equal the scan's (rigid motions keep distances). One right first pair is then enough,
 // and the candidate lists can be long. A hypothesis' inliers (scan keypoints within
 // inlier_distance of a map keypoint) are counted in blocks and most are given up after the first
-// block; the `keep` distinct hypotheses with the most inliers are kept, refined on their inliers
-// and ranked by
+// block; the `keep` distinct hypotheses with the most inliers are kept and refined on their
+// inliers (searchHypotheses: no grid needed, any thread), then ranked by
 //   score = inlier share - conflict (the share of the scan the pose puts into the map's free
-//           space, ConflictAt).
+//           space, ConflictAt; rankHypotheses: needs the live grid, the map's thread).
 #include <pcl/kdtree/kdtree_flann.h>
 
 #include <Eigen/Geometry>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -71,11 +72,18 @@ struct Hypothesis {
 struct SearchStats {
   int draws = 0;               // samples drawn
   long long inlier_tests = 0;  // scan keypoints tested against the map's keypoints
+  bool cancelled = false;      // stopped by its cancel flag: found nothing
 };
 
-/// Distinct hypotheses, best score first (at most params.keep).
+/// The kept hypotheses (at most params.keep), refined, not yet ranked (score = inlier share).
+/// Touches no grid. cancel (may be null) is polled between draws: once set, the search stops
+/// and returns nothing; otherwise the answer depends on the inputs and params.seed alone.
 std::vector<Hypothesis> searchHypotheses(const IndexedFeatures& map, const FeatureCloud& scan,
-                                         const ConflictAt& conflict, const SearchParams& params,
-                                         SearchStats* stats = nullptr);
+                                         const SearchParams& params, SearchStats* stats = nullptr,
+                                         const std::atomic<bool>* cancel = nullptr);
+
+/// Scores found by its free-space conflict and keeps one per place, best score first.
+std::vector<Hypothesis> rankHypotheses(std::vector<Hypothesis> found, const ConflictAt& conflict,
+                                       const SearchParams& params);
 
 }  // namespace socc::localization

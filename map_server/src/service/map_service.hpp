@@ -3,13 +3,16 @@
 // reply (status + payload). Transport-free (the RequestRouter does LCM), so the handlers are
 // unit-tested directly. Owns the one grid, the robot states and the durability state.
 // Not thread-safe: the router calls it from its single LCM thread.
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <exception>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <variant>
 
 #include "consistency_service.hpp"
 #include "global_localizer.hpp"
@@ -21,9 +24,9 @@
 #include "socc/chunk_request_t.hpp"
 #include "socc/integrate_reply_t.hpp"
 #include "socc/integrate_request_t.hpp"
-#include "socc/map/semantic_occupancy_map.hpp"
 #include "socc/localize_reply_t.hpp"
 #include "socc/localize_request_t.hpp"
+#include "socc/map/semantic_occupancy_map.hpp"
 #include "socc/map_command_reply_t.hpp"
 #include "socc/map_command_request_t.hpp"
 #include "socc/map_stats_t.hpp"
@@ -73,8 +76,28 @@ class MapService {
   /// ROBOT_STATUS: stores the tracking state the robot (client_id) reports.
   robot_status_reply_t robotStatus(const robot_status_request_t& request);
   /// LOCALIZE: ranked candidate poses of a scan in the map (global_localizer.hpp). Read-only
-  /// for the map; updates the descriptor cache.
+  /// for the map; updates the descriptor cache. beginLocalize + search.run + finishLocalize.
   localize_reply_t localize(const localize_request_t& request);
+
+  /// A LOCALIZE search between beginLocalize and finishLocalize (docs/relocalization.md,
+  /// "Threading"): search.run() may go on on another thread while the service serves others.
+  struct PendingLocalize {
+    localization::LocalizeSearch search;
+    localize_reply_t reply;  // map_version of the snapshot
+    std::chrono::steady_clock::time_point start;
+    std::exception_ptr error;  // what search.run threw
+
+    /// search.run(cancel), its exception kept for finishLocalize. Touches no grid.
+    void run(const std::atomic<bool>* cancel = nullptr);
+  };
+  /// The reply at once (a refused request, check mode) or the search to run. may_search false
+  /// (the server's searches are all busy): a request that needs a search is refused with
+  /// RESOURCE_EXHAUSTED.
+  std::variant<localize_reply_t, PendingLocalize> beginLocalize(const localize_request_t& request,
+                                                                bool may_search = true);
+  /// The reply of a search that ran: its hypotheses ranked on the grid as it is now (INTERNAL
+  /// when it threw).
+  localize_reply_t finishLocalize(PendingLocalize pending) const;
 
   map_stats_t stats(const RequestCounters& counters) const;
   const map::SemanticOccupancyMap& map() const { return map_; }
@@ -128,7 +151,8 @@ class MapService {
   std::unique_ptr<Journal> journal_;
   auth::ReplayGuard* replay_guard_ = nullptr;  // not owned (the AuthGate's); null without a key
   localization::GlobalLocalizer localizer_;
-  std::unique_ptr<consistency::ConsistencyService> consistency_;  // last: its thread reads nothing else
+  std::unique_ptr<consistency::ConsistencyService>
+      consistency_;  // last: its thread reads nothing else
 };
 
 }  // namespace socc::service

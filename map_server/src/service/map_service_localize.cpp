@@ -1,10 +1,13 @@
 // LOCALIZE: global localization of a scan in the map (docs/relocalization.md).
 #include <chrono>
 #include <exception>
+#include <string>
+#include <variant>
 
 #include "map_service.hpp"
 #include "request_checks.hpp"
 #include "socc/pose_conversion.hpp"
+#include "socc/rpc/status_names.hpp"
 
 namespace socc::service {
 namespace {
@@ -48,26 +51,75 @@ void addChecks(const map::SemanticOccupancyMap& map, const localize_request_t& r
   reply.num_checked = static_cast<std::int32_t>(reply.observed.size());
 }
 
+localize_reply_t failed(localize_reply_t reply, const std::exception& e) {
+  setStatus(reply, Status::internal(std::string("localization failed: ") + e.what()));
+  return reply;
+}
+
+// Seconds from the request's start (its wait for the search thread included).
+localize_reply_t finished(localize_reply_t reply, std::chrono::steady_clock::time_point start) {
+  reply.seconds = std::chrono::duration<float>(std::chrono::steady_clock::now() - start).count();
+  return reply;
+}
+
 }  // namespace
 
 localize_reply_t MapService::localize(const localize_request_t& request) {
+  std::variant<localize_reply_t, PendingLocalize> begun = beginLocalize(request);
+  if (auto* pending = std::get_if<PendingLocalize>(&begun)) {
+    pending->run();
+    return finishLocalize(std::move(*pending));
+  }
+  return std::get<localize_reply_t>(std::move(begun));
+}
+
+std::variant<localize_reply_t, MapService::PendingLocalize> MapService::beginLocalize(
+    const localize_request_t& request, bool may_search) {
   localize_reply_t reply{};
   reply.map_version = map_.version();
   if (Status s = checkLocalizeRequest(request, map_.config(), config_.limits); !s.ok())
     return setStatus(reply, s);
   const auto start = std::chrono::steady_clock::now();
   try {
-    const std::vector<Eigen::Vector3f> points = pointsOf(request);
-    if (request.num_check > 0)
+    std::vector<Eigen::Vector3f> points = pointsOf(request);
+    if (request.num_check > 0) {
       addChecks(map_, request, points, reply);
-    else
-      addCandidates(localizer_.localize(map_, points, hintOf(request), request.max_candidates),
-                    reply);
+      return finished(std::move(reply), start);
+    }
+    if (!may_search)
+      return setStatus(reply,
+                       Status::exhausted("every relocalization search of the server is taken (one "
+                                         "running, limits.max_waiting_searches = " +
+                                         std::to_string(config_.limits.max_waiting_searches) +
+                                         " waiting): " + std::string(rpc::kSearchesBusy)));
+    PendingLocalize pending;
+    pending.search =
+        localizer_.prepare(map_, std::move(points), hintOf(request), request.max_candidates);
+    pending.reply = std::move(reply);
+    pending.start = start;
+    return pending;
   } catch (const std::exception& e) {
-    setStatus(reply, Status::internal(std::string("localization failed: ") + e.what()));
+    return failed(std::move(reply), e);
   }
-  reply.seconds = std::chrono::duration<float>(std::chrono::steady_clock::now() - start).count();
-  return reply;
+}
+
+void MapService::PendingLocalize::run(const std::atomic<bool>* cancel) {
+  try {
+    search.run(cancel);
+  } catch (...) {
+    error = std::current_exception();
+  }
+}
+
+localize_reply_t MapService::finishLocalize(PendingLocalize pending) const {
+  try {
+    if (pending.error) std::rethrow_exception(pending.error);
+    addCandidates(localization::GlobalLocalizer::finish(map_, std::move(pending.search)),
+                  pending.reply);
+  } catch (const std::exception& e) {
+    return failed(std::move(pending.reply), e);
+  }
+  return finished(std::move(pending.reply), pending.start);
 }
 
 }  // namespace socc::service

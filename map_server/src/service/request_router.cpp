@@ -3,13 +3,16 @@
 #include <chrono>
 #include <cstdio>
 #include <exception>
+#include <memory>
 #include <type_traits>
+#include <utility>
+#include <variant>
 #include <vector>
 
 #include "socc/channels.hpp"
 #include "socc/rpc/client_id.hpp"
-#include "socc/rpc/status_names.hpp"
 #include "socc/rpc/safe_decode.hpp"
+#include "socc/rpc/status_names.hpp"
 #include "socc/wall_clock.hpp"
 #include "wire_guard.hpp"
 
@@ -21,6 +24,18 @@ rpc::PartOptions partOptions(bool split) {
   options.split = split;
   return options;
 }
+
+// A handler's result: its reply, or (std::optional) none yet when the reply is deferred.
+template <typename Result>
+struct ReplyOf {
+  using type = Result;
+  static std::optional<type> now(Result&& result) { return std::move(result); }
+};
+template <typename Reply>
+struct ReplyOf<std::optional<Reply>> {
+  using type = Reply;
+  static std::optional<type> now(std::optional<Reply>&& result) { return std::move(result); }
+};
 
 // Untrusted strings are shortened before they reach logs or reply messages.
 std::string shown(const std::string& text) {
@@ -39,7 +54,8 @@ RequestRouter::RequestRouter(lcm::LCM& lcm, MapService& service, RequestGate& ga
       integrate_rate_(service.config().limits.robot_integrate_rate,
                       service.config().limits.robot_integrate_rate),
       chunk_rate_(service.config().limits.robot_chunk_rate,
-                  service.config().limits.robot_chunk_rate) {
+                  service.config().limits.robot_chunk_rate),
+      searches_(static_cast<std::size_t>(service.config().limits.max_waiting_searches)) {
   // Raw subscriptions through LCM's C API: the typed C++ ones print and drop undecodable
   // messages without telling us, and the C++ raw-handler wrapper trips UBSan (-fsanitize=vptr).
   for (std::size_t i = 0; i < routes_.size(); ++i) {
@@ -129,7 +145,8 @@ void RequestRouter::commit() {
 template <typename Request, typename Handler>
 void RequestRouter::serve(const lcm::ReceiveBuffer& rbuf, std::string_view service,
                           bool state_changing, Handler&& handler) {
-  using Reply = std::invoke_result_t<Handler, const Request&>;
+  using Result = std::invoke_result_t<Handler, const Request&>;
+  using Reply = typename ReplyOf<Result>::type;
   ++counters_.requests;
   const int size = static_cast<int>(rbuf.data_size);
   const bool integrate = service == channels::kIntegrate;
@@ -167,7 +184,9 @@ void RequestRouter::serve(const lcm::ReceiveBuffer& rbuf, std::string_view servi
     return publishReply(service, header, reply);
   }
   try {
-    reply = handler(*request);
+    std::optional<Reply> now = ReplyOf<Result>::now(handler(*request));
+    if (!now) return;  // deferred: published later
+    reply = std::move(*now);
   } catch (const std::exception& e) {
     reply = Reply{};
     setStatus(reply, Status::internal(e.what()));
@@ -206,7 +225,38 @@ void RequestRouter::dispatch(std::string_view service, const lcm::ReceiveBuffer&
     });
   else if (service == channels::kLocalize)
     serve<localize_request_t>(rbuf, service, false,
-                              [this](const localize_request_t& r) { return service_.localize(r); });
+                              [this](const localize_request_t& r) { return startLocalize(r); });
+}
+
+std::optional<localize_reply_t> RequestRouter::startLocalize(const localize_request_t& request) {
+  std::pair<std::string, std::int64_t> key{request.header.client_id, request.header.request_id};
+  if (searching_.count(key) != 0) {
+    log_.warn("LOCALIZE " + std::to_string(key.second) + " from '" + key.first +
+              "' repeated while its search is under way: answered once it ends");
+    return std::nullopt;
+  }
+  std::variant<localize_reply_t, MapService::PendingLocalize> begun =
+      service_.beginLocalize(request, searches_.hasRoom());
+  if (auto* now = std::get_if<localize_reply_t>(&begun)) return std::move(*now);
+  // std::function needs copyable jobs: the search is shared between job and continuation.
+  auto pending = std::make_shared<MapService::PendingLocalize>(
+      std::get<MapService::PendingLocalize>(std::move(begun)));
+  // Cannot be refused: beginLocalize was told there is room, and only this thread submits.
+  searches_.submit([this, pending, header = request.header](const std::atomic<bool>& cancelled) {
+    pending->run(&cancelled);  // the worker: no grid, no LCM
+    return BackgroundWorker::Continuation([this, pending, header] {
+      searching_.erase({header.client_id, header.request_id});
+      localize_reply_t reply = service_.finishLocalize(std::move(*pending));
+      publishReply(channels::kLocalize, header, reply);
+    });
+  });
+  searching_.insert(std::move(key));
+  return std::nullopt;
+}
+
+void RequestRouter::poll() {
+  parts_.poll();
+  searches_.runFinished();
 }
 
 void RequestRouter::publishStatus() {

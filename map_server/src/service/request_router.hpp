@@ -3,14 +3,20 @@
 // (wire guard + checked decode), checks the header (client id, reply channel), passes the
 // RequestGate, calls the MapService handler and publishes the reply on
 // SOCC/<SERVICE>/REP/<client_id>: immediately, except accepted INTEGRATEs while the journal
-// syncs in batches (group commit: their replies wait for commit()). Runs on the thread that
-// calls lcm.handle*(): map access stays serial.
+// syncs in batches (group commit: their replies wait for commit()), and LOCALIZE searches: their
+// draws run on the router's search thread (BackgroundWorker) and their replies go out from
+// poll(). Everything else runs on the thread that calls lcm.handle*() and poll(): map access
+// stays serial.
 #include <cstdint>
 #include <lcm/lcm-cpp.hpp>
+#include <optional>
+#include <set>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
+#include "background_worker.hpp"
 #include "map_service.hpp"
 #include "rate_limited_log.hpp"
 #include "request_gate.hpp"
@@ -39,8 +45,11 @@ class RequestRouter {
   void commit();
   /// Replies waiting for commit().
   std::size_t deferredReplies() const { return deferred_.size(); }
-  /// Asks for the missing parts of stalled requests sent in parts; call every few ms.
-  void poll() { parts_.poll(); }
+  /// Asks for the missing parts of stalled requests sent in parts and publishes the replies of
+  /// finished LOCALIZE searches; call every few ms.
+  void poll();
+  /// LOCALIZE searches accepted whose reply has not gone out yet.
+  std::size_t searchesUnderWay() const { return searches_.outstanding(); }
 
  private:
   template <typename Request, typename Handler>
@@ -49,6 +58,9 @@ class RequestRouter {
   template <typename Reply>
   void publishReply(std::string_view service, const request_header_t& request, Reply& reply);
   void rejectUndecodable(std::string_view service, const std::string& why);
+  /// The reply now, or nullopt when a search was queued (or is under way already for this
+  /// request: a client's retry) and poll() replies later.
+  std::optional<localize_reply_t> startLocalize(const localize_request_t& request);
   /// Empty when client is within its budget for service, else the RESOURCE_EXHAUSTED message.
   std::string admitRate(std::string_view service, const std::string& client);
   void send(std::string_view service, const std::string& channel,
@@ -78,6 +90,9 @@ class RequestRouter {
   RobotRateLimiter integrate_rate_;  // per robot: fairness (limits.robot_integrate_rate)
   RobotRateLimiter chunk_rate_;      // limits.robot_chunk_rate
   std::array<Route, channels::kServices.size()> routes_;
+  // (client id, request id) of the searches queued or running: a retry is not searched twice.
+  std::set<std::pair<std::string, std::int64_t>> searching_;
+  BackgroundWorker searches_;  // last: destroyed (cancelled, joined) before what jobs reply with
 };
 
 }  // namespace socc::service

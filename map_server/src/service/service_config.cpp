@@ -31,6 +31,7 @@ std::string validate(const ServerConfig& c) {
   // 0: no per-robot limit (RobotRateLimiter), as server.yaml documents.
   if (!(l.robot_integrate_rate >= 0.0)) return "limits.robot_integrate_rate must be >= 0";
   if (!(l.robot_chunk_rate >= 0.0)) return "limits.robot_chunk_rate must be >= 0";
+  if (l.max_waiting_searches < 0) return "limits.max_waiting_searches must be >= 0";
   if (!(p.linear_slack >= 0.0)) return "plausibility.linear_slack must be >= 0";
   if (!(p.angular_slack >= 0.0)) return "plausibility.angular_slack must be >= 0";
   const consistency::ConsistencyParams& k = c.consistency;
@@ -56,6 +57,7 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
       {"max_render_pixels", &l.max_render_pixels},
       {"max_robots", &l.max_robots},
       {"max_localize_points", &l.max_localize_points},
+      {"max_waiting_searches", &l.max_waiting_searches},
       {"robot_integrate_rate", &l.robot_integrate_rate},
       {"robot_chunk_rate", &l.robot_chunk_rate},
   };

@@ -17,6 +17,8 @@ struct ServiceLimits {
   std::int64_t max_render_pixels = 16'000'000;
   std::int64_t max_robots = 1024;              // robot states kept; new robots beyond -> rejected
   std::int32_t max_localize_points = 100'000;  // per LOCALIZE scan
+  // LOCALIZE searches waiting behind the one running (its own thread); more -> RESOURCE_EXHAUSTED.
+  std::int32_t max_waiting_searches = 2;
   // Fairness: requests per second one robot (client id) may make, with a burst of one second's
   // worth; more -> RESOURCE_EXHAUSTED (robot_rate_limiter.hpp). 0 = no limit.
   double robot_integrate_rate = 40.0;
@@ -50,8 +52,8 @@ struct ServerConfig {
 };
 
 /// Loads server.yaml: optional `map_config` and `key_file` (relative to this file), `file_dir`,
-/// `auth_queries`, `limits:`, `plausibility:` and `consistency:` keys. Unknown keys, bad or out-of-range values
-/// throw std::runtime_error naming the file and the key (socc/yaml_fields.hpp).
+/// `auth_queries`, `limits:`, `plausibility:` and `consistency:` keys. Unknown keys, bad or
+/// out-of-range values throw std::runtime_error naming the file and the key (socc/yaml_fields.hpp).
 ServerConfig loadServerConfig(const std::filesystem::path& file);
 
 }  // namespace socc::service

@@ -286,8 +286,19 @@ Result<localize_reply_t> MapClient::localize(localize_request_t request) {
   }
   // A search (and, after the map grew, a rebuild of its descriptors) takes seconds.
   constexpr std::chrono::milliseconds kLocalizeTimeout{30000};
-  return impl_->call<localize_reply_t>(channels::kLocalize, request,
-                                       std::max(impl_->options.timeout, kLocalizeTimeout));
+  const auto timeout = std::max(impl_->options.timeout, kLocalizeTimeout);
+  // Refused because the server's searches are all taken (kSearchesBusy): nothing was done; sent
+  // again every kBusyPause until a search is free or the timeout has passed.
+  constexpr std::chrono::milliseconds kBusyPause{250};
+  const auto give_up = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    Result<localize_reply_t> result =
+        impl_->call<localize_reply_t>(channels::kLocalize, request, timeout);
+    const bool busy = result.error.status == reply_header_t::RESOURCE_EXHAUSTED &&
+                      Impl::endsWith(result.error.message, kSearchesBusy);
+    if (!busy || std::chrono::steady_clock::now() + kBusyPause > give_up) return result;
+    std::this_thread::sleep_for(kBusyPause);
+  }
 }
 
 chunk_request_t sphereChunkRequest(const Eigen::Vector3d& center, double radius,

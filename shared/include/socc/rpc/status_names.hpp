@@ -16,5 +16,9 @@ std::string trackingStateName(std::int8_t state);
 /// limits): nothing was applied, and the same request may be sent again a little later
 /// (MapClient does). Other RESOURCE_EXHAUSTED refusals (too large an ask) are final.
 inline constexpr std::string_view kRateLimited = "slow down";
+/// The end of a RESOURCE_EXHAUSTED message that refuses a LOCALIZE search because the server's
+/// searches are all taken: nothing was done, and MapClient::localize sends it again until a
+/// search is free (within its LOCALIZE timeout).
+inline constexpr std::string_view kSearchesBusy = "searches busy, try again";
 
 }  // namespace socc::rpc
