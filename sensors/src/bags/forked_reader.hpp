@@ -4,7 +4,11 @@
 // wait for a value from this process (what to read next) through another. A crash,
 // a sanitizer abort or an exception in the child becomes a failure frame in this process,
 // which goes on. The child only runs the given work and leaves with _exit (no destructors or
-// atexit handlers of this process run there).
+// atexit handlers of this process run there). Forking from a program with other threads: the
+// child has only the forking thread, and a lock another thread held at the fork stays held
+// there; work may use malloc, stdio, exceptions and iostreams (glibc and libgcc make them safe
+// after fork, docs/sensors_bags.md) but nothing this process's other threads may hold locked
+// (no TBB, no LCM, no logging shared with them).
 #include <sys/types.h>
 
 #include <cstdint>
