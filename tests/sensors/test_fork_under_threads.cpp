@@ -119,7 +119,7 @@ class Watchdog {
   std::thread thread_;
 };
 
-std::vector<BagMessage> readAll(const fs::path& file) {
+std::vector<BagMessage> readBagMessages(const fs::path& file) {
   std::unique_ptr<BagReader> reader = openBagReader(file);
   std::vector<BagMessage> messages;
   while (std::optional<BagMessage> m = reader->next()) messages.push_back(std::move(*m));
@@ -131,7 +131,7 @@ TEST(ForkedReaderUnderThreads, ReadsTheBagWhileOtherThreadsAllocateAndLock) {
   SOCC_REQUIRE_DATA(test::sharedData() / "kitti_00_first16");
   const fs::path file = fs::path(SOCC_BAG_FIXTURES_DIR) / "clouds_lz4.bag";
   ASSERT_TRUE(fs::exists(file)) << file << " missing: run the fixture sensors.bag_writers";
-  const std::vector<BagMessage> expected = readAll(file);  // before any other thread runs
+  const std::vector<BagMessage> expected = readBagMessages(file);  // before any other thread runs
   ASSERT_FALSE(expected.empty());
   // Half the bag: the child's open throws (an exception thrown in the child).
   const fs::path cut =
@@ -147,7 +147,7 @@ TEST(ForkedReaderUnderThreads, ReadsTheBagWhileOtherThreadsAllocateAndLock) {
   {
     const BusyThreads busy;
     for (int i = 0; i < kReads; ++i) {
-      const std::vector<BagMessage> got = readAll(file);
+      const std::vector<BagMessage> got = readBagMessages(file);
       ASSERT_EQ(got.size(), expected.size()) << "read " << i;
       for (std::size_t m = 0; m < got.size(); ++m) {
         ASSERT_EQ(got[m].data, expected[m].data) << "read " << i << ", message " << m;
