@@ -3,6 +3,7 @@
 // written out independently of sensors/src/velodyne/velodyne_model.cpp, and streams of
 // synthetic packets of a 10 Hz rotation. A point's distance encodes its block and channel
 // (rawOf), its reflectivity the packet's index.
+#include <array>
 #include <cmath>
 #include <functional>
 #include <ostream>
@@ -118,12 +119,13 @@ inline ModelCase hdl64e(bool dual) {
   const double cycle = dual ? 57.6 : 48.0;
   const int per_firing = dual ? 4 : 2;
   const double first = dual ? 172.8 : 288.0;
+  const double group = dual ? 7.2 : 6.0;
+  const std::array<double, 4> in_group = dual ? std::array<double, 4>{0.0, 1.3, 2.5, 3.7}
+                                              : std::array<double, 4>{0.0, 1.26, 2.46, 3.66};
   m.block_start = [=](int b) { return -first + cycle * (b / per_firing); };
   m.offset = [=](int b, int c) {
-    const double single[4] = {0.0, 1.26, 2.46, 3.66};
-    const double both[4] = {0.0, 1.3, 2.5, 3.7};
-    const double group = dual ? 7.2 : 6.0;
-    return -first + cycle * (b / per_firing) + group * (c / 4) + (dual ? both : single)[c % 4];
+    return -first + cycle * (b / per_firing) + group * (c / 4) +
+           in_group[static_cast<std::size_t>(c % 4)];
   };
   m.laser = [](int b, int c) { return c + 32 * (b % 2); };
   m.vert_deg = spread(64, -24.8, 2.0);
