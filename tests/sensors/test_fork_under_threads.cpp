@@ -13,6 +13,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -88,8 +89,19 @@ class BusyThreads {
   std::vector<std::thread> threads_;
 };
 
-/// Ends the process when not disarmed before the deadline: a deadlocked child blocks the
-/// parent in read() for good, and the test must fail, not hang.
+/// SIGKILLs this process's children (a deadlocked reader child would outlive the test).
+void killChildren() {
+  const std::string self = std::to_string(::getpid());
+  for (const fs::directory_entry& e : fs::directory_iterator("/proc")) {
+    std::ifstream stat(e.path() / "stat");
+    std::string pid, comm, state, ppid;
+    if (!(stat >> pid >> comm >> state >> ppid) || ppid != self) continue;
+    ::kill(static_cast<pid_t>(std::stol(pid)), SIGKILL);
+  }
+}
+
+/// Ends the process (and its children) when not disarmed before the deadline: a deadlocked
+/// child blocks the parent in read() for good, and the test must fail, not hang.
 class Watchdog {
  public:
   explicit Watchdog(std::chrono::seconds deadline)
@@ -98,6 +110,7 @@ class Watchdog {
           if (!done_cv_.wait_for(lock, deadline, [this] { return done_; })) {
             std::fprintf(stderr, "a forked bag reader did not finish within %lld s: deadlock\n",
                          static_cast<long long>(deadline.count()));
+            killChildren();
             std::_Exit(1);
           }
         }) {}
@@ -127,7 +140,23 @@ std::vector<BagMessage> readBagMessages(const fs::path& file) {
   return messages;
 }
 
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAsan = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAsan = true;
+#else
+constexpr bool kAsan = false;
+#endif
+#else
+constexpr bool kAsan = false;
+#endif
+
 TEST(ForkedReaderUnderThreads, ReadsTheBagWhileOtherThreadsAllocateAndLock) {
+  if (kAsan)
+    GTEST_SKIP() << "ASan's allocator (GCC 12's libsanitizer) is not fork-safe: a child forked "
+                    "while other threads allocate can block on its lock (seen 2026-12-02, "
+                    "docs/sensors_bags.md)";
   SOCC_REQUIRE_DATA(test::sharedData() / "kitti_00_first16");
   const fs::path file = fs::path(SOCC_BAG_FIXTURES_DIR) / "clouds_lz4.bag";
   ASSERT_TRUE(fs::exists(file)) << file << " missing: run the fixture sensors.bag_writers";
