@@ -2,6 +2,7 @@
 // second sensor on the port, lost and reordered packets. A clear error or a counted drop; never
 // a crash, never a point that was not in the packets.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <fstream>
@@ -129,7 +130,9 @@ std::vector<Packet> hdl64DualPackets() {
 
 SensorConfig hdl64Config() {
   SensorConfig c = model("hdl64e");
-  c.calibration = std::filesystem::path(::testing::TempDir()) / "hdl64e_streams.yaml";
+  // One file per process: ctest runs the tests of this file in parallel processes.
+  c.calibration = std::filesystem::path(::testing::TempDir()) /
+                  ("hdl64e_streams_" + std::to_string(::getpid()) + ".yaml");
   test::writeYamlCalibration(c.calibration, test::hdl64e(true).vert_deg, 0.002);
   return c;
 }
