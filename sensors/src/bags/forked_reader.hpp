@@ -1,14 +1,14 @@
 #pragma once
 // Runs a reader that may crash on damaged input (a library that trusts the lengths in a file)
-// in a forked child process; the child sends what it reads as frames through a pipe and can
-// wait for a value from this process (what to read next) through another. A crash,
-// a sanitizer abort or an exception in the child becomes a failure frame in this process,
-// which goes on. The child only runs the given work and leaves with _exit (no destructors or
-// atexit handlers of this process run there). Forking from a program with other threads: the
-// child has only the forking thread, and a lock another thread held at the fork stays held
-// there; work may use malloc, stdio, exceptions and iostreams (glibc and libgcc make them safe
-// after fork, docs/sensors_bags.md) but nothing this process's other threads may hold locked
-// (no TBB, no LCM, no logging shared with them).
+// in a child process; the child sends what it reads as frames through a pipe and can wait for
+// a value from this process (what to read next) through a socket. A crash, a sanitizer abort
+// or an exception in the child becomes a failure frame in this process, which goes on. Two
+// ways to start the child: a helper program by posix_spawn (a fresh process image: use this
+// when the caller may run other threads and the work allocates or takes library locks; the
+// ROS 1 bag reader does), or a fork running a function, which then leaves with _exit. A
+// forked child has only the forking thread and keeps every lock another thread held at the
+// fork held for good (ASan's allocator under GCC 12 deadlocked so, docs/sensors_bags.md):
+// fork only for work that needs no such lock, or in a single-threaded program.
 #include <sys/types.h>
 
 #include <cstdint>
