@@ -130,19 +130,19 @@ void readRos1BagInChild(const std::string& file, FrameWriter& out) {
 
 namespace {
 
-/// The helper program: $SOCC_ROS1_BAG_READER, the build tree's, or the installed one beside
-/// the running program (bin/../libexec/socc/), whichever exists first.
+/// The helper program: $SOCC_ROS1_BAG_READER, the one installed beside the running program
+/// (bin/../libexec/socc/), or the build tree's, whichever exists first.
 std::string helperProgram() {
   namespace fs = std::filesystem;
   std::vector<fs::path> tried;
   if (const char* env = std::getenv("SOCC_ROS1_BAG_READER"); env != nullptr && *env != '\0')
     tried.emplace_back(env);
-  tried.emplace_back(SOCC_ROS1_BAG_READER_BUILD);
   std::error_code ec;
   const fs::path self = fs::read_symlink("/proc/self/exe", ec);
   if (!ec)
     tried.push_back(self.parent_path().parent_path() / SOCC_LIBEXEC_DIR / "socc" /
                     "socc-ros1-bag-reader");
+  tried.emplace_back(SOCC_ROS1_BAG_READER_BUILD);
   std::string looked;
   for (const fs::path& p : tried) {
     if (::access(p.c_str(), X_OK) == 0) return p.string();
