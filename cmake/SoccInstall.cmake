@@ -9,6 +9,8 @@ set(SOCC_DATA_DIR ${CMAKE_INSTALL_DATADIR}/socc)
 
 install(TARGETS map_server odom_client socc-cli socc-eval socc-sim socc-to-lcmlog socc-loadtest
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The ROS 1 bag reader's child process, found beside the programs (bin/../libexec/socc/).
+install(TARGETS socc-ros1-bag-reader RUNTIME DESTINATION ${CMAKE_INSTALL_LIBEXECDIR}/socc)
 
 set(_socc_exported socc_lcmtypes socc_shared socc_auth socc_rpc)
 foreach(t ${_socc_exported})

@@ -22,6 +22,7 @@
 #include "socc/scan_t.hpp"
 #include "socc/stats_request_t.hpp"
 #include "socc/wire_arrays.hpp"
+#include "velodyne_model_cases.hpp"
 #include "vendor_packets.hpp"
 
 namespace {
@@ -383,6 +384,21 @@ void velodyneSensorSeeds(SeedWriter& w) {
   w.selected("fuzz_velodyne_decoder", 0, "vlp16", stream);
   w.selected("fuzz_velodyne_decoder", 3, "detect", stream);
   w.selected("fuzz_velodyne_decoder", 0x24, "vlp16_partial_strongest", stream);
+  // Return-mode bits 3: the calibrated models (HDL-64E all / strongest / last, VLS-128).
+  const auto packetsOf = [](const socc::sensors::test::ModelCase& m) {
+    std::string s;
+    for (const socc::sensors::Packet& p : socc::sensors::test::makePackets(m, 24, 1'000'000u))
+      s.append(p.data.begin(), p.data.end());
+    return s;
+  };
+  const std::string hdl64_dual = packetsOf(socc::sensors::test::hdl64e(true));
+  w.selected("fuzz_velodyne_decoder", 0x0C, "hdl64e_dual", hdl64_dual);
+  w.selected("fuzz_velodyne_decoder", 0x0D, "hdl64e_dual_strongest", hdl64_dual);
+  w.selected("fuzz_velodyne_decoder", 0x0E, "hdl64e_dual_last", hdl64_dual);
+  w.selected("fuzz_velodyne_decoder", 0x0C, "hdl64e",
+             packetsOf(socc::sensors::test::hdl64e(false)));
+  w.selected("fuzz_velodyne_decoder", 0x0F, "vls128_dual",
+             packetsOf(socc::sensors::test::vls128(true)));
   w.bytes("fuzz_pcap_source", "vlp16.pcap", pcapOf(vlp16Packets(8), 1206));
   w.selected("fuzz_velodyne_calibration", 0, "veloview.xml",
              "<?xml version=\"1.0\"?>\n<boost_serialization><DB><distLSB_>0.2</distLSB_><enabled_>"

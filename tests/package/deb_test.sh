@@ -24,5 +24,6 @@ root="$work/root"
 source "$(dirname "$0")/installed_tree.sh"
 check_installed_tree "$root/usr/lib/systemd/system/socc-map-server.service" /usr/bin \
   "$root/usr/bin" "$version" "$root/etc/socc/server.yaml" \
-  "$root/usr/include/socc/rpc/map_client.hpp" "$root/usr/lib/cmake/socc/soccConfig.cmake"
+  "$root/usr/include/socc/rpc/map_client.hpp" "$root/usr/lib/cmake/socc/soccConfig.cmake" \
+  "$root/usr/libexec/socc/socc-ros1-bag-reader"
 echo "deb: $(basename "$deb") OK"

@@ -25,7 +25,8 @@ for f in bin/map_server bin/socc-cli include/socc/rpc/map_client.hpp include/soc
   share/socc/lcmtypes/map_stats_t.lcm share/socc/map_server/server.yaml etc/socc/server.yaml \
   share/socc/odom_client/default.yaml share/socc/odom_client/baseline.yaml \
   share/man/man1/map_server.1 share/man/man1/odom_client.1 \
-  lib/systemd/system/socc-map-server.service share/socc/systemd/socc-map-server-lan.conf; do
+  lib/systemd/system/socc-map-server.service share/socc/systemd/socc-map-server-lan.conf \
+  libexec/socc/socc-ros1-bag-reader; do
   installed+=("$prefix/$f")
 done
 check_installed_tree "$prefix/lib/systemd/system/socc-map-server.service" "$prefix/bin" \

@@ -93,5 +93,26 @@ TEST(ForkedReader, StoppingEarlyEndsTheChild) {
   EXPECT_TRUE(reader.next());
 }
 
+// A spawned program (posix_spawn, as the ROS 1 reader's helper) writes its frames to
+// descriptor 3 and has the value socket on 4; its exit status or a missing program is an error.
+TEST(ForkedReader, SpawnedProgramWritesFramesOnDescriptorThree) {
+  ForkedReader reader("/bin/sh",
+                      {"-c",
+                       "printf '\\002\\005\\000\\000\\000\\000\\000\\000\\000hello' >&3; "
+                       "test -S /dev/fd/4 || exit 9; "
+                       "printf '\\000\\000\\000\\000\\000\\000\\000\\000\\000' >&3"});
+  const std::optional<Frame> f = reader.next();
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->kind, kData);
+  EXPECT_EQ(f->text(), "hello");
+  EXPECT_FALSE(reader.next());  // its kEnd frame: descriptor 4 was the value socket
+  ForkedReader failing("/bin/sh", {"-c", "exit 3"});
+  const std::optional<Frame> gone = failing.next();
+  ASSERT_TRUE(gone);
+  EXPECT_EQ(gone->kind, ForkedReader::kFailed);
+  EXPECT_NE(gone->text().find("exited with status 3"), std::string::npos) << gone->text();
+  EXPECT_THROW(ForkedReader("/nonexistent/reader", {}), std::runtime_error);
+}
+
 }  // namespace
 }  // namespace socc::sensors::bags

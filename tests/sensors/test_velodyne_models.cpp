@@ -24,8 +24,9 @@ Decoded decode(const test::ModelCase& m, const std::vector<Packet>& packets, Sen
   config.model = m.model;
   config.keep_partial = true;
   if (m.needs_calibration) {
-    config.calibration =
-        std::filesystem::path(::testing::TempDir()) / (m.model + "_calibration.yaml");
+    // One file per case: ctest runs the cases of a model in parallel.
+    config.calibration = std::filesystem::path(::testing::TempDir()) /
+                         (m.model + (m.mode == 0x39 ? "_dual" : "") + "_calibration.yaml");
     test::writeYamlCalibration(config.calibration, m.vert_deg, m.resolution);
   }
   std::unique_ptr<ScanDecoder> decoder = makeDecoder(config);
@@ -95,7 +96,8 @@ TEST_P(VelodyneModels, PointsWhereTheManualPutsThem) {
 
 INSTANTIATE_TEST_SUITE_P(Manuals, VelodyneModels,
                          ::testing::Values(test::hdl32e(), test::vlp32c(), test::vlp16(false),
-                                           test::vlp16(true), test::hdl64e(), test::vls128(false),
+                                           test::vlp16(true), test::hdl64e(false),
+                                           test::hdl64e(true), test::vls128(false),
                                            test::vls128(true)),
                          [](const ::testing::TestParamInfo<test::ModelCase>& param_info) {
                            const test::ModelCase& m = param_info.param;

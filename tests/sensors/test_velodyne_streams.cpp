@@ -2,6 +2,7 @@
 // second sensor on the port, lost and reordered packets. A clear error or a counted drop; never
 // a crash, never a point that was not in the packets.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <fstream>
@@ -101,6 +102,107 @@ TEST(VelodyneStreams, DualReturnSelection) {
   SensorConfig first = model("vlp16");
   first.returns = ReturnMode::kFirst;
   EXPECT_THROW(makeDecoder(first), std::runtime_error);
+}
+
+// HDL-64E S3 dual return: per firing, upper and lower block of the strongest return, then of
+// the last (or the second strongest when it is the last; identical when there was one echo).
+std::vector<Packet> hdl64DualPackets() {
+  const test::ModelCase m = test::hdl64e(true);
+  std::vector<Packet> packets;
+  for (int k = 0; k < 40; ++k) {
+    const double stamp = 1e6 + k * m.period_us;
+    std::vector<test::BlockSpec> blocks;
+    for (int b = 0; b < 12; ++b) {
+      const auto az = static_cast<std::uint16_t>(
+          std::lround(test::kHundredthsPerUs * (stamp + m.block_start(b))) % 36000);
+      const bool last = b % 4 >= 2;
+      // Even channels: one echo. Odd: strongest 2 m bright, last 3 m weak.
+      blocks.push_back({m.flag(b), az, [last](int c) {
+                          if (c % 2 == 0) return test::Echo{2000, 50};
+                          return last ? test::Echo{1500, 10} : test::Echo{1000, 200};
+                        }});
+    }
+    packets.push_back(test::velodynePacket(blocks, static_cast<std::uint32_t>(stamp), 0x41, 0x30,
+                                           static_cast<std::int64_t>(stamp * 1000.0) + 2'000'000));
+  }
+  return packets;
+}
+
+SensorConfig hdl64Config() {
+  SensorConfig c = model("hdl64e");
+  // One file per process: ctest runs the tests of this file in parallel processes.
+  c.calibration = std::filesystem::path(::testing::TempDir()) /
+                  ("hdl64e_streams_" + std::to_string(::getpid()) + ".yaml");
+  test::writeYamlCalibration(c.calibration, test::hdl64e(true).vert_deg, 0.002);
+  return c;
+}
+
+TEST(VelodyneStreams, Hdl64DualReturnSelection) {
+  const std::vector<Packet> packets = hdl64DualPackets();
+  const std::size_t firings = packets.size() * 3 * 64;  // 3 firings of 64 lasers a packet
+  const StreamRun both = run(hdl64Config(), packets);
+  EXPECT_EQ(both.stats.packets, packets.size());
+  EXPECT_EQ(pointCount(both), firings / 2 + firings);  // one echo, or two distinct returns
+  std::size_t lower = 0;
+  for (const SensorScan& scan : both.scans)
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      lower += scan.ring[i] >= 32 ? 1 : 0;
+      // Return index 1 (last) only on the odd channels, where the returns differ.
+      if (scan.return_index[i] == 1) {
+        ASSERT_EQ(scan.intensity[i], 10.0f);
+      }
+    }
+  EXPECT_EQ(lower, pointCount(both) / 2);
+  for (const auto& [mode, kept] :
+       {std::pair{ReturnMode::kStrongest, 200.0f}, std::pair{ReturnMode::kLast, 10.0f}}) {
+    SensorConfig c = hdl64Config();
+    c.returns = mode;
+    const StreamRun r = run(c, packets);
+    ASSERT_EQ(pointCount(r), firings);
+    for (const SensorScan& scan : r.scans)
+      for (std::size_t i = 0; i < scan.size(); ++i)
+        ASSERT_TRUE(scan.intensity[i] == kept || scan.intensity[i] == 50.0f) << scan.intensity[i];
+  }
+}
+
+// The dual stream detected as such (equal azimuths over a firing's 4 blocks, a packet every
+// 172.8 us) and the single stream as single; an HDL-64E stream refused as any other model and
+// another model's stream refused as an HDL-64E, with the measured facts.
+TEST(VelodyneStreams, Hdl64ModelChecks) {
+  SensorConfig detect = hdl64Config();
+  detect.model.clear();
+  EXPECT_EQ(run(detect, test::makePackets(test::hdl64e(true), 40, 1'000'000u)).model, "hdl64e");
+  EXPECT_EQ(run(detect, test::makePackets(test::hdl64e(false), 40, 1'000'000u)).model, "hdl64e");
+  const std::vector<Packet> dual = test::makePackets(test::hdl64e(true), 40, 1'000'000u);
+  for (const char* other : {"vlp16", "vlp32c", "hdl32e"}) {
+    try {
+      run(model(other), dual);
+      FAIL() << "HDL-64E packets decoded as a " << other;
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("upper/lower blocks FF EE / FF DD (HDL-64E)"), std::string::npos) << what;
+      EXPECT_NE(what.find("dual return pairs"), std::string::npos) << what;
+    }
+  }
+  try {
+    run(hdl64Config(), test::makePackets(test::hdl32e(), 40, 1'000'000u));
+    FAIL() << "HDL-32E packets decoded as an HDL-64E";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("do not come from a hdl64e"), std::string::npos)
+        << e.what();
+  }
+  // The S2 Appendix G timing (23.3 us a block pair, a packet every 139.8 us) is not an
+  // HDL-64E's packet rate: refused with the measured period.
+  test::ModelCase fast = test::hdl64e(false);
+  fast.period_us = 6 * 23.296;
+  fast.block_start = [](int b) { return -419.3 + 23.296 * (b / 2); };
+  try {
+    run(hdl64Config(), test::makePackets(fast, 40, 1'000'000u));
+    FAIL() << "a packet every 139.8 us accepted as an HDL-64E";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("a packet comes every 140.0 us"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(VelodyneStreams, RefusesPacketsOfAnotherModel) {

@@ -3,6 +3,7 @@
 // written out independently of sensors/src/velodyne/velodyne_model.cpp, and streams of
 // synthetic packets of a 10 Hz rotation. A point's distance encodes its block and channel
 // (rawOf), its reflectivity the packet's index.
+#include <array>
 #include <cmath>
 #include <functional>
 #include <ostream>
@@ -101,16 +102,31 @@ inline ModelCase vlp16(bool dual) {
   return m;
 }
 
-// HDL-64E S2 Ethernet transmit timing table: pair k (upper block 2k, lower 2k+1), laser c of the
-// block fires (419.30 - 23.296 k - 0.728 c) us before the packet's stamp.
-inline ModelCase hdl64e() {
+// HDL-64E, as the firing time tables reproduced by VeloView, Apollo's driver and
+// velodyne_decoder give it (docs/sensors.md, "HDL-64E"): upper block (FF EE, lasers 0-31) and
+// lower block (FF DD, 32-63) fire together, laser c in group c / 4. Single return (S2, S3):
+// firing k = block / 2 of 6, 48 us each, groups 6 us apart, the lasers of a group at 0, 1.26,
+// 2.46, 3.66 us; laser 0 of the first firing 288 us before the stamp. S3 dual return: firing
+// k = block / 4 of 3 (upper / lower strongest, then upper / lower last), 57.6 us each, groups
+// 7.2 us apart at 0, 1.3, 2.5, 3.7 us; the S3 table's first entry: 172.8 us before the stamp.
+inline ModelCase hdl64e(bool dual) {
   ModelCase m;
   m.model = "hdl64e";
   m.resolution = 0.002;
-  m.period_us = 6 * 23.296;
+  m.mode = dual ? 0x39 : 0x37;  // the HDL-64E has no return-mode byte: status bytes, unread
+  m.period_us = dual ? 3 * 57.6 : 6 * 48.0;
   m.flag = [](int b) { return b % 2 == 0 ? kUpper : kLower; };
-  m.block_start = [](int b) { return -(419.30 - 23.296 * (b / 2)); };
-  m.offset = [](int b, int c) { return -(419.30 - 23.296 * (b / 2) - 0.728 * c); };
+  const double cycle = dual ? 57.6 : 48.0;
+  const int per_firing = dual ? 4 : 2;
+  const double first = dual ? 172.8 : 288.0;
+  const double group = dual ? 7.2 : 6.0;
+  const std::array<double, 4> in_group = dual ? std::array<double, 4>{0.0, 1.3, 2.5, 3.7}
+                                              : std::array<double, 4>{0.0, 1.26, 2.46, 3.66};
+  m.block_start = [=](int b) { return -first + cycle * (b / per_firing); };
+  m.offset = [=](int b, int c) {
+    return -first + cycle * (b / per_firing) + group * (c / 4) +
+           in_group[static_cast<std::size_t>(c % 4)];
+  };
   m.laser = [](int b, int c) { return c + 32 * (b % 2); };
   m.vert_deg = spread(64, -24.8, 2.0);
   m.needs_calibration = true;

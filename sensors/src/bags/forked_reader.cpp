@@ -1,6 +1,7 @@
 #include "bags/forked_reader.hpp"
 
 #include <fcntl.h>
+#include <spawn.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -80,48 +81,86 @@ void FrameWriter::write(std::uint8_t kind, std::initializer_list<ByteView> parts
   for (const ByteView& p : parts) writeAll(p.data, p.size);
 }
 
-ForkedReader::ForkedReader(const std::function<void(FrameWriter&)>& work) {
-  int from_child[2];
-  int to_child[2];
-  if (::pipe2(from_child, O_CLOEXEC) != 0)
+void runChildWork(const std::function<void(FrameWriter&)>& work, FrameWriter& writer) {
+  try {
+    work(writer);
+    writer.write(ForkedReader::kEnd, {});
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    writer.write(ForkedReader::kFailed, {textBytes(what)});
+  } catch (...) {
+    const std::string what = "unknown exception";
+    writer.write(ForkedReader::kFailed, {textBytes(what)});
+  }
+}
+
+ForkedReader::Channels ForkedReader::openChannels() {
+  Channels c{};
+  if (::pipe2(c.from_child, O_CLOEXEC) != 0)
     throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
   // A socket, not a pipe, so that send() to a child that is gone cannot raise SIGPIPE here.
-  if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, to_child) != 0) {
+  if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, c.to_child) != 0) {
     const int err = errno;
-    ::close(from_child[0]);
-    ::close(from_child[1]);
+    ::close(c.from_child[0]);
+    ::close(c.from_child[1]);
     throw std::runtime_error(std::string("cannot create a socket pair: ") + std::strerror(err));
   }
-  ::fcntl(from_child[1], F_SETPIPE_SZ, kPipeBytes);  // best effort: a smaller pipe costs time
+  ::fcntl(c.from_child[1], F_SETPIPE_SZ, kPipeBytes);  // best effort: a smaller pipe costs time
+  return c;
+}
+
+void ForkedReader::keepParentEnds(const Channels& c) {
+  ::close(c.from_child[1]);
+  ::close(c.to_child[0]);
+  fd_ = c.from_child[0];
+  to_child_ = c.to_child[1];
+}
+
+ForkedReader::ForkedReader(const std::function<void(FrameWriter&)>& work) {
+  const Channels c = openChannels();
   pid_ = ::fork();
   if (pid_ < 0) {
     const int err = errno;
-    for (const int fd : {from_child[0], from_child[1], to_child[0], to_child[1]}) ::close(fd);
+    for (const int fd : {c.from_child[0], c.from_child[1], c.to_child[0], c.to_child[1]})
+      ::close(fd);
     throw std::runtime_error(std::string("cannot start a reader process: ") + std::strerror(err));
   }
   if (pid_ == 0) {
     // Only stdio and the child's ends of the pipe and the socket stay open: it keeps no
     // socket or pipe of the program alive.
-    const int out = from_child[1];
-    const int in = to_child[0];
+    const int out = c.from_child[1];
+    const int in = c.to_child[0];
     closeAllBut(std::min(out, in), std::max(out, in));
     FrameWriter writer(out, in);
-    try {
-      work(writer);
-      writer.write(kEnd, {});
-    } catch (const std::exception& e) {
-      const std::string what = e.what();
-      writer.write(kFailed, {textBytes(what)});
-    } catch (...) {
-      const std::string what = "unknown exception";
-      writer.write(kFailed, {textBytes(what)});
-    }
+    runChildWork(work, writer);
     ::_exit(0);
   }
-  ::close(from_child[1]);
-  ::close(to_child[0]);
-  fd_ = from_child[0];
-  to_child_ = to_child[1];
+  keepParentEnds(c);
+}
+
+ForkedReader::ForkedReader(const std::string& program, const std::vector<std::string>& args) {
+  const Channels c = openChannels();
+  posix_spawn_file_actions_t actions;
+  ::posix_spawn_file_actions_init(&actions);
+  // dup2 onto the agreed numbers clears close-on-exec there (also when a number is already
+  // right); every other descriptor of this program is closed in the child.
+  ::posix_spawn_file_actions_adddup2(&actions, c.from_child[1], kChildFramesFd);
+  ::posix_spawn_file_actions_adddup2(&actions, c.to_child[0], kChildValuesFd);
+  ::posix_spawn_file_actions_addclosefrom_np(&actions, kChildValuesFd + 1);
+  std::vector<std::string> argv_strings{program};
+  argv_strings.insert(argv_strings.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : argv_strings) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const int err = ::posix_spawn(&pid_, program.c_str(), &actions, nullptr, argv.data(), environ);
+  ::posix_spawn_file_actions_destroy(&actions);
+  if (err != 0) {
+    pid_ = -1;
+    for (const int fd : {c.from_child[0], c.from_child[1], c.to_child[0], c.to_child[1]})
+      ::close(fd);
+    throw std::runtime_error("cannot start " + program + ": " + std::strerror(err));
+  }
+  keepParentEnds(c);
 }
 
 void ForkedReader::send(std::uint64_t value) {

@@ -2,19 +2,24 @@
 // rosbag::View): the connections give the topics, each message's serialized bytes go to socc's
 // parsers. rosbag_storage trusts the lengths and offsets stored in the file (a damaged bag can
 // make it read past its buffers: docs/sensors_bags.md), so it runs in a forked child process
-// (ForkedReader); what it throws, or a crash, becomes an error or a problems() line here.
+// (ForkedReader): a helper program, socc-ros1-bag-reader, started by posix_spawn (a process
+// forked without exec would inherit the locks other threads hold, e.g. ASan's allocator's:
+// docs/sensors_bags.md); what it throws, or a crash, becomes an error or a problems() line here.
 #include <console_bridge/console.h>
 #include <ros/serialization.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
 
 #include "bags/bag_reader.hpp"
 #include "bags/forked_reader.hpp"
+#include "bags/ros1_bag_child.hpp"
 
 namespace socc::sensors::bags {
 
@@ -79,10 +84,9 @@ void openBag(rosbag::Bag& bag, const std::string& file) {
   }
 }
 
-/// The child's work: opens the bag, sends its topics and kTopicsEndFrame, waits for the topic to
-/// read (an index into the topics; any larger value: all), then sends its messages in
-/// record-time order (rosbag::View).
-void readBag(const std::string& file, FrameWriter& out) {
+}  // namespace
+
+void readRos1BagInChild(const std::string& file, FrameWriter& out) {
   rosbag::Bag bag;
   openBag(bag, file);
   const Ros1Topics t = ros1Topics(bag);
@@ -124,6 +128,32 @@ void readBag(const std::string& file, FrameWriter& out) {
 
 // ---- In this process ----
 
+namespace {
+
+/// The helper program: $SOCC_ROS1_BAG_READER, the one installed beside the running program
+/// (bin/../libexec/socc/), or the build tree's, whichever exists first.
+std::string helperProgram() {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> tried;
+  if (const char* env = std::getenv("SOCC_ROS1_BAG_READER"); env != nullptr && *env != '\0')
+    tried.emplace_back(env);
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec)
+    tried.push_back(self.parent_path().parent_path() / SOCC_LIBEXEC_DIR / "socc" /
+                    "socc-ros1-bag-reader");
+  tried.emplace_back(SOCC_ROS1_BAG_READER_BUILD);
+  std::string looked;
+  for (const fs::path& p : tried) {
+    if (::access(p.c_str(), X_OK) == 0) return p.string();
+    looked += (looked.empty() ? "" : ", ") + p.string();
+  }
+  throw std::runtime_error(
+      "the ROS 1 bag reader helper socc-ros1-bag-reader is missing (looked "
+      "for " +
+      looked + "; set SOCC_ROS1_BAG_READER)");
+}
+
 TopicInfo decodeTopic(const Frame& f) {
   ByteCursor c{ByteView(f.payload)};
   TopicInfo t;
@@ -139,7 +169,7 @@ class Ros1BagReader : public BagReader {
  public:
   explicit Ros1BagReader(const std::filesystem::path& file) : file_(file.string()) {
     requireBagMagic();
-    reader_.emplace([this](FrameWriter& out) { readBag(file_, out); });
+    reader_.emplace(helperProgram(), std::vector<std::string>{file_});
     try {
       while (true) {
         const std::optional<Frame> f = reader_->next();

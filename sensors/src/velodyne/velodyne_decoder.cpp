@@ -299,14 +299,17 @@ class VelodyneDecoder final : public ScanDecoder {
       }
       prev = b;
       last_block_az_ = az;
-      if (dual_ && layout_.return_slot[b] == 1) continue;  // decoded with its partner below
+      const int partner = layout_.partner[b];
+      if (dual_ && partner > b) continue;  // decoded with its partner, the later of the two
       crossCut(az, out);
       const std::int64_t block_ns = place.sensor_ns + std::llround(blind_us * 1000.0);
       if (sweep_.empty()) sweep_first_ns_ = block_ns;
-      if (dual_)
-        decodePair(packet, b - 1, b, block_ns, rad_per_us);
-      else
+      if (!dual_) {
         decodeBlock(packet, b, block_ns, rad_per_us, 0);
+      } else if (partner >= 0) {
+        const bool last = layout_.return_slot[b] == 1;
+        decodePair(packet, last ? b : partner, last ? partner : b, block_ns, rad_per_us);
+      }
     }
   }
 
@@ -329,10 +332,11 @@ class VelodyneDecoder final : public ScanDecoder {
   }
 
   // Dual return: block `last` holds the last return, `strongest` the strongest (or the second
-  // strongest when the strongest is also the last); identical returns are one echo.
+  // strongest when the strongest is also the last); identical returns are one echo. The
+  // selections go by what the returns are (the last is the farther echo, the strongest the
+  // brighter), so they hold whichever block of a pair the firmware fills with which return.
   void decodePair(const Packet& p, int last, int strongest, std::int64_t stamp_ns,
                   double rad_per_us) {
-    if (last < 0) return;
     const BlockFrame fl = blockFrame(p, last, stamp_ns, rad_per_us);
     const BlockFrame fs = blockFrame(p, strongest, stamp_ns, rad_per_us);
     for (int c = 0; c < kChannels; ++c) {
@@ -340,7 +344,10 @@ class VelodyneDecoder final : public ScanDecoder {
       const Return s = readReturn(p, strongest, c);
       switch (config_.returns) {
         case ReturnMode::kLast:
-          emit(fl, c, l, 0);
+          if (l.raw >= s.raw)
+            emit(fl, c, l, 0);
+          else
+            emit(fs, c, s, 0);
           break;
         case ReturnMode::kStrongest:
           if (l.reflectivity >= s.reflectivity)

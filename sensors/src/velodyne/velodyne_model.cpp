@@ -27,12 +27,19 @@ constexpr double kVlp32Sequence = 55.296;
 // HDL-32E manual: 32 firings 1.152 us apart; a sequence (one block) every 46.08 us.
 constexpr double kHdl32Firing = 1.152;
 constexpr double kHdl32Sequence = 46.08;
-// HDL-64E S2 manual, Ethernet transmit timing table: upper and lower lasers fire together,
-// 0.728 us apart (23.296 us per upper/lower block pair); the stamp is taken 419.30 us after the
-// packet's first firing.
-constexpr double kHdl64Firing = 0.728;
-constexpr double kHdl64Pair = 32 * kHdl64Firing;
-constexpr double kHdl64StampAfterFirst = 419.30;
+// HDL-64E S2 / S2.1 / S3 (docs/sensors.md, "HDL-64E"): the upper (FF EE, lasers 0-31) and the
+// lower block (FF DD, lasers 32-63) fire together, in groups of four lasers. Single return (S2
+// and S3): a firing every 48 us, groups 6 us apart, 6 firings a packet. S3 dual return: a firing
+// every 57.6 us, groups 7.2 us apart, 3 firings a packet of 4 blocks each (upper and lower
+// strongest, upper and lower last). The stamp is taken at the end of the packet's last firing.
+struct Hdl64Timing {
+  double cycle_us;                 // one firing of all 64 lasers
+  double group_us;                 // between groups of four lasers
+  std::array<double, 4> in_group;  // the four lasers of a group
+  int blocks_per_firing;
+};
+constexpr Hdl64Timing kHdl64Single{48.0, 6.0, {0.0, 1.26, 2.46, 3.66}, 2};
+constexpr Hdl64Timing kHdl64Dual{57.6, 7.2, {0.0, 1.3, 2.5, 3.7}, 4};
 // VLS-128 manual: groups of 8 lasers 2.665 us apart, a maintenance slot after the eighth group,
 // 53.3 us per sequence; group index = laser / 8 + laser / 64; the stamp is 8.7 us after the
 // sequence start.
@@ -82,16 +89,21 @@ PacketLayout singleSequenceBlocks(bool dual, double sequence_us, double firing_u
   return l;
 }
 
-PacketLayout hdl64(bool /*dual: the S3's dual packets keep the single layout here*/) {
+PacketLayout hdl64(bool dual) {
+  const Hdl64Timing& t = dual ? kHdl64Dual : kHdl64Single;
+  const int firings = kBlocks / t.blocks_per_firing;
   PacketLayout l;
   for (int b = 0; b < kBlocks; ++b) {
-    const int pair = b / 2;
-    const double start = -kHdl64StampAfterFirst + kHdl64Pair * pair;
-    setBlock(l, b, b % 2 == 0 ? kFlagUpper : kFlagLower, -1, static_cast<float>(start));
+    const int firing = b / t.blocks_per_firing;
+    const double start = t.cycle_us * (firing - firings);
+    // Dual: the first two blocks of a firing hold the strongest return, the next two the last.
+    const auto ret = static_cast<std::int8_t>(dual ? (b % t.blocks_per_firing >= 2 ? 1 : 0) : -1);
+    setBlock(l, b, b % 2 == 0 ? kFlagUpper : kFlagLower, ret, static_cast<float>(start));
     for (int c = 0; c < kChannels; ++c)
-      setSlot(l, b, c, c + 32 * (b % 2), start + kHdl64Firing * c);
+      setSlot(l, b, c, c + 32 * (b % 2),
+              start + t.group_us * (c / 4) + t.in_group[static_cast<std::size_t>(c % 4)]);
   }
-  l.packet_period_us = kHdl64Pair * 6;
+  l.packet_period_us = t.cycle_us * firings;
   return l;
 }
 
@@ -115,6 +127,16 @@ PacketLayout vls128(bool dual) {
   }
   l.packet_period_us = kVls128Sequence * (dual ? 1 : 3);
   return l;
+}
+
+// Dual return: each block's partner holds the other return of the same firing and bank.
+void findPartners(PacketLayout& l) {
+  l.partner.fill(-1);
+  for (int b = 0; b < kBlocks; ++b)
+    for (int o = 0; o < kBlocks && l.return_slot[b] >= 0; ++o)
+      if (o != b && l.used[o] && l.flag[o] == l.flag[b] &&
+          l.block_start_us[o] == l.block_start_us[b] && l.return_slot[o] == 1 - l.return_slot[b])
+        l.partner[b] = static_cast<std::int8_t>(o);
 }
 
 void finishSpan(PacketLayout& l) {
@@ -161,8 +183,15 @@ std::vector<ModelInfo> makeModels() {
         -2.67,  -22.67, -1.33,  -21.33, 0.00,   -20.00, 1.33,   -18.67, 2.67,   -17.33, 4.00,
         -16.00, 5.33,   -14.67, 6.67,   -13.33, 8.00,   -12.00, 9.33,   -10.67, 10.67},
        std::vector<double>(32, 0.0)});
-  m.push_back(
-      {"hdl64e", "Velodyne HDL-64E S2/S3", Family::kHdl64e, 64, {}, 0.002, kHdl64Pair, {}, {}});
+  m.push_back({"hdl64e",
+               "Velodyne HDL-64E S2/S3",
+               Family::kHdl64e,
+               64,
+               {},
+               0.002,
+               kHdl64Single.cycle_us,
+               {},
+               {}});
   m.push_back({"vls128",
                "Velodyne VLS-128",
                Family::kVls128,
@@ -207,6 +236,7 @@ PacketLayout packetLayout(const ModelInfo& model, bool dual) {
       l = vls128(dual);
       break;
   }
+  findPartners(l);
   finishSpan(l);
   return l;
 }

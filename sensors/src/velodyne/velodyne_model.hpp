@@ -37,6 +37,7 @@ struct PacketLayout {
   std::array<std::array<PointSlot, kChannels>, kBlocks> slots{};
   std::array<std::uint16_t, kBlocks> flag{};       // 0xEEFF style, as read little-endian
   std::array<std::int8_t, kBlocks> return_slot{};  // -1 single; dual: 1 last, 0 strongest
+  std::array<std::int8_t, kBlocks> partner{};      // dual: the other return's block; else -1
   std::array<float, kBlocks> block_start_us{};     // sequence start relative to the stamp
   std::array<bool, kBlocks> used{};  // false: the block carries no data (VLS-128 dual)
   double packet_period_us = 0.0;     // time between packets
