@@ -21,12 +21,9 @@ double toNextBoundary(double u, double du, double cell, double end) {
 std::optional<double> roomTravel(const Ray& ray, double range, const Box& building,
                                  const RoomLayout& rooms) {
   // Into the box frame (rotated by -yaw about the centre), origin at the box's lowest corner.
-  const Eigen::Vector3d rel = ray.origin + range * ray.direction - building.center;
-  const double c = building.cos_yaw;
-  const double s = building.sin_yaw;
-  const Eigen::Vector3d& v = ray.direction;
-  const Eigen::Vector3d hit(c * rel.x() + s * rel.y(), -s * rel.x() + c * rel.y(), rel.z());
-  const Eigen::Vector3d dir(c * v.x() + s * v.y(), -s * v.x() + c * v.y(), v.z());
+  const Eigen::Vector3d hit =
+      toBoxFrame(building, ray.origin + range * ray.direction - building.center);
+  const Eigen::Vector3d dir = toBoxFrame(building, ray.direction);
   const Eigen::Vector3d& half = building.half_extents;
   // The face entered: the axis on which the hit lies at the box's surface.
   const Eigen::Vector3d depth = hit.cwiseAbs().cwiseQuotient(half);
