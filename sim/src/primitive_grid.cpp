@@ -101,7 +101,7 @@ bool nearerHitInCell(const Ray& ray, const std::vector<std::uint32_t>& cell,
     if (tested.testedBefore(i)) continue;
     const auto t = intersect(ray, primitives[i].shape);
     if (t && *t < best.range) {
-      best = {*t, primitives[i].label};
+      best = {*t, primitives[i].label, &primitives[i].shape};
       nearer = true;
     }
   }

@@ -30,14 +30,8 @@ std::optional<double> intersectCenteredBox(const Eigen::Vector3d& o, const Eigen
 }
 
 std::optional<double> intersectBox(const Ray& ray, const Box& b) {
-  const Eigen::Vector3d rel = ray.origin - b.center;
-  // Rotate into the box frame by -yaw.
-  const Eigen::Vector3d o(b.cos_yaw * rel.x() + b.sin_yaw * rel.y(),
-                          -b.sin_yaw * rel.x() + b.cos_yaw * rel.y(), rel.z());
-  const Eigen::Vector3d& v = ray.direction;
-  const Eigen::Vector3d d(b.cos_yaw * v.x() + b.sin_yaw * v.y(),
-                          -b.sin_yaw * v.x() + b.cos_yaw * v.y(), v.z());
-  return intersectCenteredBox(o, d, b.half_extents);
+  return intersectCenteredBox(toBoxFrame(b, ray.origin - b.center), toBoxFrame(b, ray.direction),
+                              b.half_extents);
 }
 
 std::optional<double> intersectCylinder(const Ray& ray, const Cylinder& c) {
@@ -81,8 +75,15 @@ std::optional<double> intersectSphere(const Ray& ray, const Sphere& s) {
 
 }  // namespace
 
-Box makeBox(const Eigen::Vector3d& center, const Eigen::Vector3d& size, double yaw) {
-  return Box{center, 0.5 * size, std::cos(yaw), std::sin(yaw)};
+Box makeBox(const Eigen::Vector3d& center, const Eigen::Vector3d& size, double yaw, double pitch) {
+  return Box{center, 0.5 * size, std::cos(yaw), std::sin(yaw), std::cos(pitch), std::sin(pitch)};
+}
+
+Eigen::Vector3d toBoxFrame(const Box& b, const Eigen::Vector3d& v) {
+  // Undo the yaw about z, then the pitch about the box's y axis.
+  const double x = b.cos_yaw * v.x() + b.sin_yaw * v.y();
+  const double y = -b.sin_yaw * v.x() + b.cos_yaw * v.y();
+  return {b.cos_pitch * x + b.sin_pitch * v.z(), y, -b.sin_pitch * x + b.cos_pitch * v.z()};
 }
 
 std::optional<double> intersect(const Ray& ray, const Shape& shape) {
@@ -101,11 +102,13 @@ std::optional<double> intersect(const Ray& ray, const Plane& plane) {
 
 Eigen::AlignedBox3d boundingBox(const Shape& shape) {
   if (const auto* b = std::get_if<Box>(&shape)) {
-    const double hx =
-        std::abs(b->cos_yaw) * b->half_extents.x() + std::abs(b->sin_yaw) * b->half_extents.y();
-    const double hy =
-        std::abs(b->sin_yaw) * b->half_extents.x() + std::abs(b->cos_yaw) * b->half_extents.y();
-    const Eigen::Vector3d h(hx, hy, b->half_extents.z());
+    // Pitched: the box's length and height mix in the vertical plane along its x axis.
+    const Eigen::Vector3d& e = b->half_extents;
+    const double length = std::abs(b->cos_pitch) * e.x() + std::abs(b->sin_pitch) * e.z();
+    const double height = std::abs(b->sin_pitch) * e.x() + std::abs(b->cos_pitch) * e.z();
+    const double hx = std::abs(b->cos_yaw) * length + std::abs(b->sin_yaw) * e.y();
+    const double hy = std::abs(b->sin_yaw) * length + std::abs(b->cos_yaw) * e.y();
+    const Eigen::Vector3d h(hx, hy, height);
     return {b->center - h, b->center + h};
   }
   if (const auto* c = std::get_if<Cylinder>(&shape)) {

@@ -52,6 +52,10 @@ bool disableModel(Realism& r, const std::string& name) {
     r.beams.elevation_sigma_deg = r.beams.azimuth_sigma_deg = 0.0;
   } else if (name == "beam_ranges") {
     r.beams.range_offset_sigma = r.beams.range_scale_sigma = 0.0;
+  } else if (name == "range_offsets") {
+    r.beams.range_offset_sigma = 0.0;
+  } else if (name == "range_scales") {
+    r.beams.range_scale_sigma = 0.0;
   } else if (name == "range_noise") {
     e.noise_per_metre = e.incidence_noise_gain = 0.0;
   } else if (name == "range_walk") {

@@ -4,10 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <variant>
 
 #include "socc/sim/beam_calibration.hpp"
 #include "socc/sim/label_noise.hpp"
 #include "socc/sim/random.hpp"
+#include "socc/sim/room_model.hpp"
 #include "socc/sim/semantic_ids.hpp"
 #include "socc/sim/surface_model.hpp"
 
@@ -20,18 +23,13 @@ constexpr std::uint64_t kSurfaceStream = 0x5A17;
 constexpr std::uint64_t kReturnStream = 0x5A18;
 constexpr std::uint64_t kEdgeStream = 0x5A19;
 constexpr std::uint64_t kLabelStream = 0x5A1A;
-// Behind every facade one static back wall [m]: a return through a window lands on the same
-// interior surface from every viewpoint, as a real room's walls do. (Depths drawn per return, or
-// per window, put the interior where the viewpoint says and skew registration along the rays.)
-constexpr double kRoomDepth = 3.0;
-// Below this incidence cosine (beyond ~73 deg) glass reflects the pulse away (Fresnel).
-constexpr double kGlassGrazingCosine = 0.3;
+// The rooms behind windows (room_model.hpp; sizes and sources in sim/README.md "Realism").
+constexpr RoomLayout kRooms{};
 
 // What the beam physically met (pass 1), before the receiver's errors.
 struct Return {
-  float true_range = 0.0f;     // geometric range along the true beam (for neighbours' geometry)
-  float range = 0.0f;          // range the pulse travelled (foliage added)
-  bool through_glass = false;  // the return comes from the room behind a window
+  float true_range = 0.0f;  // geometric range along the true beam (for neighbours' geometry)
+  float range = 0.0f;       // range the pulse travelled (foliage or a room's depth added)
   float albedo = 0.0f;
   std::uint16_t label = 0;
   bool valid = false;
@@ -134,17 +132,23 @@ void castBeams(const Scene& scene, const LidarModel& model, double sweep_start, 
         if (draw.u1 < e.foliage_dropout) continue;
         travelled += -e.foliage_depth * std::log(1.0 - draw.u2);
       }
-      // A window: no return (specular) or one from the room's back wall (pass 2 adds its depth
-      // along the ray once the facade's incidence is known).
-      const bool glass = surface.isGlass(hit->label, p);
+      // A window: no return (specular) or one from the room behind it. The geometry of the
+      // facade beside it is still known (pass 2 takes neighbours' surfaces from it).
+      bool echo = true;
+      if (surface.isGlass(hit->label, p)) {
+        const Box* building = hit->shape ? std::get_if<Box>(hit->shape) : nullptr;
+        const std::optional<double> inside =
+            building && draw.u1 >= 0.5 ? roomTravel(ray, range, *building, kRooms) : std::nullopt;
+        echo = inside.has_value();
+        if (inside) travelled += *inside;
+      }
       image.at(c, b) = {static_cast<float>(range),
                         static_cast<float>(travelled),
-                        glass,
                         surface.albedo(hit->label, p),
                         hit->label,
                         true,
                         surface.patch(p, 2.0, 0x1AB3),
-                        !glass || draw.u1 >= 0.5};
+                        echo};
     }
   });
 }
@@ -174,11 +178,6 @@ void measure(const LidarModel& model, std::uint64_t frame, const ScanOptions& op
       if (d.u3 < model.dropout) continue;
       double range = r->range;
       const double cosine = incidenceCosine(image, dirs, c, b, r->true_range);
-      // The back wall is parallel to the facade: the ray travels its depth over the cosine.
-      if (r->through_glass) {
-        if (cosine < kGlassGrazingCosine) continue;
-        range += kRoomDepth / cosine;
-      }
       // Detection: the signal falls with albedo, incidence and range squared.
       double walk = 0.0;
       if (e.detection_threshold > 0.0) {

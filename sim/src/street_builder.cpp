@@ -40,12 +40,16 @@ class StreetBuilder {
     return g;
   }
   void add(const Parts& parts) { out_.insert(out_.end(), parts.begin(), parts.end()); }
-  // Slab whose top is `top` above the local ground.
+  // Slab whose top is `top` above the local ground, inclined at the route's grade (level slabs
+  // would make a sloped street a staircase with kerb-high steps every tile).
   void slab(const PathPoint& p, double lateral, double width, double top, std::uint16_t label) {
     const double thickness = 0.4;
+    const double rise =
+        route_.at(p.s + kTile / 2).position.z() - route_.at(p.s - kTile / 2).position.z();
+    const double pitch = std::atan2(rise, kTile);
     Eigen::Vector3d c = ground(p, lateral);
-    c.z() += top - thickness / 2;
-    out_.push_back({makeBox(c, {kTile + 0.4, width, thickness}, p.heading), label});
+    c.z() += (top - thickness / 2) / std::cos(pitch);
+    out_.push_back({makeBox(c, {kTile + 0.4, width, thickness}, p.heading, pitch), label});
   }
   bool clearOfOtherRoads(const PathPoint& p, double lateral, double radius) const {
     return !near_.nearOtherPart(p.offset(lateral).head<2>(), radius, p.s, 25.0);

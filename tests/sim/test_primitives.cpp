@@ -54,5 +54,20 @@ TEST(Primitives, BoundingBoxes) {
   EXPECT_TRUE(c.min().isApprox(Eigen::Vector3d(0.5, 1.5, -1)));
 }
 
+TEST(Primitives, PitchedBoxFollowsItsGrade) {
+  // A 10 m slab 1 m thick rising 5 % along its yawed x axis (here the world's y).
+  const double pitch = std::atan(0.05);
+  const Box b = makeBox({0, 0, 0}, {10, 4, 1}, M_PI / 2, pitch);
+  for (const double along : {-4.0, 0.0, 3.0}) {
+    const Ray down{{0.0, along, 10.0}, {0, 0, -1}};
+    const auto t = intersect(down, Shape{b});
+    ASSERT_TRUE(t.has_value());
+    EXPECT_NEAR(10.0 - *t, along * 0.05 + 0.5 / std::cos(pitch), 1e-9);
+  }
+  const Eigen::AlignedBox3d bounds = boundingBox(Shape{b});
+  EXPECT_NEAR(bounds.max().z(), 5 * std::sin(pitch) + 0.5 * std::cos(pitch), 1e-9);
+  EXPECT_NEAR(bounds.max().y(), 5 * std::cos(pitch) + 0.5 * std::sin(pitch), 1e-9);
+}
+
 }  // namespace
 }  // namespace socc::sim

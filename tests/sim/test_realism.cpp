@@ -7,6 +7,7 @@
 #include "socc/sim/beam_calibration.hpp"
 #include "socc/sim/body_motion.hpp"
 #include "socc/sim/label_noise.hpp"
+#include "socc/sim/room_model.hpp"
 #include "socc/sim/scan_simulator.hpp"
 #include "socc/sim/semantic_ids.hpp"
 #include "socc/sim/surface_model.hpp"
@@ -97,21 +98,58 @@ TEST(Realism, ReturnsAreNoisierAndBiasedButStayOnTheWall) {
   EXPECT_EQ(real.exact_labels.size(), real.points.size());
 }
 
-TEST(Realism, WindowsShowTheSameStaticRoomInEveryScan) {
+TEST(Realism, WindowsShowTheSameStaticRoomsInEveryScan) {
   Realism r = realismPreset("none");
   r.returns.glass_fraction = 1.0;  // the whole facade is glass
-  const Scene scene = wallScene(raw::kBuilding);
+  // A building 10 m deep with its facade at x = 14.5, from y = -20 to 20 and z = -10 to 10.
+  Poses still(2, Eigen::Isometry3d::Identity());
+  const Box building = makeBox({19.5, 0, 0}, {10, 40, 20});
+  const World world({{building, raw::kBuilding}}, {}, nullptr, {}, 1.73);
   LidarModel m = lidarPreset("vlp16");
   m.range_noise = 0.0;
-  // Seen from two places, the room behind the facade (x = 14.5) is one static back wall.
+  const RoomLayout rooms;
+  const auto onGrid = [](double u, double cell) {
+    return std::abs(u / cell - std::round(u / cell)) * cell < 0.01;
+  };
+  // Seen from two places, every return lies on a wall, floor or ceiling of the world-fixed rooms:
+  // the back wall 3 m behind the facade, side walls every 4 m from the building's end, floors
+  // every 3 m from its base.
   for (const double y : {0.0, 4.0}) {
-    Poses at(2, Eigen::Isometry3d::Identity());
+    Poses at(still);
     for (auto& pose : at) pose.translation().y() = y;
-    const Scene moved{scene.world, Trajectory(at, 0.1)};
-    const SimulatedScan s = simulateScan(moved, m, 0.0, 1, {false, 3, &r});
+    const SimulatedScan s = simulateScan({world, Trajectory(at, 0.1)}, m, 0.0, 1, {false, 3, &r});
     EXPECT_GT(s.points.size(), 2000u);
-    for (const auto& p : s.points) EXPECT_NEAR(p.x(), 14.5 + 3.0, 0.01);
+    std::size_t side = 0;
+    for (const auto& p : s.points) {
+      const bool back = std::abs(p.x() - (14.5 + rooms.depth)) < 0.01;
+      const bool wall = onGrid(p.y() + 20.0, rooms.width);
+      side += wall && !back ? 1 : 0;
+      EXPECT_TRUE(back || wall || onGrid(p.z() + 10.0, rooms.storey)) << p.transpose();
+      EXPECT_GT(p.x(), 14.5);
+      EXPECT_LT(p.x(), 14.5 + rooms.depth + 0.01);
+    }
+    EXPECT_GT(side, s.points.size() / 10);  // oblique rays end on the rooms' side walls
   }
+}
+
+TEST(Realism, RoomsEndAtTheNearestWallAndGlassReflectsGrazingRays) {
+  const RoomLayout rooms;
+  const Box building = makeBox({10, 0, 0}, {10, 40, 20});  // facade at x = 5, y from -20
+  // Straight in through the middle of a room: its back wall.
+  const Ray straight{{0, -18, 0.5}, {1, 0, 0}};
+  EXPECT_NEAR(*roomTravel(straight, 5.0, building, rooms), rooms.depth, 1e-9);
+  // 60 deg off the facade's normal, 1 m before the room's side wall at y = -16: the side wall
+  // after 1 / sin(60 deg), not the back wall after 3 / cos(60 deg).
+  const Eigen::Vector3d oblique(std::cos(M_PI / 3), std::sin(M_PI / 3), 0.0);
+  const Ray steep{Eigen::Vector3d(5, -17, 0.5) - 2.0 * oblique, oblique};
+  EXPECT_NEAR(*roomTravel(steep, 2.0, building, rooms), 1.0 / std::sin(M_PI / 3), 1e-9);
+  // Beyond the grazing cosine glass reflects the pulse away.
+  const Eigen::Vector3d grazing(0.2, std::sqrt(1 - 0.04), 0.0);
+  const Ray glancing{Eigen::Vector3d(5, -10, 0.5) - 2.0 * grazing, grazing};
+  EXPECT_FALSE(roomTravel(glancing, 2.0, building, rooms).has_value());
+  // The roof has no windows.
+  const Ray down{{10, 0, 20}, {0, 0, -1}};
+  EXPECT_FALSE(roomTravel(down, 10.0, building, rooms).has_value());
 }
 
 TEST(Realism, DarkFarSurfacesDropOut) {

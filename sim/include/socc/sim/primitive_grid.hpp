@@ -13,6 +13,7 @@ namespace socc::sim {
 struct Hit {
   double range = 0.0;
   std::uint16_t label = 0;
+  const Shape* shape = nullptr;  // the primitive hit (none for planes); lives with the grid
 };
 
 class PrimitiveGrid {

@@ -16,14 +16,21 @@ struct Ray {
   Eigen::Vector3d direction;  // unit length
 };
 
-/// A box rotated by yaw about the vertical axis (streets follow curved paths).
+/// A box rotated by yaw about the vertical axis (streets follow curved paths) and then pitched
+/// about its own y axis (road tiles follow the street's grade: its x axis rises at `pitch`).
 struct Box {
   Eigen::Vector3d center;
   Eigen::Vector3d half_extents;  // along the box's own x (length), y (width), z (height)
   double cos_yaw = 1.0;
   double sin_yaw = 0.0;
+  double cos_pitch = 1.0;
+  double sin_pitch = 0.0;
 };
-Box makeBox(const Eigen::Vector3d& center, const Eigen::Vector3d& size, double yaw = 0.0);
+Box makeBox(const Eigen::Vector3d& center, const Eigen::Vector3d& size, double yaw = 0.0,
+            double pitch = 0.0);
+
+/// A world-frame vector in the box's own axes (rotation only).
+Eigen::Vector3d toBoxFrame(const Box& box, const Eigen::Vector3d& v);
 
 /// A vertical cylinder with flat caps (poles, trunks, pillars, people).
 struct Cylinder {
