@@ -251,7 +251,11 @@ SimulatedScan simulateRealisticScan(const Scene& scene, const LidarModel& model,
   // The sensor instance (calibration) and the world's surfaces depend on the seed only.
   const BeamCalibration calib =
       drawBeamCalibration(real.beams, model.elevations_deg.size(), options.seed);
-  const SurfaceModel surface(real.returns, real.terrain, options.seed);
+  // Windows open into rooms the sensor never enters: a model of exterior walls. Indoors a room
+  // behind a wall would stand in the sensor's own free space (phantom walls in its corridors).
+  ReturnErrors returns = real.returns;
+  if (!scene.exterior_walls) returns.glass_fraction = 0.0;
+  const SurfaceModel surface(returns, real.terrain, options.seed);
   RangeImage image(model.columns, beams);
   castBeams(scene, model, sweep_start, frame, options, calib, surface, image);
 

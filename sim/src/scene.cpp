@@ -88,7 +88,7 @@ Scene buildScene(const SceneOptions& o) {
   Random rng(o.seed);
   switch (o.type) {
     case SceneType::kStreet:
-      return {buildStreetWorld(route, d.sensor_height, rng), *trajectory};
+      return {buildStreetWorld(route, d.sensor_height, rng), *trajectory, true};
     case SceneType::kCorridor:
     case SceneType::kZigzag:
       return {buildCorridorWorld(*route, d.sensor_height), *trajectory};

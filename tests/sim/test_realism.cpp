@@ -18,7 +18,7 @@ namespace {
 Scene wallScene(std::uint16_t label) {
   Poses still(2, Eigen::Isometry3d::Identity());
   const Box wall = makeBox({15, 0, 0}, {1, 40, 20});
-  return Scene{World({{wall, label}}, {}, nullptr, {}, 1.73), Trajectory(still, 0.1)};
+  return Scene{World({{wall, label}}, {}, nullptr, {}, 1.73), Trajectory(still, 0.1), true};
 }
 
 // Mean and RMS of the points' x minus the wall face at x = 14.5.
@@ -117,7 +117,8 @@ TEST(Realism, WindowsShowTheSameStaticRoomsInEveryScan) {
   for (const double y : {0.0, 4.0}) {
     Poses at(still);
     for (auto& pose : at) pose.translation().y() = y;
-    const SimulatedScan s = simulateScan({world, Trajectory(at, 0.1)}, m, 0.0, 1, {false, 3, &r});
+    const SimulatedScan s =
+        simulateScan({world, Trajectory(at, 0.1), true}, m, 0.0, 1, {false, 3, &r});
     EXPECT_GT(s.points.size(), 2000u);
     std::size_t side = 0;
     for (const auto& p : s.points) {
@@ -130,6 +131,20 @@ TEST(Realism, WindowsShowTheSameStaticRoomsInEveryScan) {
     }
     EXPECT_GT(side, s.points.size() / 10);  // oblique rays end on the rooms' side walls
   }
+}
+
+TEST(Realism, InteriorWallsHaveNoWindows) {
+  // Indoors (office, corridor) a room behind a wall would stand in the sensor's own free space:
+  // the same all-glass wall, as an interior one, returns from its face.
+  Realism r = realismPreset("none");
+  r.returns.glass_fraction = 1.0;
+  Scene scene = wallScene(raw::kBuilding);
+  scene.exterior_walls = false;
+  LidarModel m = lidarPreset("vlp16");
+  m.range_noise = 0.0;
+  const SimulatedScan s = simulateScan(scene, m, 0.0, 1, {false, 3, &r});
+  EXPECT_GT(s.points.size(), 2000u);
+  for (const auto& p : s.points) EXPECT_NEAR(p.x(), 14.5, 0.01);
 }
 
 TEST(Realism, RoomsEndAtTheNearestWallAndGlassReflectsGrazingRays) {

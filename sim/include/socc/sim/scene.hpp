@@ -38,6 +38,9 @@ struct SceneOptions {
 struct Scene {
   World world;
   Trajectory trajectory;  // sensor pose over time; frame k is at k * frame_period
+  /// The buildings' walls are exteriors (street): rooms behind their windows are never entered.
+  /// Indoors every wall is an interior one, with the sensor's own free space on both sides.
+  bool exterior_walls = false;
 };
 
 /// Throws std::invalid_argument on bad options.
