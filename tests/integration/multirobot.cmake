@@ -39,21 +39,21 @@ if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
     # down again on its route recovers by itself (issue 27).
     add_test(NAME integration.odom_lost
              COMMAND bash ${_socc_mr_script} lost ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
-    set_tests_properties(integration.odom_lost PROPERTIES LABELS integration TIMEOUT 300 COST 150)
+    set_tests_properties(integration.odom_lost PROPERTIES LABELS integration TIMEOUT 600 COST 150)
     # Healthy robots stay healthy (issue 27): a 2 Hz PCD folder without time stamps, an indoor
     # lap, a recording with dropped scans.
     add_test(NAME integration.odom_health
              COMMAND bash ${_socc_mr_script} health ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
-    set_tests_properties(integration.odom_health PROPERTIES LABELS integration TIMEOUT 240 COST 140)
+    set_tests_properties(integration.odom_health PROPERTIES LABELS integration TIMEOUT 480 COST 140)
     # Relocalization: a robot joins A's map without a pose, one from an unmapped place is not
     # localized (exit 4), a kidnapped robot recovers (docs/relocalization.md).
     add_test(NAME integration.relocalize
              COMMAND bash ${_socc_mr_script} relocalize ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
-    set_tests_properties(integration.relocalize PROPERTIES LABELS integration TIMEOUT 300 COST 110)
+    set_tests_properties(integration.relocalize PROPERTIES LABELS integration TIMEOUT 480 COST 110)
     # Issue 27: a robot tracks with short round trips (no timeout, no unhealthy frame) while
     # another robot's LOCALIZE searches run on the server's search thread.
     add_test(NAME integration.busy_search
              COMMAND bash ${_socc_mr_script} busy_search ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
-    set_tests_properties(integration.busy_search PROPERTIES LABELS integration TIMEOUT 180 COST 60)
+    set_tests_properties(integration.busy_search PROPERTIES LABELS integration TIMEOUT 360 COST 60)
   endif()
 endif()
