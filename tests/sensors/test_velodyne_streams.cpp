@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <memory>
 
 #include "raw_sensor_data.hpp"
@@ -55,10 +56,12 @@ void expectOnlySentPoints(const StreamRun& r, double resolution, std::size_t pac
     }
 }
 
-// VLP-16 dual return (manual: even blocks the last return, odd blocks the strongest, or the
-// second strongest when it is the last; identical when there was one echo).
-std::vector<Packet> dualPackets() {
-  test::ModelCase m = test::vlp16(true);
+// 40 dual-return packets of model m: even channels one echo (2 m, reflectivity 50, both blocks
+// alike), odd channels the strongest return 2 m bright (200) and the last 3 m weak (10), held
+// by the blocks b with last_block(b). The packet's last two bytes are type and value.
+std::vector<Packet> dualPackets(const test::ModelCase& m,
+                                const std::function<bool(int)>& last_block, std::uint8_t type,
+                                std::uint8_t value) {
   std::vector<Packet> packets;
   for (int k = 0; k < 40; ++k) {
     const double stamp = 1e6 + k * m.period_us;
@@ -66,21 +69,27 @@ std::vector<Packet> dualPackets() {
     for (int b = 0; b < 12; ++b) {
       const auto az = static_cast<std::uint16_t>(
           std::lround(test::kHundredthsPerUs * (stamp + m.block_start(b))) % 36000);
-      const bool last = b % 2 == 0;
-      // Even channels: one echo (both blocks alike). Odd: last 3 m weak, strongest 2 m bright.
-      blocks.push_back({test::kUpper, az, [last](int c) {
+      blocks.push_back({m.flag(b), az, [last = last_block(b)](int c) {
                           if (c % 2 == 0) return test::Echo{2000, 50};
                           return last ? test::Echo{1500, 10} : test::Echo{1000, 200};
                         }});
     }
-    packets.push_back(test::velodynePacket(blocks, static_cast<std::uint32_t>(stamp), 0x39, 0x22,
+    packets.push_back(test::velodynePacket(blocks, static_cast<std::uint32_t>(stamp), type, value,
                                            static_cast<std::int64_t>(stamp * 1000.0) + 2'000'000));
   }
   return packets;
 }
 
+// VLP-16 dual return (manual: even blocks the last return, odd blocks the strongest, or the
+// second strongest when it is the last; identical when there was one echo).
+std::vector<Packet> vlp16DualPackets() {
+  const test::ModelCase m = test::vlp16(true);
+  return dualPackets(
+      m, [](int b) { return b % 2 == 0; }, m.mode, m.product);
+}
+
 TEST(VelodyneStreams, DualReturnSelection) {
-  const std::vector<Packet> packets = dualPackets();
+  const std::vector<Packet> packets = vlp16DualPackets();
   const std::size_t firings = packets.size() * 6 * 32;  // 6 block pairs of 32 channels
   SensorConfig all = model("vlp16");
   const StreamRun both = run(all, packets);
@@ -107,25 +116,9 @@ TEST(VelodyneStreams, DualReturnSelection) {
 // HDL-64E S3 dual return: per firing, upper and lower block of the strongest return, then of
 // the last (or the second strongest when it is the last; identical when there was one echo).
 std::vector<Packet> hdl64DualPackets() {
-  const test::ModelCase m = test::hdl64e(true);
-  std::vector<Packet> packets;
-  for (int k = 0; k < 40; ++k) {
-    const double stamp = 1e6 + k * m.period_us;
-    std::vector<test::BlockSpec> blocks;
-    for (int b = 0; b < 12; ++b) {
-      const auto az = static_cast<std::uint16_t>(
-          std::lround(test::kHundredthsPerUs * (stamp + m.block_start(b))) % 36000);
-      const bool last = b % 4 >= 2;
-      // Even channels: one echo. Odd: strongest 2 m bright, last 3 m weak.
-      blocks.push_back({m.flag(b), az, [last](int c) {
-                          if (c % 2 == 0) return test::Echo{2000, 50};
-                          return last ? test::Echo{1500, 10} : test::Echo{1000, 200};
-                        }});
-    }
-    packets.push_back(test::velodynePacket(blocks, static_cast<std::uint32_t>(stamp), 0x41, 0x30,
-                                           static_cast<std::int64_t>(stamp * 1000.0) + 2'000'000));
-  }
-  return packets;
+  // The HDL-64E's last two bytes are status bytes (no return-mode byte): any pair.
+  return dualPackets(
+      test::hdl64e(true), [](int b) { return b % 4 >= 2; }, 0x41, 0x30);
 }
 
 SensorConfig hdl64Config() {
