@@ -17,6 +17,7 @@
 #include "service_test_helpers.hpp"
 #include "sim_street.hpp"
 #include "socc/auth/message_auth.hpp"
+#include "socc/rpc/resend_rule.hpp"
 
 namespace socc::service {
 namespace {
@@ -350,6 +351,35 @@ TEST(MapClient, LocalizeWaitsWhileTheServersSearchesAreTaken) {
   const rpc::Result<stats_reply_t> stats = mapper.getStats();
   ASSERT_TRUE(stats.ok());
   EXPECT_GE(stats.reply->stats.rejected_requests, 1) << "second was never refused as busy";
+}
+
+}  // namespace
+}  // namespace socc::service
+
+namespace socc::service {
+namespace {
+
+// Which refusals MapClient sends again, and how long it pauses.
+TEST(ResendRule, OnlyTheListedRefusalsAreResent) {
+  const auto busy = rpc::searchesBusyRule(std::chrono::milliseconds(30000));
+  const std::string rate_message = "robot r1 over 20 integrations/s: slow down";
+  EXPECT_EQ(rpc::matchingRule(reply_header_t::RESOURCE_EXHAUSTED, rate_message,
+                              {rpc::kRateLimitedRule, busy}),
+            0);
+  EXPECT_EQ(rpc::matchingRule(reply_header_t::RESOURCE_EXHAUSTED, "searches busy, try again",
+                              {rpc::kRateLimitedRule, busy}),
+            1);
+  EXPECT_EQ(rpc::matchingRule(reply_header_t::RESOURCE_EXHAUSTED, "searches busy, try again",
+                              {rpc::kRateLimitedRule}),
+            -1)
+      << "only LOCALIZE waits for a free search";
+  EXPECT_EQ(rpc::matchingRule(reply_header_t::RESOURCE_EXHAUSTED, "request too large", {busy}), -1);
+  EXPECT_EQ(
+      rpc::matchingRule(reply_header_t::INVALID_ARGUMENT, rate_message, {rpc::kRateLimitedRule}),
+      -1);
+  EXPECT_EQ(rpc::kRateLimitedRule.pause(1), std::chrono::milliseconds(10));
+  EXPECT_EQ(rpc::kRateLimitedRule.pause(30), std::chrono::milliseconds(100));
+  EXPECT_EQ(busy.pause(7), std::chrono::milliseconds(250));
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include "socc/robot_pose_request_t.hpp"
 #include "socc/rpc/client_id.hpp"
 #include "socc/rpc/part_transport.hpp"
+#include "socc/rpc/resend_rule.hpp"
 #include "socc/rpc/safe_decode.hpp"
 #include "socc/stats_request_t.hpp"
 #include "socc/wall_clock.hpp"
@@ -119,25 +120,23 @@ struct MapClient::Impl {
     return call<Reply>(service, request, options.timeout);
   }
 
-  // A request refused only for the robot's rate (rpc::kRateLimited) was not applied: it is sent
-  // again after a pause that grows with each refusal, so a client replaying data faster than
-  // the server's per-robot limit slows down instead of failing.
+  // Refusals that applied nothing and invite the same request again (resend_rule.hpp): it is
+  // sent again after the rule's pause, so a client replaying data faster than the server's
+  // per-robot limit slows down instead of failing, and a search waits for a free searcher.
   template <typename Reply, typename Request>
-  Result<Reply> call(std::string_view service, Request& request,
-                     std::chrono::milliseconds timeout) {
-    constexpr int kMaxRateRetries = 50;
-    for (int refused = 0;; ++refused) {
+  Result<Reply> call(std::string_view service, Request& request, std::chrono::milliseconds timeout,
+                     std::initializer_list<ResendRule> rules = {kRateLimitedRule}) {
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<int> refusals(rules.size(), 0);
+    for (;;) {
       Result<Reply> result = callOnce<Reply>(service, request, timeout);
-      const bool rate_limited = result.error.status == reply_header_t::RESOURCE_EXHAUSTED &&
-                                endsWith(result.error.message, kRateLimited);
-      if (!rate_limited || refused == kMaxRateRetries) return result;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10 * std::min(refused + 1, 10)));
+      const int which = matchingRule(result.error.status, result.error.message, rules);
+      if (which < 0) return result;
+      const ResendRule& rule = rules.begin()[which];
+      const auto pause = rule.pause(++refusals[static_cast<std::size_t>(which)]);
+      if (std::chrono::steady_clock::now() + pause > start + rule.within) return result;
+      std::this_thread::sleep_for(pause);
     }
-  }
-
-  static bool endsWith(const std::string& text, std::string_view tail) {
-    return text.size() >= tail.size() &&
-           text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
   }
 
   template <typename Reply, typename Request>
@@ -287,18 +286,8 @@ Result<localize_reply_t> MapClient::localize(localize_request_t request) {
   // A search (and, after the map grew, a rebuild of its descriptors) takes seconds.
   constexpr std::chrono::milliseconds kLocalizeTimeout{30000};
   const auto timeout = std::max(impl_->options.timeout, kLocalizeTimeout);
-  // Refused because the server's searches are all taken (kSearchesBusy): nothing was done; sent
-  // again every kBusyPause until a search is free or the timeout has passed.
-  constexpr std::chrono::milliseconds kBusyPause{250};
-  const auto give_up = std::chrono::steady_clock::now() + timeout;
-  for (;;) {
-    Result<localize_reply_t> result =
-        impl_->call<localize_reply_t>(channels::kLocalize, request, timeout);
-    const bool busy = result.error.status == reply_header_t::RESOURCE_EXHAUSTED &&
-                      Impl::endsWith(result.error.message, kSearchesBusy);
-    if (!busy || std::chrono::steady_clock::now() + kBusyPause > give_up) return result;
-    std::this_thread::sleep_for(kBusyPause);
-  }
+  return impl_->call<localize_reply_t>(channels::kLocalize, request, timeout,
+                                       {kRateLimitedRule, searchesBusyRule(timeout)});
 }
 
 chunk_request_t sphereChunkRequest(const Eigen::Vector3d& center, double radius,
