@@ -20,6 +20,7 @@ struct Arguments {
   std::string sensor = "hdl64";
   std::size_t frames = 100;
   std::uint64_t seed = 1;
+  std::optional<std::uint64_t> sensor_seed;
   fs::path out;
   std::string trajectory = "auto";
   std::optional<fs::path> kitti_poses;
@@ -69,7 +70,7 @@ int run(const Arguments& a) {
   options.frame_period = scene_options.frame_period;
   options.write_point_times = a.distortion;
   options.show_progress = !a.quiet;
-  options.scan = {a.distortion, a.seed, &realism};
+  options.scan = {a.distortion, a.seed, a.sensor_seed, &realism};
   const SequenceSummary summary = writeSequence(a.out, scene, model, options);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -103,6 +104,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(std::size_t{1}, std::size_t{100000}))
       ->capture_default_str();
   app.add_option("--seed", a.seed, "Seed of the world, noise and dropouts")->capture_default_str();
+  app.add_option("--sensor-seed", a.sensor_seed,
+                 "Seed of the sensor instance: its per-laser calibration errors (--realism); "
+                 "default: --seed");
   auto* traj = app.add_option("--trajectory", a.trajectory,
                               "Route (auto: the scene's default: street/corridor/office "
                               "straight, zigzag zigzag, indoor circle)")

@@ -248,9 +248,9 @@ SimulatedScan simulateRealisticScan(const Scene& scene, const LidarModel& model,
                                     std::uint64_t frame, const ScanOptions& options) {
   const Realism& real = *options.realism;
   const int beams = static_cast<int>(model.elevations_deg.size());
-  // The sensor instance (calibration) and the world's surfaces depend on the seed only.
-  const BeamCalibration calib =
-      drawBeamCalibration(real.beams, model.elevations_deg.size(), options.seed);
+  // The sensor instance (calibration) depends on its seed only, the world's surfaces on the seed.
+  const BeamCalibration calib = drawBeamCalibration(real.beams, model.elevations_deg.size(),
+                                                    options.sensor_seed.value_or(options.seed));
   // Windows open into rooms the sensor never enters: a model of exterior walls. Indoors a room
   // behind a wall would stand in the sensor's own free space (phantom walls in its corridors).
   ReturnErrors returns = real.returns;

@@ -12,6 +12,7 @@
 //    i.e. into the sensor frame at the sweep's reference time t_k (the pose in poses.txt).
 //  - Movers are frozen at t_k during a sweep.
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "socc/point_cloud.hpp"
@@ -32,6 +33,9 @@ struct SimulatedScan {
 struct ScanOptions {
   bool motion_distortion = false;
   std::uint64_t seed = 1;  // noise and dropouts depend only on (seed, frame, ray)
+  /// The sensor instance whose calibration errors (realism beams) the scan carries; unset: seed.
+  /// Separate so that one sensor can drive through many worlds (KITTI used one HDL-64).
+  std::optional<std::uint64_t> sensor_seed;
   /// Error models (sim/README.md "Realism"); null or all off: the exact scan.
   const Realism* realism = nullptr;
 };
