@@ -70,7 +70,7 @@ int run(const Arguments& a) {
   options.frame_period = scene_options.frame_period;
   options.write_point_times = a.distortion;
   options.show_progress = !a.quiet;
-  options.scan = {a.distortion, a.seed, a.sensor_seed, &realism};
+  options.scan = {a.distortion, a.seed, &realism, a.sensor_seed};
   const SequenceSummary summary = writeSequence(a.out, scene, model, options);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

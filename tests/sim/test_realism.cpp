@@ -81,6 +81,20 @@ TEST(Realism, BeamCalibrationIsFixedPerSensorAtTheStatedSpread) {
   EXPECT_NEAR(std::sqrt(sq), e.elevation_sigma_deg * deg, 0.4 * e.elevation_sigma_deg * deg);
 }
 
+// One sensor instance can drive through many worlds: its calibration follows sensor_seed.
+TEST(Realism, TheSensorInstanceHasItsOwnSeed) {
+  Realism beams_only = realismPreset("none");
+  beams_only.beams = realismPreset("kitti").beams;
+  const Scene scene = wallScene(raw::kBuilding);
+  const LidarModel m = lidarPreset("vlp16");
+  const auto scan = [&](std::uint64_t seed, std::optional<std::uint64_t> sensor) {
+    return simulateScan(scene, m, 0.0, 1, {false, seed, &beams_only, sensor}).points;
+  };
+  EXPECT_EQ(scan(3, std::nullopt), scan(3, 3)) << "unset: the sensor of --seed";
+  EXPECT_NE(scan(3, 3), scan(3, 4));
+  EXPECT_EQ(scan(3, 4), scan(5, 4)) << "beam errors only: the same sensor, the same scan";
+}
+
 TEST(Realism, ReturnsAreNoisierAndBiasedButStayOnTheWall) {
   Realism r = realismPreset("kitti");
   disableRealism(r, {"beams", "labels"});

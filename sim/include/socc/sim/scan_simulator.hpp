@@ -33,11 +33,11 @@ struct SimulatedScan {
 struct ScanOptions {
   bool motion_distortion = false;
   std::uint64_t seed = 1;  // noise and dropouts depend only on (seed, frame, ray)
+  /// Error models (sim/README.md "Realism"); null or all off: the exact scan.
+  const Realism* realism = nullptr;
   /// The sensor instance whose calibration errors (realism beams) the scan carries; unset: seed.
   /// Separate so that one sensor can drive through many worlds (KITTI used one HDL-64).
   std::optional<std::uint64_t> sensor_seed;
-  /// Error models (sim/README.md "Realism"); null or all off: the exact scan.
-  const Realism* realism = nullptr;
 };
 
 SimulatedScan simulateScan(const Scene& scene, const LidarModel& model, double sweep_start,
