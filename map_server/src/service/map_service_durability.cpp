@@ -30,6 +30,7 @@ void MapService::loadSnapshot(const std::filesystem::path& file) {
   // Commit only after everything was read and checked: a bad file changes nothing.
   map_ = std::move(loaded);
   robots_.assign(metadata->robots, metadata->histories);
+  corrections_.clear();  // the snapshot's poses are the grid's (docs/consistency.md, limits)
   integrations_ = metadata->journal_sequence;
   if (replay_guard_ != nullptr) replay_guard_->importCounters(metadata->auth_counters);
 }
