@@ -237,15 +237,16 @@ int main(int argc, char** argv) {
       ClientScore alone;
       if (!alone_tum.empty()) alone = scoreClient(alone_tum, times, gt);
       client_gain = with.ate > 0.0 && alone.frames > 0 ? alone.ate / with.ate : 0.0;
-      std::printf("| client output: map-frame ATE RMSE / max (frames output of %zu) | %s | %.3f / "
-                  "%.3f m (%zu) | |\n",
-                  gt.size(),
-                  alone.frames ? (std::to_string(alone.ate).substr(0, 5) + " / " +
-                                  std::to_string(alone.max).substr(0, 5) + " m (" +
-                                  std::to_string(alone.frames) + ")")
-                                     .c_str()
-                               : "not run",
-                  with.ate, with.max, with.frames);
+      std::printf(
+          "| client output: map-frame ATE RMSE / max (frames output of %zu) | %s | %.3f / "
+          "%.3f m (%zu) | |\n",
+          gt.size(),
+          alone.frames ? (std::to_string(alone.ate).substr(0, 5) + " / " +
+                          std::to_string(alone.max).substr(0, 5) + " m (" +
+                          std::to_string(alone.frames) + ")")
+                             .c_str()
+                       : "not run",
+          with.ate, with.max, with.frames);
     }
     // With both client runs scored, the target is on what the client output (map correction).
     const double judged = client_gain > 0.0 ? client_gain : gain;

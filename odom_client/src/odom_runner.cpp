@@ -241,8 +241,7 @@ std::optional<Eigen::Isometry3d> OdomRunner::applyCorrection(Odometry& odometry)
   ++corrections_;
   std::ostringstream out;
   out.precision(2);
-  out << std::fixed << "map correction: pose moved "
-      << correction->translation().norm() << " m, "
+  out << std::fixed << "map correction: pose moved " << correction->translation().norm() << " m, "
       << Eigen::AngleAxisd(correction->linear()).angle() * 180.0 / M_PI << " deg";
   std::cerr << "odom_client: " << out.str() << " (the map was rebuilt at corrected poses; the "
             << "pose output jumps here)\n";

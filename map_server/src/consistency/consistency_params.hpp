@@ -14,9 +14,9 @@ struct ConsistencyParams {
   // from the keyframe scans at their optimized poses; each kept scan is downsampled per class
   // to rebuild_voxel (the map's voxels keep their statistics from several points each).
   bool correct_grid = true;
-  double rebuild_voxel = 0.1;       // [m]
-  double rebuild_min_shift = 0.1;   // [m]
-  double rebuild_lever = 20.0;      // [m]
+  double rebuild_voxel = 0.1;      // [m]
+  double rebuild_min_shift = 0.1;  // [m]
+  double rebuild_lever = 20.0;     // [m]
 
   // Keyframes: a robot's integration becomes one when it moved or turned this much since its
   // last keyframe.

@@ -207,9 +207,9 @@ void ConsistencyService::maybeRebuild() {
   double max_shift = 0.0;
   for (const Keyframe& k : keyframes_)
     if (!k.scan.empty())
-      max_shift = std::max(max_shift, poseShift(k.grid_pose, estimates_[static_cast<std::size_t>(
-                                                                 k.id)],
-                                                params_.rebuild_lever));
+      max_shift =
+          std::max(max_shift, poseShift(k.grid_pose, estimates_[static_cast<std::size_t>(k.id)],
+                                        params_.rebuild_lever));
   if (max_shift > params_.rebuild_min_shift) rebuild(max_shift);
 }
 
@@ -252,8 +252,7 @@ void ConsistencyService::rebuild(double max_shift) {
     std::lock_guard<std::mutex> lock(mutex_);
     tail_done_ += more.size();
   }
-  grid->seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  grid->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::lock_guard<std::mutex> lock(mutex_);
   applied_ = grid->corrections;
   ++stats_.rebuilds;

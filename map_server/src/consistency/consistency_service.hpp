@@ -36,7 +36,7 @@ namespace socc::consistency {
 struct ConsistencyStats {
   int robots = 0;
   int keyframes = 0;
-  int pending = 0;  // keyframes waiting for the worker
+  int pending = 0;        // keyframes waiting for the worker
   int scans_dropped = 0;  // keyframes kept as poses only: the worker was max_pending_scans behind
   RecognitionTally recognition;
   int optimizations = 0;
@@ -47,7 +47,7 @@ struct ConsistencyStats {
   int rebuilds = 0;            // grids rebuilt (each swapped in unless a newer one replaced it)
   double max_rebuild_s = 0.0;  // the worker's longest rebuild
   int rebuild_keyframes = 0;   // scans in the last rebuild
-  double travelled = 0.0;  // [m] sum over robots
+  double travelled = 0.0;      // [m] sum over robots
 };
 
 class ConsistencyService {

@@ -29,7 +29,8 @@ struct Keyframe {
   std::uint64_t order = 0;  // observation order over all robots (the rebuild's tail)
 
   std::size_t bytes() const {
-    return sizeof(Keyframe) + points.capacity() * sizeof(Eigen::Vector3f) + descriptor.bytes() + scan.bytes();
+    return sizeof(Keyframe) + points.capacity() * sizeof(Eigen::Vector3f) + descriptor.bytes() +
+           scan.bytes();
   }
 };
 

@@ -11,9 +11,9 @@
 namespace socc::consistency {
 
 struct KeyframeScan {
-  float resolution = 0.f;                          // [m] per unit of xyz
-  std::vector<std::vector<std::int16_t>> xyz;      // [axis][point], sensor frame
-  std::vector<std::uint8_t> labels;                // one per point
+  float resolution = 0.f;                      // [m] per unit of xyz
+  std::vector<std::vector<std::int16_t>> xyz;  // [axis][point], sensor frame
+  std::vector<std::uint8_t> labels;            // one per point
 
   bool empty() const { return labels.empty(); }
   std::size_t size() const { return labels.size(); }

@@ -29,7 +29,8 @@ LabeledCloud toCloud(const integrate_request_t& request) {
 MapService::MapService(const ServerConfig& config)
     : config_(config), map_(config.map), localizer_(config.localization) {
   if (config.consistency.enabled)
-    consistency_ = std::make_unique<consistency::ConsistencyService>(config.consistency, config.map);
+    consistency_ =
+        std::make_unique<consistency::ConsistencyService>(config.consistency, config.map);
 }
 
 integrate_reply_t MapService::integrate(const integrate_request_t& request,
@@ -60,8 +61,7 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
   if (Status s = admitRobot(request, judge); !s.ok()) return s;
   const LabeledCloud cloud = toCloud(request);
   const Eigen::Isometry3d sent = fromLcm(request.sensor_pose);
-  if (const std::string why = map_.validate(sent, cloud); !why.empty())
-    return Status::invalid(why);
+  if (const std::string why = map_.validate(sent, cloud); !why.empty()) return Status::invalid(why);
   // The pose as the robot sent it, in its first frame (for the pose graph) and in the grid's.
   const RobotCorrections::Incoming at = corrections_.incoming(robot_id, request.seq, sent);
   const Eigen::Isometry3d& pose = at.map;
@@ -88,8 +88,7 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
   }
   const map::IntegrationResult result = map_.integrate(pose, cloud);
   robots_.recordIntegration(robot_id, request.seq, request.scan_utime, toLcm(pose));
-  if (consistency_)
-    consistency_->observe(robot_id, request.seq, request.scan_utime, at.raw, cloud);
+  if (consistency_) consistency_->observe(robot_id, request.seq, request.scan_utime, at.raw, cloud);
   if (at.told) {
     reply.corrected = true;
     reply.correction = toLcm(*at.told);
@@ -104,6 +103,13 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
   reply.voxels_hit = result.voxels_hit;
   reply.voxels_freed = result.voxels_freed;
   return {};
+}
+
+void MapService::restartConsistency() {
+  if (!consistency_) return;
+  consistency::ConsistencyParams params = config_.consistency;
+  params.correct_grid = params.correct_grid && map_.stats().num_voxels == 0;
+  consistency_ = std::make_unique<consistency::ConsistencyService>(params, config_.map);
 }
 
 void MapService::swapInRebuiltGrid() {

@@ -148,6 +148,9 @@ class MapService {
   /// from the old grid's (a new epoch: clients' cached chunks are stale), every robot it
   /// corrects is told with its next INTEGRATE, and the journal restarts after a checkpoint of it.
   void swapInRebuiltGrid();
+  /// A new consistency service for a new grid (LOAD, CLEAR, a restored snapshot): one that
+  /// did not see the grid's scans estimates but never rebuilds it (it would drop them).
+  void restartConsistency();
 
   ServerConfig config_;
   map::SemanticOccupancyMap map_;

@@ -11,14 +11,15 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace socc::service {
 
 class RobotCorrections {
  public:
   struct Incoming {
-    Eigen::Isometry3d raw = Eigen::Isometry3d::Identity();   // in the robot's first frame
-    Eigen::Isometry3d map = Eigen::Isometry3d::Identity();   // where it goes into the grid
+    Eigen::Isometry3d raw = Eigen::Isometry3d::Identity();  // in the robot's first frame
+    Eigen::Isometry3d map = Eigen::Isometry3d::Identity();  // where it goes into the grid
     std::optional<Eigen::Isometry3d> told;  // the correction this request's reply carries
   };
 
@@ -31,6 +32,10 @@ class RobotCorrections {
   /// Robots that were offered a correction and have not integrated since.
   int waiting() const;
   void clear() { robots_.clear(); }
+  /// Text for the snapshot (empty when no robot was corrected); parse() restores it and
+  /// returns false (changing nothing) when the text does not parse.
+  std::string serialize() const;
+  bool parse(const std::string& text);
 
  private:
   struct Robot {
