@@ -87,6 +87,42 @@ double rmse(const std::vector<double>& e) {
   return e.empty() ? 0.0 : std::sqrt(s / static_cast<double>(e.size()));
 }
 
+// What a client output (poses_tum.txt) against the truth, in the map frame (no alignment):
+// each pose is matched to the sequence's frame of the same stamp (times.txt).
+struct ClientScore {
+  std::size_t frames = 0;  // poses output
+  double ate = 0.0;        // RMSE [m]
+  double max = 0.0;
+};
+
+ClientScore scoreClient(const std::string& tum, const std::vector<double>& times,
+                        const socc::Poses& gt) {
+  std::vector<double> stamps;
+  const socc::Poses poses = socc::readTumPoses(tum, &stamps);
+  std::vector<double> errors;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const auto at = std::lower_bound(times.begin(), times.end(), stamps[i] - 1e-4);
+    if (at == times.end() || std::abs(*at - stamps[i]) > 1e-3) continue;
+    const auto seq = static_cast<std::size_t>(at - times.begin());
+    if (seq >= gt.size()) continue;
+    errors.push_back((poses[i].translation() - gt[seq].translation()).norm());
+  }
+  ClientScore out;
+  out.frames = errors.size();
+  out.ate = rmse(errors);
+  out.max = errors.empty() ? 0.0 : *std::max_element(errors.begin(), errors.end());
+  return out;
+}
+
+std::vector<double> readTimes(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error("cannot read " + file);
+  std::vector<double> times;
+  double t = 0.0;
+  while (in >> t) times.push_back(t);
+  return times;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -110,6 +146,11 @@ int main(int argc, char** argv) {
   app.add_option("--doubled-m", doubled_m,
                  "a revisit whose relative pose errs by more than this maps its surfaces twice [m]")
       ->capture_default_str();
+  std::string client_tum, alone_tum, times_file;
+  app.add_option("--client-tum", client_tum,
+                 "the client's poses_tum.txt with the consistency service (map correction on)");
+  app.add_option("--alone-tum", alone_tum, "the client's poses_tum.txt without it");
+  app.add_option("--times", times_file, "the sequence's times.txt (stamps of the frames)");
   CLI11_PARSE(app, argc, argv);
   try {
     const socc::Poses gt = socc::readKittiPoses(gt_file);
@@ -167,7 +208,6 @@ int main(int argc, char** argv) {
     const double gain = ate_after > 0.0 ? ate_before / ate_after : INFINITY;
     const double share_before = revisits ? static_cast<double>(doubled_before) / revisits : 0.0;
     const double share_after = revisits ? static_cast<double>(doubled_after) / revisits : 0.0;
-    const bool pass = wrong == 0 && gain >= min_gain && share_after <= max_doubled;
     std::printf("| figure | odometry alone | with consistency | target |\n|---|---|---|---|\n");
     std::printf("| keyframes / path | %zu / %.2f km | | |\n", keyframes.size(), km);
     std::printf("| map-frame ATE RMSE (keyframes) | %.3f m | %.3f m (%.1fx lower) | >= %.0fx |\n",
@@ -185,13 +225,37 @@ int main(int argc, char** argv) {
     std::printf("| wrong closures (> %.1f m or %.0f deg) | | %d | 0 |\n", wrong_m, wrong_deg,
                 wrong);
     std::printf("| time to correct a loop (max) | | %.2f s | |\n", stats["max_correction_s"]);
-    std::printf("| keyframe memory | | %.1f MB/km | |\n",
-                km > 0.0 ? stats["keyframe_bytes"] / 1e6 / km : 0.0);
+    std::printf("| keyframe memory (of it, scans for rebuilds) | | %.1f MB/km (%.1f MB/km) | |\n",
+                km > 0.0 ? stats["keyframe_bytes"] / 1e6 / km : 0.0,
+                km > 0.0 ? stats["scan_bytes"] / 1e6 / km : 0.0);
+    std::printf("| grid rebuilds (longest) | | %.0f (%.2f s, %.0f scans) | |\n", stats["rebuilds"],
+                stats["max_rebuild_s"], stats["rebuild_keyframes"]);
+    double client_gain = 0.0;
+    if (!client_tum.empty() && !times_file.empty()) {
+      const std::vector<double> times = readTimes(times_file);
+      const ClientScore with = scoreClient(client_tum, times, gt);
+      ClientScore alone;
+      if (!alone_tum.empty()) alone = scoreClient(alone_tum, times, gt);
+      client_gain = with.ate > 0.0 && alone.frames > 0 ? alone.ate / with.ate : 0.0;
+      std::printf(
+          "| client output: map-frame ATE RMSE / max (frames output of %zu) | %s | %.3f / "
+          "%.3f m (%zu) | |\n",
+          gt.size(),
+          alone.frames ? (std::to_string(alone.ate).substr(0, 5) + " / " +
+                          std::to_string(alone.max).substr(0, 5) + " m (" +
+                          std::to_string(alone.frames) + ")")
+                             .c_str()
+                       : "not run",
+          with.ate, with.max, with.frames);
+    }
+    // With both client runs scored, the target is on what the client output (map correction).
+    const double judged = client_gain > 0.0 ? client_gain : gain;
+    const bool pass = wrong == 0 && judged >= min_gain && share_after <= max_doubled;
     std::printf(
-        "%s: ATE %.3f -> %.3f m (%.1fx), %d wrong closures, revisits mapped twice "
-        "%.0f %% -> %.0f %%\n",
-        pass ? "PASS" : "FAIL", ate_before, ate_after, gain, wrong, 100.0 * share_before,
-        100.0 * share_after);
+        "%s: ATE %.3f -> %.3f m (%.1fx; client output %.1fx), %d wrong closures, revisits "
+        "mapped twice %.0f %% -> %.0f %%\n",
+        pass ? "PASS" : "FAIL", ate_before, ate_after, gain, client_gain, wrong,
+        100.0 * share_before, 100.0 * share_after);
     return pass ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_consistency_eval: %s\n", e.what());

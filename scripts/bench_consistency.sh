@@ -5,21 +5,26 @@
 # scores them with bench_consistency_eval: map-frame ATE of the keyframes as the odometry
 # integrated them (odometry alone: the service does not change what the client does) and as
 # the pose graph corrected them, revisits mapped twice, wrong closures, the time to correct a
-# loop and the keyframes' memory per km. Prints ONE markdown table whose last line sums it up;
-# exit 1 when a target is missed (wrong closures > 0, ATE not >= --min-gain (5) times lower,
-# any revisit still mapped twice), 0 with --no-targets.
+# loop and the keyframes' memory per km. With map correction the client's own output follows
+# the corrected grid: a first run without the service (odometry alone) and the run with it are
+# both scored on every pose the client output (map-frame ATE, no alignment); --no-alone skips
+# the first run. Prints ONE markdown table whose last line sums it up; exit 1 when a target is
+# missed (wrong closures > 0, ATE not >= --min-gain (5) times lower: the client output's when
+# both runs are there, else the keyframes', any revisit still mapped twice), 0 with
+# --no-targets.
 #
 # Usage: scripts/bench_consistency.sh SEQ_DIR [--build BUILD] [--out OUT] [--frames N]
 #                                     [--first-frame N] [--min-gain G] [--no-targets]
+#                                     [--no-alone]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 [ $# -ge 1 ] || usage 2
 case "$1" in -h|--help) usage 0 ;; esac
 [ -d "$1" ] || { echo "bench_consistency: $1 is not a directory" >&2; exit 2; }
 dir="$(cd "$1" && pwd)"; shift
-build="$root/build"; out=""; client_args=(); eval_args=(); judge=1
+build="$root/build"; out=""; client_args=(); eval_args=(); judge=1; alone=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
@@ -28,6 +33,7 @@ while [ $# -gt 0 ]; do
     --first-frame) client_args+=(--first-frame "$2"); shift 2 ;;
     --min-gain) eval_args+=(--min-gain "$2"); shift 2 ;;
     --no-targets) judge=0; shift ;;
+    --no-alone) alone=0; shift ;;
     -h|--help) usage 0 ;;
     *) echo "bench_consistency: unknown argument $1" >&2; usage 2 ;;
   esac
@@ -40,30 +46,45 @@ for bin in map_server/map_server odom_client/odom_client tools/socc-cli bench/be
 done
 
 # Private multicast port so concurrent runs never see each other; ttl=0 keeps it on this machine.
-url="udpm://239.255.76.67:$((20000 + RANDOM % 40000))?ttl=0&recv_buf_size=33554432"
+server=""
+trap '[ -z "$server" ] || kill "$server" 2>/dev/null || true' EXIT
+# run NAME [server args...]: one map_server + one odom_client into $out/NAME.
+run() {
+  local name="$1"; shift
+  local url="udpm://239.255.76.67:$((20000 + RANDOM % 40000))?ttl=0&recv_buf_size=33554432"
+  mkdir -p "$out/$name"
+  "$build/map_server/map_server" --lcm-url "$url" --quiet \
+    --config "$root/bench/config/server_unthrottled.yaml" "$@" >"$out/$name/server.log" 2>&1 &
+  server=$!
+  for _ in $(seq 50); do
+    "$build/tools/socc-cli" --lcm-url "$url" --client-id bench stats >/dev/null 2>&1 && break
+    sleep 0.2
+  done
+  echo "bench_consistency: odom_client on $dir ($name)" >&2
+  local client_rc=0
+  "$build/odom_client/odom_client" --kitti "$dir" --lcm-url "$url" --robot-id bench \
+    --out-dir "$out/$name" "${client_args[@]}" >"$out/$name/client_summary.txt" \
+    2>"$out/$name/client.log" || client_rc=$?
+  [ "$client_rc" -eq 0 ] || [ "$client_rc" -eq 3 ] ||
+    { echo "bench_consistency: odom_client failed ($client_rc), see $out/$name/client.log" >&2
+      exit 1; }
+  # A clean stop: the server finishes the keyframes it holds, then writes what it was asked to.
+  kill -TERM "$server"
+  wait "$server" || { echo "bench_consistency: map_server failed, see $out/$name/server.log" >&2
+                      exit 1; }
+  server=""
+}
+
 rm -rf "$out/consistency"
-"$build/map_server/map_server" --lcm-url "$url" --quiet \
-  --config "$root/bench/config/server_unthrottled.yaml" --consistency-dir "$out/consistency" \
-  >"$out/server.log" 2>&1 &
-server=$!
-trap 'kill "$server" 2>/dev/null || true' EXIT
-for _ in $(seq 50); do
-  "$build/tools/socc-cli" --lcm-url "$url" --client-id bench stats >/dev/null 2>&1 && break
-  sleep 0.2
-done
-
-echo "bench_consistency: odom_client on $dir" >&2
-client_rc=0
-"$build/odom_client/odom_client" --kitti "$dir" --lcm-url "$url" --robot-id bench \
-  --out-dir "$out" "${client_args[@]}" >"$out/client_summary.txt" 2>"$out/client.log" || client_rc=$?
-[ "$client_rc" -eq 0 ] || [ "$client_rc" -eq 3 ] ||
-  { echo "bench_consistency: odom_client failed ($client_rc), see $out/client.log" >&2; exit 1; }
-
-# A clean stop: the server finishes the keyframes it holds, then writes $out/consistency.
-kill -TERM "$server"
-wait "$server" || { echo "bench_consistency: map_server failed, see $out/server.log" >&2; exit 1; }
+if [ "$alone" -eq 1 ]; then
+  run alone
+  eval_args+=(--alone-tum "$out/alone/poses_tum.txt")
+fi
+run with --consistency-dir "$out/consistency"
 trap - EXIT
 [ -f "$out/consistency/stats.txt" ] || { echo "bench_consistency: no consistency output" >&2; exit 1; }
+[ -f "$dir/times.txt" ] &&
+  eval_args+=(--client-tum "$out/with/poses_tum.txt" --times "$dir/times.txt")
 
 rc=0
 "$build/bench/bench_consistency_eval" --dir "$out/consistency" --gt "$dir/poses.txt" \

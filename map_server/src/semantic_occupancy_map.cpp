@@ -1,5 +1,6 @@
 #include "socc/map/semantic_occupancy_map.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -88,6 +89,10 @@ MapStats SemanticOccupancyMap::stats() const {
 
 std::int64_t SemanticOccupancyMap::version() const {
   return impl_->version;
+}
+
+void SemanticOccupancyMap::continueVersion(std::int64_t previous) {
+  impl_->version = std::max(impl_->version, previous) + 1;
 }
 
 void SemanticOccupancyMap::clear() {

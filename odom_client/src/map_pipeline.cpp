@@ -7,6 +7,7 @@
 
 #include "socc/odom/frame_overlay.hpp"
 #include "socc/odom/service_map_access.hpp"
+#include "socc/pose_conversion.hpp"
 
 namespace socc::odom {
 namespace {
@@ -90,6 +91,7 @@ void MapPipeline::integrate(FrameEstimate estimate, const FrameStats& stats,
                             const Eigen::Vector3d& ahead) {
   const Clock::time_point wait = Clock::now();
   finish();  // target_ is now the chunk after the previous frame, if one came with it
+  if (correction_) estimate.pose = *correction_ * estimate.pose;  // registered in the old frame
   FrameStats row = stats;
   row.wait_ms = msSince(wait);
   row.total_ms += row.wait_ms;
@@ -149,6 +151,10 @@ MapPipeline::Exchange MapPipeline::exchange(const FrameEstimate& frame,
   return x;
 }
 
+std::optional<Eigen::Isometry3d> MapPipeline::takeCorrection() {
+  return std::exchange(correction_, std::nullopt);
+}
+
 void MapPipeline::close() {
   closing_ = true;
   finish();
@@ -171,6 +177,14 @@ std::int64_t MapPipeline::finish() {
   stats.integrate_ms = x.integrate_ms;
   stats.bytes_sent = x.bytes_sent;
   log_.add(stats);
+  if (x.integrate.reply->corrected) {
+    // The grid was rebuilt at corrected poses: what is cached of the old one is in the old frame
+    // (a chunk fetched after this reply is of the new grid).
+    const Eigen::Isometry3d correction = fromLcm(x.integrate.reply->correction);
+    correction_ = correction_ ? correction * *correction_ : correction;
+    target_.reset();
+    if (!x.chunk) cache_.reset();
+  }
   if (x.chunk) {
     target_.reset();  // an older chunk (and its overlay) is superseded
     target_.emplace(Target{*x.chunk, *x.chunk, x.center, x.chunk_bytes, x.chunk_ms, {}, {}, {}});

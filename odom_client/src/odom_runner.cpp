@@ -5,6 +5,7 @@
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "socc/odom/local_map.hpp"
 #include "socc/odom/scan_preparer.hpp"
@@ -107,6 +108,8 @@ FrameStats OdomRunner::processScan(Odometry& odometry, const PreparedScan& prepa
   stats.frame = prepared.seq;
   stats.preprocess_ms = msSince(start);  // waiting for the scan, read and prepared ahead
   const LocalMap map = pipeline_->target(odometry.predictedPose(prepared).translation(), stats);
+  // A correction that came with the Integrate in flight: this target is of the corrected grid.
+  applyCorrection(odometry);
   const Clock::time_point register_start = Clock::now();
   FrameEstimate estimate = odometry.registerFrame(prepared, map);
   stats.register_ms = msSince(register_start);
@@ -116,9 +119,9 @@ FrameStats OdomRunner::processScan(Odometry& odometry, const PreparedScan& prepa
   if (std::optional<FrameEstimate> first = odometry.takeReleasedFrame()) {
     FrameStats first_stats;  // its time was spent when it arrived
     first_stats.frame = first->seq;
-    submit(std::move(*first), first_stats, ahead);
+    submit(odometry, std::move(*first), first_stats, ahead);
   }
-  if (!estimate.held) submit(std::move(estimate), stats, ahead);
+  if (!estimate.held) submit(odometry, std::move(estimate), stats, ahead);
   return stats;
 }
 
@@ -230,11 +233,36 @@ void OdomRunner::giveUp(const PreparedScan& scan, double searched, const std::st
   gave_up_ = true;
 }
 
-void OdomRunner::submit(FrameEstimate estimate, FrameStats stats, const Eigen::Vector3d& ahead) {
+std::optional<Eigen::Isometry3d> OdomRunner::applyCorrection(Odometry& odometry) {
+  const std::optional<Eigen::Isometry3d> correction = pipeline_->takeCorrection();
+  if (!correction) return std::nullopt;
+  odometry.correct(*correction);
+  if (last_good_) last_good_ = *correction * *last_good_;
+  ++corrections_;
+  std::ostringstream out;
+  out.precision(2);
+  out << std::fixed << "map correction: pose moved " << correction->translation().norm() << " m, "
+      << Eigen::AngleAxisd(correction->linear()).angle() * 180.0 / M_PI << " deg";
+  std::cerr << "odom_client: " << out.str() << " (the map was rebuilt at corrected poses; the "
+            << "pose output jumps here)\n";
+  jump_ = out.str();
+  return correction;
+}
+
+void OdomRunner::submit(Odometry& odometry, FrameEstimate estimate, FrameStats stats,
+                        const Eigen::Vector3d& ahead) {
+  // The Integrate in flight may bring a map correction: this frame, registered in the old
+  // frame, is output and integrated in the corrected one (integrate() would wait for it anyway).
+  pipeline_->finish();
+  if (const std::optional<Eigen::Isometry3d> correction = applyCorrection(odometry))
+    estimate.pose = *correction * estimate.pose;
   const TrackingState before = tracking_.state();
   const TrackingState state = tracking_.update(estimate.health.healthy());
   addHealth(estimate, stats);
   stats.status = statusOf(estimate, state);
+  if (!jump_.empty())  // the frame whose pose output jumped
+    stats.problem = stats.problem.empty() ? std::exchange(jump_, {})
+                                          : std::exchange(jump_, {}) + "; " + stats.problem;
   if (!estimate.health.healthy())
     std::cerr << "odom_client: frame " << estimate.seq << " unhealthy (" << estimate.health.problem
               << "): not integrated\n";

@@ -420,6 +420,11 @@ std::optional<FrameEstimate> Odometry::takeReleasedFrame() {
   return out;
 }
 
+void Odometry::correct(const Eigen::Isometry3d& correction) {
+  pose_ = correction * pose_;
+  if (released_) released_->pose = correction * released_->pose;
+}
+
 void Odometry::reset(const Eigen::Isometry3d& pose) {
   pose_ = pose;
   time_ = -1.0;

@@ -254,3 +254,41 @@ TEST(Se3, IncrementsKeepThePoseARigidTransform) {
   skewed.linear() *= 1.01;
   EXPECT_LT((orthonormalized(skewed).linear() - r).norm(), 1e-9);
 }
+
+// A map correction (docs/consistency.md): the server rebuilt the grid 2 m and 3 deg away and the
+// robot applies the correction to its odometry. The next frames register against the moved map
+// as if nothing happened: healthy, no kinematic surprise, the motion model intact.
+TEST(Odometry, AMapCorrectionMovesThePoseAndKeepsTheMotion) {
+  socc::sim::SceneOptions options;
+  options.frames = 8;
+  const socc::sim::Scene scene = socc::sim::buildScene(options);
+  const socc::sim::LidarModel lidar = socc::sim::lidarPreset("vlp32");
+  const auto scan = [&](int k) {
+    const socc::sim::SimulatedScan s = socc::sim::simulateScan(scene, lidar, 0.1 * k, k, {});
+    socc::LabeledCloud c;
+    c.points = s.points;
+    return c;
+  };
+  const Eigen::Isometry3d correction =
+      Eigen::Translation3d(2.0, -1.0, 0.0) * Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ());
+  socc::LabeledCloud world, moved;
+  for (int k = 0; k < 8; ++k)
+    for (const Eigen::Vector3f& q : scan(k).points) {
+      const Eigen::Vector3d p = scene.trajectory.poseAt(0.1 * k) * q.cast<double>();
+      world.points.push_back(p.cast<float>());
+      moved.points.push_back((correction * p).cast<float>());
+    }
+  const LocalMap before = buildScanMap(world, 0.5), after = buildScanMap(moved, 0.5);
+  Odometry odom(OdomConfig{}, scene.trajectory.poseAt(0.0), true);
+  for (int k = 0; k < 4; ++k) odom.registerFrame(odom.prepare(scan(k), k, k * 100000), before);
+  const Vector6d twist = odom.twist();
+  odom.correct(correction);
+  EXPECT_TRUE(odom.twist().isApprox(twist));
+  for (int k = 4; k < 8; ++k) {
+    const FrameEstimate e = odom.registerFrame(odom.prepare(scan(k), k, k * 100000), after);
+    EXPECT_TRUE(e.health.healthy()) << "frame " << k << ": " << e.health.problem;
+    EXPECT_TRUE(e.health.surprise.empty()) << "frame " << k << ": " << e.health.surprise;
+    const Eigen::Isometry3d truth = correction * scene.trajectory.poseAt(0.1 * k);
+    EXPECT_LT((truth.inverse() * e.pose).translation().norm(), 0.1) << "frame " << k;
+  }
+}

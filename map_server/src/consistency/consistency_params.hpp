@@ -7,7 +7,16 @@
 namespace socc::consistency {
 
 struct ConsistencyParams {
-  bool enabled = false;  // off by default: the grid is not corrected yet (docs/consistency.md)
+  bool enabled = false;  // off by default (docs/consistency.md)
+
+  // Map correction: after a closure that moves some keyframe's scan by more than
+  // rebuild_min_shift (translation plus rotation at rebuild_lever metres), the grid is rebuilt
+  // from the keyframe scans at their optimized poses; each kept scan is downsampled per class
+  // to rebuild_voxel (the map's voxels keep their statistics from several points each).
+  bool correct_grid = true;
+  double rebuild_voxel = 0.1;      // [m]
+  double rebuild_min_shift = 0.1;  // [m]
+  double rebuild_lever = 20.0;     // [m]
 
   // Keyframes: a robot's integration becomes one when it moved or turned this much since its
   // last keyframe.

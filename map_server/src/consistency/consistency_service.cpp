@@ -84,8 +84,12 @@ void ConsistencyService::observe(const std::string& robot, std::int64_t seq, std
   pending.keyframe.odom_pose = pose;
   pending.keyframe.travelled = track.travelled;
   if (pending_scans_ < params_.max_pending_scans) {
-    pending.cloud.points = cloud.points;  // labels and times play no part
+    auto copy = std::make_shared<LabeledCloud>();
+    copy->points = cloud.points;
+    if (params_.correct_grid) copy->labels = cloud.labels;  // times play no part
+    pending.cloud = std::move(copy);
     ++pending_scans_;
+    if (rebuilding_) tail_.push_back({robot, pose, pending.cloud});
   } else {
     ++stats_.scans_dropped;
   }
@@ -109,7 +113,7 @@ void ConsistencyService::run() {
       if (stopping_) return;
       next = std::move(queue_.front());
       queue_.pop_front();
-      if (!next.cloud.points.empty()) --pending_scans_;
+      if (next.cloud) --pending_scans_;
       busy_ = true;
     }
     try {
@@ -127,7 +131,11 @@ void ConsistencyService::run() {
 
 void ConsistencyService::process(Pending pending) {
   Keyframe& kf = pending.keyframe;
-  kf.points = keyframePoints(pending.cloud, params_);
+  if (pending.cloud) {
+    kf.points = keyframePoints(*pending.cloud, params_);
+    if (params_.correct_grid) kf.scan = compactScan(*pending.cloud, params_.rebuild_voxel);
+    pending.cloud.reset();
+  }
   const bool matchable = !kf.points.empty();  // not a pose-only keyframe (max_pending_scans)
   if (matchable) kf.descriptor = ScanContext(kf.points, params_.descriptor);
   int query = 0;
@@ -137,11 +145,15 @@ void ConsistencyService::process(Pending pending) {
     std::lock_guard<std::mutex> lock(mutex_);
     RobotTrack& track = robots_.at(pending.robot);
     kf.id = static_cast<int>(keyframes_.size());
+    // In the grid at its robot's correction of the last rebuild (as integrated before any).
+    const auto applied = applied_.find(pending.robot);
+    kf.grid_pose = applied == applied_.end() ? kf.odom_pose : applied->second * kf.odom_pose;
     addToGraph(kf, track);
     track.keyframe_ids.push_back(kf.id);
     track.keyframe_seqs.push_back(kf.seq);
     keyframes_.push_back(std::move(kf));
     stats_.keyframe_bytes += keyframes_.back().bytes();
+    stats_.scan_bytes += keyframes_.back().scan.bytes();
     query = keyframes_.back().id;
     travelled = keyframes_.back().travelled;
     next_attempt = track.next_attempt_travel;
@@ -166,7 +178,7 @@ void ConsistencyService::process(Pending pending) {
     // graph_ is the worker's alone: optimized without holding the lock.
     consistent = graph_.addConsistentEdge(edge, params_.max_closure_chi2, nullptr, &summary);
   }
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::unique_lock<std::mutex> lock(mutex_);
   ++stats_.recognition.attempts;
   stats_.recognition.seconds += verify_seconds;
   if (!closure) {
@@ -186,6 +198,92 @@ void ConsistencyService::process(Pending pending) {
   stats_.max_correction_s = std::max(
       stats_.max_correction_s,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - pending.arrived).count());
+  lock.unlock();
+  if (params_.correct_grid) maybeRebuild();
+}
+
+void ConsistencyService::maybeRebuild() {
+  // Only this thread changes keyframes_ and estimates_ (and grid_pose): read unlocked.
+  double max_shift = 0.0;
+  for (const Keyframe& k : keyframes_)
+    if (!k.scan.empty())
+      max_shift =
+          std::max(max_shift, poseShift(k.grid_pose, estimates_[static_cast<std::size_t>(k.id)],
+                                        params_.rebuild_lever));
+  if (max_shift > params_.rebuild_min_shift) rebuild(max_shift);
+}
+
+void ConsistencyService::rebuild(double max_shift) {
+  const auto start = std::chrono::steady_clock::now();
+  auto grid = std::make_unique<RebuiltGrid>(map_config_);
+  grid->max_shift = max_shift;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    // The keyframes not processed yet are the tail's first entries; later ones join in observe.
+    ready_.reset();  // superseded: never swapped in, no robot was told its correction
+    tail_.clear();
+    tail_done_ = 0;
+    for (const Pending& p : queue_)
+      if (p.cloud) tail_.push_back({p.robot, p.keyframe.odom_pose, p.cloud});
+    rebuilding_ = true;
+    for (const auto& [name, track] : robots_) {
+      if (track.keyframe_ids.empty()) continue;
+      const Keyframe& last = keyframes_[static_cast<std::size_t>(track.keyframe_ids.back())];
+      grid->corrections[name] =
+          estimates_[static_cast<std::size_t>(last.id)] * last.odom_pose.inverse();
+    }
+  }
+  for (Keyframe& k : keyframes_) {
+    const Eigen::Isometry3d& pose = estimates_[static_cast<std::size_t>(k.id)];
+    if (integrateScan(grid->map, pose, k.scan)) ++grid->keyframes;
+    k.grid_pose = pose;
+  }
+  // Catch up with the keyframes observed meanwhile until none is left for the swap but the
+  // last few.
+  for (;;) {
+    std::vector<TailScan> more;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      more.assign(tail_.begin() + static_cast<std::ptrdiff_t>(tail_done_), tail_.end());
+    }
+    if (more.empty()) break;
+    integrateTail(*grid, more);
+    grid->keyframes += static_cast<int>(more.size());
+    std::lock_guard<std::mutex> lock(mutex_);
+    tail_done_ += more.size();
+  }
+  grid->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::lock_guard<std::mutex> lock(mutex_);
+  applied_ = grid->corrections;
+  ++stats_.rebuilds;
+  stats_.max_rebuild_s = std::max(stats_.max_rebuild_s, grid->seconds);
+  stats_.rebuild_keyframes = grid->keyframes;
+  ready_ = std::move(grid);
+}
+
+void ConsistencyService::integrateTail(RebuiltGrid& grid, const std::vector<TailScan>& tail) const {
+  for (const TailScan& t : tail) {
+    const auto c = grid.corrections.find(t.robot);
+    const Eigen::Isometry3d pose =
+        c == grid.corrections.end() ? t.raw_pose : c->second * t.raw_pose;
+    integrateScan(grid.map, pose, compactScan(*t.cloud, params_.rebuild_voxel));
+  }
+}
+
+std::unique_ptr<RebuiltGrid> ConsistencyService::takeRebuild() {
+  std::unique_ptr<RebuiltGrid> grid;
+  std::vector<TailScan> rest;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!ready_) return nullptr;
+    grid = std::move(ready_);
+    rest.assign(tail_.begin() + static_cast<std::ptrdiff_t>(tail_done_), tail_.end());
+    tail_.clear();
+    tail_done_ = 0;
+    rebuilding_ = false;
+  }
+  integrateTail(*grid, rest);
+  return grid;
 }
 
 void ConsistencyService::addToGraph(const Keyframe& kf, const RobotTrack& track) {
@@ -289,7 +387,9 @@ void ConsistencyService::write(const std::filesystem::path& dir) const {
      << s.recognition.inconsistent << "\noptimizations " << s.optimizations
      << "\nlast_optimization_s " << s.last_optimization_s << "\nmax_correction_s "
      << s.max_correction_s << "\nkeyframe_bytes " << s.keyframe_bytes << "\ntravelled_m "
-     << s.travelled << "\nscans_dropped " << s.scans_dropped << '\n';
+     << s.travelled << "\nscans_dropped " << s.scans_dropped << "\nscan_bytes " << s.scan_bytes
+     << "\nrebuilds " << s.rebuilds << "\nmax_rebuild_s " << s.max_rebuild_s
+     << "\nrebuild_keyframes " << s.rebuild_keyframes << '\n';
   if (!kf || !cl || !st) throw std::runtime_error("cannot write " + dir.string());
 }
 

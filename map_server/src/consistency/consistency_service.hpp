@@ -5,8 +5,9 @@
 // on its own thread: observe() only decides whether an integration is a keyframe and copies its
 // points; downsampling, descriptors, verification and optimization happen in the background.
 //
-// What it corrects today is the estimate of every keyframe (and, through them, of every
-// integration): corrected(). The grid itself is not re-integrated yet.
+// It corrects the estimate of every keyframe (and, through them, of every integration:
+// corrected()) and, after a closure that moves keyframes, rebuilds the grid from the keyframe
+// scans at their optimized poses on its thread; the map service swaps it in (takeRebuild).
 #include <Eigen/Geometry>
 #include <chrono>
 #include <condition_variable>
@@ -14,6 +15,7 @@
 #include <deque>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -21,6 +23,7 @@
 #include <vector>
 
 #include "consistency_params.hpp"
+#include "grid_rebuild.hpp"
 #include "keyframe.hpp"
 #include "place_recognition.hpp"
 #include "pose_graph.hpp"
@@ -33,14 +36,18 @@ namespace socc::consistency {
 struct ConsistencyStats {
   int robots = 0;
   int keyframes = 0;
-  int pending = 0;  // keyframes waiting for the worker
+  int pending = 0;        // keyframes waiting for the worker
   int scans_dropped = 0;  // keyframes kept as poses only: the worker was max_pending_scans behind
   RecognitionTally recognition;
   int optimizations = 0;
   double last_optimization_s = 0.0;
   double max_correction_s = 0.0;  // keyframe arrival to its closure's optimized poses
   std::size_t keyframe_bytes = 0;
-  double travelled = 0.0;  // [m] sum over robots
+  std::size_t scan_bytes = 0;  // of that, the scans kept to rebuild the grid
+  int rebuilds = 0;            // grids rebuilt (each swapped in unless a newer one replaced it)
+  double max_rebuild_s = 0.0;  // the worker's longest rebuild
+  int rebuild_keyframes = 0;   // scans in the last rebuild
+  double travelled = 0.0;      // [m] sum over robots
 };
 
 class ConsistencyService {
@@ -63,6 +70,11 @@ class ConsistencyService {
   Eigen::Isometry3d corrected(const std::string& robot, std::int64_t seq,
                               const Eigen::Isometry3d& pose) const;
 
+  /// The grid rebuilt after the last correcting closure, once, with the keyframes observed
+  /// while it was built integrated into it (on the caller's thread: a few at most); null when
+  /// none is ready. The caller swaps it in and tells each robot its correction.
+  std::unique_ptr<RebuiltGrid> takeRebuild();
+
   ConsistencyStats stats() const;
   std::vector<Closure> closures() const;
 
@@ -81,7 +93,7 @@ class ConsistencyService {
  private:
   struct Pending {
     Keyframe keyframe;
-    LabeledCloud cloud;
+    std::shared_ptr<const LabeledCloud> cloud;  // null: pose only (max_pending_scans)
     std::string robot;
     std::chrono::steady_clock::time_point arrived;
   };
@@ -99,6 +111,16 @@ class ConsistencyService {
   void run();
   void process(Pending pending);
   void addToGraph(const Keyframe& keyframe, const RobotTrack& track);
+  /// After a correcting closure: rebuilds the grid when a keyframe moved far enough.
+  void maybeRebuild();
+  void rebuild(double max_shift);
+  struct TailScan {
+    std::string robot;
+    Eigen::Isometry3d raw_pose = Eigen::Isometry3d::Identity();
+    std::shared_ptr<const LabeledCloud> cloud;
+  };
+  /// tail's scans into grid at their robots' corrections (compacted as keyframes are).
+  void integrateTail(RebuiltGrid& grid, const std::vector<TailScan>& tail) const;
 
   ConsistencyParams params_;
   map::MapConfig map_config_;
@@ -118,6 +140,13 @@ class ConsistencyService {
   PoseGraph graph_;  // the worker's alone (nodes added under the lock, optimized without)
   std::vector<Closure> closures_;
   ConsistencyStats stats_;
+  // Map correction. While a rebuild runs or waits for takeRebuild, every keyframe observed
+  // since it started (with those still queued then) is kept in tail_ for it.
+  bool rebuilding_ = false;
+  std::vector<TailScan> tail_;
+  std::size_t tail_done_ = 0;  // tail_ entries the worker already integrated into ready_
+  std::unique_ptr<RebuiltGrid> ready_;
+  std::map<std::string, Eigen::Isometry3d> applied_;  // robot: raw -> grid of the last rebuild
 
   std::thread worker_;  // last: started after everything it uses
 };

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "keyframe_scan.hpp"
 #include "scan_context.hpp"
 
 namespace socc::consistency {
@@ -21,9 +22,15 @@ struct Keyframe {
   double travelled = 0.0;               // [m] the robot's path length up to this keyframe
   std::vector<Eigen::Vector3f> points;  // sensor frame, voxel-downsampled
   ScanContext descriptor;
+  KeyframeScan scan;  // what the grid is rebuilt from (finer, with labels)
+  // Where the keyframe's scan is in the grid now: as integrated, then its pose in the last
+  // rebuild. A closure that moves some keyframe far from it rebuilds the grid.
+  Eigen::Isometry3d grid_pose = Eigen::Isometry3d::Identity();
+  std::uint64_t order = 0;  // observation order over all robots (the rebuild's tail)
 
   std::size_t bytes() const {
-    return sizeof(Keyframe) + points.capacity() * sizeof(Eigen::Vector3f) + descriptor.bytes();
+    return sizeof(Keyframe) + points.capacity() * sizeof(Eigen::Vector3f) + descriptor.bytes() +
+           scan.bytes();
   }
 };
 

@@ -1,6 +1,7 @@
 #include "map_service.hpp"
 
 #include <algorithm>
+#include <iostream>
 #include <stdexcept>
 
 #include "plausibility.hpp"
@@ -28,7 +29,8 @@ LabeledCloud toCloud(const integrate_request_t& request) {
 MapService::MapService(const ServerConfig& config)
     : config_(config), map_(config.map), localizer_(config.localization) {
   if (config.consistency.enabled)
-    consistency_ = std::make_unique<consistency::ConsistencyService>(config.consistency, config.map);
+    consistency_ =
+        std::make_unique<consistency::ConsistencyService>(config.consistency, config.map);
 }
 
 integrate_reply_t MapService::integrate(const integrate_request_t& request,
@@ -48,12 +50,24 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
   // A retry (same seq) or an old message (lower seq) was applied before: acknowledge only.
   if (robots_.isDuplicate(robot_id, request.seq)) {
     reply.duplicate = true;
+    if (const auto told = corrections_.toldWith(robot_id, request.seq)) {
+      reply.corrected = true;
+      reply.correction = toLcm(*told);
+    }
     return {};
   }
+  // A journal replay keeps the grid it rebuilds (the swap's checkpoint holds a corrected one).
+  if (judge && consistency_) swapInRebuiltGrid();
   if (Status s = admitRobot(request, judge); !s.ok()) return s;
   const LabeledCloud cloud = toCloud(request);
-  const Eigen::Isometry3d pose = fromLcm(request.sensor_pose);
-  if (const std::string why = map_.validate(pose, cloud); !why.empty()) return Status::invalid(why);
+  const Eigen::Isometry3d sent = fromLcm(request.sensor_pose);
+  if (const std::string why = map_.validate(sent, cloud); !why.empty()) return Status::invalid(why);
+  // The pose as the robot sent it, in its first frame (for the pose graph) and in the grid's.
+  const RobotCorrections::Incoming at = corrections_.incoming(robot_id, request.seq, sent);
+  const Eigen::Isometry3d& pose = at.map;
+  if (!at.map.isApprox(sent))
+    if (const std::string why = map_.validate(pose, cloud); !why.empty())
+      return Status::invalid(why);
 
   // Write-ahead: journal first, so an acknowledged Integrate is never lost by a crash.
   if (journal_) {
@@ -73,8 +87,12 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
     }
   }
   const map::IntegrationResult result = map_.integrate(pose, cloud);
-  robots_.recordIntegration(robot_id, request.seq, request.scan_utime, request.sensor_pose);
-  if (consistency_) consistency_->observe(robot_id, request.seq, request.scan_utime, pose, cloud);
+  robots_.recordIntegration(robot_id, request.seq, request.scan_utime, toLcm(pose));
+  if (consistency_) consistency_->observe(robot_id, request.seq, request.scan_utime, at.raw, cloud);
+  if (at.told) {
+    reply.corrected = true;
+    reply.correction = toLcm(*at.told);
+  }
   ++integrations_;
   const auto now = std::chrono::steady_clock::now();
   recent_integrations_.push_back(now);
@@ -85,6 +103,29 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
   reply.voxels_hit = result.voxels_hit;
   reply.voxels_freed = result.voxels_freed;
   return {};
+}
+
+void MapService::restartConsistency() {
+  if (!consistency_) return;
+  consistency::ConsistencyParams params = config_.consistency;
+  params.correct_grid = params.correct_grid && map_.stats().num_voxels == 0;
+  consistency_ = std::make_unique<consistency::ConsistencyService>(params, config_.map);
+}
+
+void MapService::swapInRebuiltGrid() {
+  std::unique_ptr<consistency::RebuiltGrid> grid = consistency_->takeRebuild();
+  if (!grid) return;
+  grid->map.continueVersion(map_.version());
+  map_ = std::move(grid->map);
+  for (const auto& [robot, correction] : grid->corrections) corrections_.offer(robot, correction);
+  ++map_corrections_;
+  if (!journal_) return;
+  try {
+    checkpoint();  // a restart must not replay old-frame scans onto the corrected grid's base
+  } catch (const std::exception& e) {
+    std::cerr << "map_server: warning: no checkpoint of the corrected grid (" << e.what()
+              << "): a restart replays the journal onto the last snapshot, uncorrected\n";
+  }
 }
 
 Status MapService::admitRobot(const integrate_request_t& request, bool judge) {

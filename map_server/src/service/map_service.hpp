@@ -17,6 +17,7 @@
 #include "consistency_service.hpp"
 #include "global_localizer.hpp"
 #include "journal.hpp"
+#include "robot_corrections.hpp"
 #include "robot_registry.hpp"
 #include "service_config.hpp"
 #include "socc/auth/replay_guard.hpp"
@@ -106,6 +107,8 @@ class MapService {
   std::int64_t integrations() const { return integrations_; }
   /// The consistency service (docs/consistency.md); null unless config.consistency.enabled.
   consistency::ConsistencyService* consistency() { return consistency_.get(); }
+  /// Grids rebuilt by the consistency service and swapped in (docs/consistency.md).
+  std::int64_t mapCorrections() const { return map_corrections_; }
 
   // Durability -------------------------------------------------------------------------------
   /// Restores state: snapshot (if given) then replays the journal (if it exists), then starts
@@ -141,11 +144,20 @@ class MapService {
   Status admitRobot(const integrate_request_t& request, bool judge);
   Status runCommand(const map_command_request_t& request, map_command_reply_t& reply);
   double integrationsPerSecond() const;
+  /// Swaps in the consistency service's rebuilt grid, if one is ready: the map version goes on
+  /// from the old grid's (a new epoch: clients' cached chunks are stale), every robot it
+  /// corrects is told with its next INTEGRATE, and the journal restarts after a checkpoint of it.
+  void swapInRebuiltGrid();
+  /// A new consistency service for a new grid (LOAD, CLEAR, a restored snapshot): one that
+  /// did not see the grid's scans estimates but never rebuilds it (it would drop them).
+  void restartConsistency();
 
   ServerConfig config_;
   map::SemanticOccupancyMap map_;
   RobotRegistry robots_;
   std::int64_t integrations_ = 0;  // accepted Integrates ever: the journal sequence
+  RobotCorrections corrections_;   // each robot's frame after map corrections
+  std::int64_t map_corrections_ = 0;
   std::deque<std::chrono::steady_clock::time_point> recent_integrations_;  // rate window
   Durability durability_;
   std::unique_ptr<Journal> journal_;

@@ -31,6 +31,8 @@ Status MapService::runCommand(const map_command_request_t& request, map_command_
     reply.num_voxels = map_.stats().num_voxels;
     map_.clear();
     robots_.clear();
+    corrections_.clear();
+    restartConsistency();
     if (journal_) checkpoint();  // the journal must not replay pre-clear scans
     reply.detail = "map cleared";
     return {};

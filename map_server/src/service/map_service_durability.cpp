@@ -14,6 +14,7 @@ void MapService::saveSnapshot(const std::filesystem::path& file) const {
   metadata.histories = robots_.histories();
   metadata.journal_sequence = integrations_;
   if (replay_guard_ != nullptr) metadata.auth_counters = replay_guard_->counters();
+  metadata.corrections = corrections_.serialize();
   map_.save(file, encodeSnapshotMetadata(metadata));
 }
 
@@ -27,9 +28,14 @@ void MapService::loadSnapshot(const std::filesystem::path& file) {
     throw std::runtime_error(
         file.string() + ": voxel size " + std::to_string(loaded.config().voxel_size) +
         " differs from the server's " + std::to_string(map_.config().voxel_size));
+  RobotCorrections corrections;
+  if (!corrections.parse(metadata->corrections))
+    throw std::runtime_error(file.string() + ": snapshot metadata (robot corrections) is corrupt");
   // Commit only after everything was read and checked: a bad file changes nothing.
   map_ = std::move(loaded);
   robots_.assign(metadata->robots, metadata->histories);
+  corrections_ = std::move(corrections);
+  restartConsistency();
   integrations_ = metadata->journal_sequence;
   if (replay_guard_ != nullptr) replay_guard_->importCounters(metadata->auth_counters);
 }

@@ -40,6 +40,8 @@ std::string validate(const ServerConfig& c) {
   if (!(k.min_loop_travel >= 0.0)) return "consistency.min_loop_travel must be >= 0";
   if (!(k.search_radius >= 0.0)) return "consistency.search_radius must be >= 0";
   if (k.max_pending_scans < 1) return "consistency.max_pending_scans must be >= 1";
+  if (!(k.rebuild_voxel > 0.0)) return "consistency.rebuild_voxel must be > 0";
+  if (!(k.rebuild_min_shift >= 0.0)) return "consistency.rebuild_min_shift must be >= 0";
   if (!(k.max_descriptor_distance >= 0.0 && k.max_descriptor_distance <= 1.0))
     return "consistency.max_descriptor_distance must be in [0, 1]";
   return {};
@@ -79,6 +81,9 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
       {"drift_share", &k.drift_share},
       {"max_descriptor_distance", &k.max_descriptor_distance},
       {"max_pending_scans", &k.max_pending_scans},
+      {"correct_grid", &k.correct_grid},
+      {"rebuild_voxel", &k.rebuild_voxel},
+      {"rebuild_min_shift", &k.rebuild_min_shift},
   };
   localization::SearchParams& search = config.localization.search;
   const YamlFields localization = {

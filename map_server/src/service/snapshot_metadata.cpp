@@ -17,6 +17,7 @@ namespace {
 // decodeStatsWithoutTracking), so older snapshots stay readable.
 constexpr std::string_view kHistoriesTag = "\nSOCC-POSE-HISTORIES v1\n";  // count, then messages
 constexpr std::string_view kCountersTag = "\nSOCC-AUTH-COUNTERS v1\n";
+constexpr std::string_view kCorrectionsTag = "\nSOCC-ROBOT-CORRECTIONS v1\n";
 
 template <typename Message>
 void appendEncoded(std::string& blob, const Message& message) {
@@ -143,6 +144,7 @@ std::string encodeSnapshotMetadata(const SnapshotMetadata& metadata) {
     blob += std::string(kHistoriesTag) + std::to_string(metadata.histories.size()) + "\n";
     for (const pose_history_t& h : metadata.histories) appendEncoded(blob, h);
   }
+  if (!metadata.corrections.empty()) blob += std::string(kCorrectionsTag) + metadata.corrections;
   if (!metadata.auth_counters.empty())
     blob += std::string(kCountersTag) + auth::serializeCounters(metadata.auth_counters);
   return blob;
@@ -156,8 +158,13 @@ std::optional<SnapshotMetadata> decodeSnapshotMetadata(const std::string& blob) 
     end = tag;
     counters_text = blob.substr(tag + kCountersTag.size());
   }
-  std::size_t pos = 0;
   SnapshotMetadata metadata;
+  if (const auto tag = blob.rfind(kCorrectionsTag, end); tag != std::string::npos) {
+    metadata.corrections =
+        blob.substr(tag + kCorrectionsTag.size(), end - tag - kCorrectionsTag.size());
+    end = tag;
+  }
+  std::size_t pos = 0;
   if (const auto message =
           rpc::safeDecodePrefix<map_stats_t>(blob.data(), static_cast<int>(end), &pos)) {
     metadata.robots = message->robots;

@@ -144,6 +144,9 @@ class SemanticOccupancyMap {
 
   MapStats stats() const;
   std::int64_t version() const;  // increases with every change
+  /// Makes this map's version follow `previous` (the version of the map it replaces, e.g. a
+  /// grid rebuilt at corrected poses): version() becomes greater than both.
+  void continueVersion(std::int64_t previous);
   /// Random and non-zero, new with every map instance and clear(): a delta chunk is only valid
   /// against an answer of the same epoch.
   std::int64_t epoch() const;

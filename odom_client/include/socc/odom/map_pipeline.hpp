@@ -15,6 +15,7 @@
 // dropping it loses nothing, the next frame then fetches its chunk itself (the first frame, after a
 // jump).
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <atomic>
 #include <cstdint>
 #include <future>
@@ -65,6 +66,11 @@ class MapPipeline {
   /// (no frame would register against it).
   void close();
 
+  /// The map correction an Integrate reply brought (docs/consistency.md), once: the caller
+  /// applies it to its odometry. Until then every frame integrate() sends is moved by it (it
+  /// was registered in the old frame), and the cached chunks were dropped when it arrived.
+  std::optional<Eigen::Isometry3d> takeCorrection();
+
   /// Chunks fetched twice because the first one predated the previous frame's Integrate.
   std::int64_t refetchedChunks() const { return refetched_chunks_; }
 
@@ -114,6 +120,7 @@ class MapPipeline {
   std::int64_t integrates_ = 0;
   ChunkCache cache_;  // the worker's (delta_chunks)
   std::int64_t refetched_chunks_ = 0;
+  std::optional<Eigen::Isometry3d> correction_;  // received, not taken yet
 };
 
 }  // namespace socc::odom

@@ -68,6 +68,8 @@ class OdomRunner {
   TrackingState trackingState() const { return tracking_.state(); }
   /// Scans localized in the map by relocalization (the first, and each recovery).
   int relocalizations() const { return relocalizations_; }
+  /// Map corrections applied (docs/consistency.md): the pose output jumps at each.
+  int corrections() const { return corrections_; }
 
  private:
   /// One prepared scan through the pipeline; its stats.
@@ -91,7 +93,11 @@ class OdomRunner {
   void giveUp(const PreparedScan& scan, double searched, const std::string& problem);
   /// Judges, records and (when healthy and not lost) integrates one finished frame; ahead: see
   /// MapPipeline::integrate.
-  void submit(FrameEstimate estimate, FrameStats stats, const Eigen::Vector3d& ahead);
+  void submit(Odometry& odometry, FrameEstimate estimate, FrameStats stats,
+              const Eigen::Vector3d& ahead);
+  /// Applies a map correction the pipeline received to the odometry and the last good pose and
+  /// returns it; the next submitted frame's row says how far the pose output jumped.
+  std::optional<Eigen::Isometry3d> applyCorrection(Odometry& odometry);
   void reportTracking(TrackingState state, const FrameEstimate& frame);
   void sendStatus(std::int8_t wire, const std::string& reason, std::int64_t seq,
                   std::int64_t utime);
@@ -112,6 +118,8 @@ class OdomRunner {
   std::optional<PoseHint> hint_;                // for the next search only
   std::optional<Eigen::Isometry3d> last_good_;  // pose of the last integrated frame
   int relocalizations_ = 0;
+  int corrections_ = 0;
+  std::string jump_;  // the last correction, for the next frame's row
 };
 
 }  // namespace socc::odom

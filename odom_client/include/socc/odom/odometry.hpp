@@ -91,6 +91,10 @@ class Odometry {
   /// The held first scan, once the second registration has given its motion (at most once).
   std::optional<FrameEstimate> takeReleasedFrame();
 
+  /// The map was corrected (docs/consistency.md): corrected = correction * pose for every pose
+  /// so far. Moves the state's pose (and a released first frame); the motion (a body twist),
+  /// the period and the threshold stay, so the next registration goes on as if nothing happened.
+  void correct(const Eigen::Isometry3d& correction);
   /// Restarts from pose with zero velocity and the initial threshold (e.g. --resume).
   void reset(const Eigen::Isometry3d& pose);
 
