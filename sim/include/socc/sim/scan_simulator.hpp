@@ -37,7 +37,7 @@ struct ScanOptions {
   const Realism* realism = nullptr;
   /// The sensor instance whose calibration errors (realism beams) the scan carries; unset: seed.
   /// Separate so that one sensor can drive through many worlds (KITTI used one HDL-64).
-  std::optional<std::uint64_t> sensor_seed;
+  std::optional<std::uint64_t> sensor_seed = std::nullopt;
 };
 
 SimulatedScan simulateScan(const Scene& scene, const LidarModel& model, double sweep_start,
