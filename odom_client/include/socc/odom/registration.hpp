@@ -30,6 +30,11 @@ struct RegistrationParams {
   // records its own iterates in RegistrationResult::path when join_distance > 0.
   std::vector<Eigen::Isometry3d> join_path;
   double join_distance = 0.0;
+  // A direction (map frame, unit; zero: none) along which the sensor's position is held at
+  // hold_position: a degenerate registration's weakest direction, where the scan's evidence is
+  // too weak to move the motion model's prediction (docs/robustness.md, "Degenerate frames").
+  Eigen::Vector3d hold_direction = Eigen::Vector3d::Zero();
+  Eigen::Vector3d hold_position = Eigen::Vector3d::Zero();
 };
 
 struct RegistrationResult {
