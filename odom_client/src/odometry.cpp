@@ -187,9 +187,7 @@ FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, 
   RegistrationParams hold = params_;
   hold.hold_direction = out.health.weakest_direction;
   hold.hold_position = (pose_ * expSe3(model_twist * (scan.time() - time_))).translation();
-  FrameEstimate held = estimateWith(scan, map, sigma, model_twist, hold);
-  held.coasted = true;
-  return held;
+  return estimateWith(scan, map, sigma, model_twist, hold);
 }
 
 FrameEstimate Odometry::estimateWith(const PreparedScan& scan, const LocalMap& map, double sigma,

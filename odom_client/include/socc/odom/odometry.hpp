@@ -55,7 +55,6 @@ struct FrameEstimate {
   bool registered = false;  // false: the map was too small (or a given pose), prediction kept
   bool held = false;        // the first scan, waiting for the second (see takeReleasedFrame)
   bool retried = false;     // healthy only at the second attempt (wider threshold)
-  bool coasted = false;     // degenerate: its weakest direction held at the prediction
   double fitness = 0.0;     // registerAt: share of the downsampled scan within 0.5 m of the map
 };
 
