@@ -181,12 +181,15 @@ FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, 
   // the sensor's noise and its calibration errors, a texture that moves with the sensor, pull
   // the pose where they like, and the motion model follows them (a featureless corridor
   // accelerated to 4 m/s in five frames and the robot was declared lost). There the
-  // constant-velocity prediction is the better evidence: the odometry coasts on it, flagged.
+  // constant-velocity prediction enters as evidence worth min_constraint planar pairs, the
+  // least a direction needs not to be degenerate: with a few pairs the odometry coasts on the
+  // prediction, with 30 (a sparse sensor in a turn) the scan still moves it about half way.
   const bool predicted = time_ >= 0.0 && scan.time() > time_ && twist_known_;
   if (!out.health.degenerate || !predicted || !config_.hold_degenerate_direction) return out;
   RegistrationParams hold = params_;
   hold.hold_direction = out.health.weakest_direction;
   hold.hold_position = (pose_ * expSe3(model_twist * (scan.time() - time_))).translation();
+  hold.hold_pairs = config_.min_constraint;
   return estimateWith(scan, map, sigma, model_twist, hold);
 }
 

@@ -165,15 +165,17 @@ struct Step {
 
 // Holds the sensor's position along params.hold_direction: a stiff linear constraint on the step
 // (H, b as in H x = -b). A left increment (rho, phi) moves the position t by rho + phi x t.
-void addHold(const RegistrationParams& params, const Eigen::Isometry3d& pose, Matrix6d& H,
-             Vector6d& b) {
+void addHold(const RegistrationParams& params, const Eigen::Isometry3d& pose, double alpha,
+             Matrix6d& H, Vector6d& b) {
   const Eigen::Vector3d& u = params.hold_direction;
   if (u.squaredNorm() < 0.5) return;
   Vector6d a;
   a.head<3>() = u;
   a.tail<3>() = pose.translation().cross(u);
   const double offset = u.dot(pose.translation() - params.hold_position);
-  const double stiffness = 1e6 * std::max(H.trace(), 1.0);
+  // The planar pairs enter the mixed system scaled by alpha.
+  const double stiffness =
+      params.hold_pairs > 0.0 ? alpha * params.hold_pairs : 1e6 * std::max(H.trace(), 1.0);
   H += stiffness * a * a.transpose();
   b += stiffness * offset * a;
 }
@@ -186,7 +188,7 @@ Step solve(const Systems& sys, double alpha, const Eigen::Isometry3d& pose, cons
   };
   Matrix6d H = mix(sys.planar.H, sys.point.H);
   Vector6d b = mix(sys.planar.b, sys.point.b);
-  addHold(params, pose, H, b);
+  addHold(params, pose, alpha, H, b);
   Step step;
   if (!prior) {
     step.pose = H.ldlt().solve(-b);

@@ -35,6 +35,9 @@ struct RegistrationParams {
   // too weak to move the motion model's prediction (docs/robustness.md, "Degenerate frames").
   Eigen::Vector3d hold_direction = Eigen::Vector3d::Zero();
   Eigen::Vector3d hold_position = Eigen::Vector3d::Zero();
+  // What the hold is worth, in planar pairs of full weight (a prior on the position along the
+  // direction, in the data's units); 0: held exactly.
+  double hold_pairs = 0.0;
 };
 
 struct RegistrationResult {
