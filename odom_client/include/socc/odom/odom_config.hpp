@@ -41,8 +41,9 @@ struct OdomConfig {
   double min_inlier_fraction = 0.2;  // correspondences / registered points
   double max_residual_ratio = 1.0;   // RMS residual / sigma
   double min_constraint = 40.0;  // planar pairs pinning the weakest direction; below: degenerate
-  // A degenerate frame is registered again with its weakest direction held at the motion
-  // model's prediction: the odometry coasts along it instead of sliding on the scan's noise.
+  // A degenerate frame is registered again with the motion model's prediction along its weakest
+  // direction as evidence worth min_constraint planar pairs: the odometry coasts along it
+  // instead of sliding on the scan's noise.
   bool hold_degenerate_direction = true;
   double max_linear_speed = 40.0;           // [m/s]
   double max_angular_speed = 360.0;         // [deg/s]
