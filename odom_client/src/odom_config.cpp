@@ -27,6 +27,7 @@ YamlFields fields(OdomConfig& c) {
       {"min_inlier_fraction", &c.min_inlier_fraction},
       {"max_residual_ratio", &c.max_residual_ratio},
       {"min_constraint", &c.min_constraint},
+      {"hold_degenerate_direction", &c.hold_degenerate_direction},
       {"max_linear_speed", &c.max_linear_speed},
       {"max_angular_speed", &c.max_angular_speed},
       {"max_linear_acceleration", &c.max_linear_acceleration},

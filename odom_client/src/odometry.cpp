@@ -176,6 +176,26 @@ bool Odometry::registrable(const LocalMap& map) const {
 
 FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, double sigma,
                                  const Vector6d& model_twist) {
+  FrameEstimate out = estimateWith(scan, map, sigma, model_twist, params_);
+  // Along a degenerate registration's weakest direction the scan's evidence is a few pairs' worth:
+  // the sensor's noise and its calibration errors, a texture that moves with the sensor, pull
+  // the pose where they like, and the motion model follows them (a featureless corridor
+  // accelerated to 4 m/s in five frames and the robot was declared lost). There the
+  // constant-velocity prediction enters as evidence worth min_constraint planar pairs, the
+  // least a direction needs not to be degenerate: with a few pairs the odometry coasts on the
+  // prediction, with 30 (a sparse sensor in a turn) the scan still moves it about half way.
+  const bool predicted = time_ >= 0.0 && scan.time() > time_ && twist_known_;
+  if (!out.health.degenerate || !predicted || !config_.hold_degenerate_direction) return out;
+  RegistrationParams hold = params_;
+  hold.hold_direction = out.health.weakest_direction;
+  hold.hold_position = (pose_ * expSe3(model_twist * (scan.time() - time_))).translation();
+  hold.hold_pairs = config_.min_constraint;
+  return estimateWith(scan, map, sigma, model_twist, hold);
+}
+
+FrameEstimate Odometry::estimateWith(const PreparedScan& scan, const LocalMap& map, double sigma,
+                                     const Vector6d& model_twist,
+                                     const RegistrationParams& params) {
   FrameEstimate out;
   out.sigma = sigma;
   Eigen::Isometry3d mid = time_ < 0.0 ? pose_ : pose_ * expSe3(model_twist * (scan.time() - time_));
@@ -189,7 +209,7 @@ FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, 
     // The twist measured from the last pose to this one is the prior of the sweep's own.
     std::optional<SweepTwistPrior> prior;
     if (anchored && scan.cloud.hasTimes()) prior = sweepPrior(twist, twistTo(mid, scan.time()));
-    const Sweep s = registerSweep(scan, map, mid, twist, sigma, prior ? &*prior : nullptr);
+    const Sweep s = registerSweep(scan, map, mid, twist, sigma, prior ? &*prior : nullptr, &params);
     out.registration = s.registration;
     out.registered_points = s.points();
     out.deskew_passes = pass + 1;
@@ -221,7 +241,9 @@ std::optional<SweepTwistPrior> Odometry::sweepPrior(const Vector6d& deskew_twist
 
 Odometry::Sweep Odometry::registerSweep(const PreparedScan& scan, const LocalMap& map,
                                         const Eigen::Isometry3d& guess, const Vector6d& twist,
-                                        double sigma, const SweepTwistPrior* prior) {
+                                        double sigma, const SweepTwistPrior* prior,
+                                        const RegistrationParams* given) {
+  const RegistrationParams& params = given ? *given : params_;
   Sweep out;
   const SweepMotion motion(scan.cloud, twist, scan.mid_time);
   out.cloud = downsample(scan.cloud, &motion);
@@ -239,11 +261,11 @@ Odometry::Sweep Odometry::registerSweep(const PreparedScan& scan, const LocalMap
   const bool refine = !threshold_.calibrated() && config_.refine_threshold > 0.0;
   const auto last = [&](double s) { return !refine || s / 2.0 < config_.refine_threshold; };
   out.registration =
-      registerScan(down, map, guess, sigma, params_, last(sigma) ? prior : nullptr, normals);
+      registerScan(down, map, guess, sigma, params, last(sigma) ? prior : nullptr, normals);
   if (!refine) return out;
   for (double s = sigma / 2.0; s >= config_.refine_threshold; s /= 2.0) {
     const int iterations = out.registration.iterations;
-    out.registration = registerScan(down, map, out.registration.pose, s, params_,
+    out.registration = registerScan(down, map, out.registration.pose, s, params,
                                     last(s) ? prior : nullptr, normals);
     out.registration.iterations += iterations;
   }

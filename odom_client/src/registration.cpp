@@ -163,14 +163,32 @@ struct Step {
   Vector6d twist = Vector6d::Zero();
 };
 
+// Holds the sensor's position along params.hold_direction: a stiff linear constraint on the step
+// (H, b as in H x = -b). A left increment (rho, phi) moves the position t by rho + phi x t.
+void addHold(const RegistrationParams& params, const Eigen::Isometry3d& pose, double alpha,
+             Matrix6d& H, Vector6d& b) {
+  const Eigen::Vector3d& u = params.hold_direction;
+  if (u.squaredNorm() < 0.5) return;
+  Vector6d a;
+  a.head<3>() = u;
+  a.tail<3>() = pose.translation().cross(u);
+  const double offset = u.dot(pose.translation() - params.hold_position);
+  // The planar pairs enter the mixed system scaled by alpha.
+  const double stiffness =
+      params.hold_pairs > 0.0 ? alpha * params.hold_pairs : 1e6 * std::max(H.trace(), 1.0);
+  H += stiffness * a * a.transpose();
+  b += stiffness * offset * a;
+}
+
 Step solve(const Systems& sys, double alpha, const Eigen::Isometry3d& pose, const Vector6d& c,
-           const SweepTwistPrior* prior) {
+           const SweepTwistPrior* prior, const RegistrationParams& params) {
   const auto mix = [alpha](const auto& planar, const auto& point) {
     using T = std::decay_t<decltype(planar)>;
     return T(alpha * planar + (1.0 - alpha) * point);
   };
-  const Matrix6d H = mix(sys.planar.H, sys.point.H);
-  const Vector6d b = mix(sys.planar.b, sys.point.b);
+  Matrix6d H = mix(sys.planar.H, sys.point.H);
+  Vector6d b = mix(sys.planar.b, sys.point.b);
+  addHold(params, pose, alpha, H, b);
   Step step;
   if (!prior) {
     step.pose = H.ldlt().solve(-b);
@@ -301,7 +319,7 @@ RegistrationResult registerScan(const LabeledCloud& scan, const LocalMap& map,
         std::sqrt((sys.planar.squared_residuals + sys.point.squared_residuals) / total);
     result.information = result.alpha * sys.planar.H + (1.0 - result.alpha) * sys.point.H;
     result.planar_information = sys.planar.H;
-    const Step step = solve(sys, result.alpha, pose, result.twist_correction, twist_prior);
+    const Step step = solve(sys, result.alpha, pose, result.twist_correction, twist_prior, params);
     if (!step.pose.allFinite() || !step.twist.allFinite()) break;
     result.pose = applyIncrement(step.pose, result.pose);
     result.twist_correction += step.twist;

@@ -13,16 +13,18 @@
 #include "socc/odom/odometry.hpp"
 #include "socc/odom/tracking_state.hpp"
 #include "socc/sim/lidar_model.hpp"
+#include "socc/sim/realism.hpp"
 #include "socc/sim/scan_simulator.hpp"
 #include "socc/sim/scene.hpp"
 
 namespace socc::odom::harness {
 
+// realism: the sensor's error models (sim/README.md "Realism"); none: the exact scan.
 inline socc::LabeledCloud simulated(const socc::sim::Scene& scene,
-                                    const socc::sim::LidarModel& lidar, int frame,
-                                    bool distortion) {
+                                    const socc::sim::LidarModel& lidar, int frame, bool distortion,
+                                    const socc::sim::Realism* realism = nullptr) {
   const socc::sim::SimulatedScan s =
-      socc::sim::simulateScan(scene, lidar, 0.1 * frame, frame, {distortion, 7});
+      socc::sim::simulateScan(scene, lidar, 0.1 * frame, frame, {distortion, 7, realism});
   socc::LabeledCloud c;
   c.points = s.points;
   if (distortion) c.times = s.times;  // taken at one instant otherwise: nothing to deskew
@@ -49,6 +51,7 @@ struct ClosedLoop {
   TrackingMonitor tracking{cfg.max_unhealthy_frames};
   std::vector<Eigen::Isometry3d> poses;
   int integrated = 0;
+  int degenerate = 0;  // frames flagged degenerate
 
   explicit ClosedLoop(const Eigen::Isometry3d& start, const OdomConfig& config = {})
       : cfg(config), odom(cfg, start, true) {}
@@ -62,6 +65,7 @@ struct ClosedLoop {
   }
   void submit(const FrameEstimate& e) {
     poses.push_back(e.pose);
+    if (e.health.degenerate) ++degenerate;
     if (!e.health.healthy())
       std::printf("frame %lld unhealthy: %s\n", static_cast<long long>(e.seq),
                   e.health.problem.c_str());

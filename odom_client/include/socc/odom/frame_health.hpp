@@ -18,7 +18,7 @@ struct FrameHealth {
   double inlier_fraction = 1.0;  // correspondences / registered points
   double residual_ratio = 0.0;   // RMS residual / sigma
   // Planar correspondences (weighted) that constrain the least constrained direction of
-  // translation, and that direction (sensor frame). Point-to-point pairs do not count: a pair
+  // translation, and that direction (map frame). Point-to-point pairs do not count: a pair
   // with a voxel's first point seems to pin every direction, also along a featureless wall.
   double weakest_constraint = 0.0;
   Eigen::Vector3d weakest_direction = Eigen::Vector3d::Zero();

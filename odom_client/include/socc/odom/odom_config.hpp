@@ -40,8 +40,12 @@ struct OdomConfig {
   // kinematic limits only mark a surprise (frame_health.hpp).
   double min_inlier_fraction = 0.2;  // correspondences / registered points
   double max_residual_ratio = 1.0;   // RMS residual / sigma
-  double min_constraint = 40.0;    // planar pairs pinning the weakest direction; below: degenerate
-  double max_linear_speed = 40.0;  // [m/s]
+  double min_constraint = 40.0;  // planar pairs pinning the weakest direction; below: degenerate
+  // A degenerate frame is registered again with the motion model's prediction along its weakest
+  // direction as evidence worth min_constraint planar pairs: the odometry coasts along it
+  // instead of sliding on the scan's noise.
+  bool hold_degenerate_direction = true;
+  double max_linear_speed = 40.0;           // [m/s]
   double max_angular_speed = 360.0;         // [deg/s]
   double max_linear_acceleration = 20.0;    // [m/s^2]
   double max_angular_acceleration = 720.0;  // [deg/s^2]

@@ -106,8 +106,10 @@ class Odometry {
 
  private:
   struct Sweep;  // one deskew + registration pass's result
+  // params: params_ when none.
   Sweep registerSweep(const PreparedScan& scan, const LocalMap& map, const Eigen::Isometry3d& guess,
-                      const Vector6d& twist, double sigma, const SweepTwistPrior* prior = nullptr);
+                      const Vector6d& twist, double sigma, const SweepTwistPrior* prior = nullptr,
+                      const RegistrationParams* params = nullptr);
   // The continuous-time registration's prior for a sweep deskewed with deskew_twist (none when
   // sweep_twist_sigma_* are 0).
   std::optional<SweepTwistPrior> sweepPrior(const Vector6d& deskew_twist,
@@ -118,9 +120,12 @@ class Odometry {
   Eigen::Isometry3d searchFirstMotion(const PreparedScan& scan, const LocalMap& map,
                                       const Eigen::Isometry3d& from, double dt, double sigma);
   // Registers from the constant-velocity prediction with model_twist (twist_, or zero: the robot
-  // stood still).
+  // stood still); a degenerate result again with its weakest direction held at the prediction.
   FrameEstimate estimate(const PreparedScan& scan, const LocalMap& map, double sigma,
                          const Vector6d& model_twist);
+  // One registration (with its deskew passes) from that prediction, with params.
+  FrameEstimate estimateWith(const PreparedScan& scan, const LocalMap& map, double sigma,
+                             const Vector6d& model_twist, const RegistrationParams& params);
   // The registration of a scan with the model's fallbacks: a wider threshold, and after a time
   // gap the robot standing still.
   FrameEstimate estimateWithRetries(const PreparedScan& scan, const LocalMap& map);

@@ -30,6 +30,15 @@ struct RegistrationParams {
   // records its own iterates in RegistrationResult::path when join_distance > 0.
   std::vector<Eigen::Isometry3d> join_path;
   double join_distance = 0.0;
+  // A direction (map frame, unit; zero: none) along which the sensor's position is held towards
+  // hold_position: a degenerate registration's weakest direction, where the scan's evidence is
+  // too weak to outweigh the motion model's prediction (docs/robustness.md, "Degenerate frames
+  // coast").
+  Eigen::Vector3d hold_direction = Eigen::Vector3d::Zero();
+  Eigen::Vector3d hold_position = Eigen::Vector3d::Zero();
+  // What the hold is worth, in planar pairs of full weight (a prior on the position along the
+  // direction, in the data's units); 0: held exactly.
+  double hold_pairs = 0.0;
 };
 
 struct RegistrationResult {
