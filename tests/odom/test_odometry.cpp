@@ -130,6 +130,17 @@ PreparedScan prepared(const socc::LabeledCloud& scan) {  // fixed voxel size
   p.cloud = scan;
   return p;
 }
+
+// Frame k of a simulated scene (exact scan, 10 Hz), with its labels mapped when asked.
+socc::LabeledCloud simulatedFrame(const socc::sim::Scene& scene, const socc::sim::LidarModel& lidar,
+                                  int k, bool labels) {
+  const socc::sim::SimulatedScan s = socc::sim::simulateScan(scene, lidar, 0.1 * k, k, {});
+  socc::LabeledCloud c;
+  c.points = s.points;
+  if (labels)
+    for (const std::uint32_t raw : s.labels) c.labels.push_back(socc::mapSemanticKittiLabel(raw));
+  return c;
+}
 }  // namespace
 
 TEST(Odometry, AGivenInitialPoseIsKeptForTheFirstScanUnlessRefinementIsAsked) {
@@ -163,13 +174,7 @@ TEST(Odometry, CoarseToFineRefinesFramesRegisteredAtTheInitialThreshold) {
   options.frames = 2;
   const socc::sim::Scene scene = socc::sim::buildScene(options);
   const socc::sim::LidarModel lidar = socc::sim::lidarPreset("hdl64");
-  const auto scan = [&](int k) {
-    const socc::sim::SimulatedScan s = socc::sim::simulateScan(scene, lidar, 0.1 * k, k, {});
-    socc::LabeledCloud c;
-    c.points = s.points;
-    for (const std::uint32_t raw : s.labels) c.labels.push_back(socc::mapSemanticKittiLabel(raw));
-    return c;
-  };
+  const auto scan = [&](int k) { return simulatedFrame(scene, lidar, k, true); };
   const Eigen::Isometry3d gt0 = scene.trajectory.poseAt(0.0);
   const Eigen::Isometry3d gt1 = scene.trajectory.poseAt(0.1);
   const auto secondFrameError = [&](const OdomConfig& cfg) {
@@ -263,12 +268,7 @@ TEST(Odometry, AMapCorrectionMovesThePoseAndKeepsTheMotion) {
   options.frames = 8;
   const socc::sim::Scene scene = socc::sim::buildScene(options);
   const socc::sim::LidarModel lidar = socc::sim::lidarPreset("vlp32");
-  const auto scan = [&](int k) {
-    const socc::sim::SimulatedScan s = socc::sim::simulateScan(scene, lidar, 0.1 * k, k, {});
-    socc::LabeledCloud c;
-    c.points = s.points;
-    return c;
-  };
+  const auto scan = [&](int k) { return simulatedFrame(scene, lidar, k, false); };
   const Eigen::Isometry3d correction =
       Eigen::Translation3d(2.0, -1.0, 0.0) * Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ());
   socc::LabeledCloud world, moved;
