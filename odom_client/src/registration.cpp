@@ -163,19 +163,19 @@ struct Step {
   Vector6d twist = Vector6d::Zero();
 };
 
-// Holds the sensor's position along params.hold_direction: a stiff linear constraint on the step
-// (H, b as in H x = -b). A left increment (rho, phi) moves the position t by rho + phi x t.
+// Holds the sensor's position along params.hold_direction: a linear constraint on the step worth
+// hold_pairs planar pairs (H, b as in H x = -b). A left increment (rho, phi) moves the position t
+// by rho + phi x t.
 void addHold(const RegistrationParams& params, const Eigen::Isometry3d& pose, double alpha,
              Matrix6d& H, Vector6d& b) {
   const Eigen::Vector3d& u = params.hold_direction;
-  if (u.squaredNorm() < 0.5) return;
+  if (u.squaredNorm() < 0.5 || params.hold_pairs <= 0.0) return;
   Vector6d a;
   a.head<3>() = u;
   a.tail<3>() = pose.translation().cross(u);
   const double offset = u.dot(pose.translation() - params.hold_position);
   // The planar pairs enter the mixed system scaled by alpha.
-  const double stiffness =
-      params.hold_pairs > 0.0 ? alpha * params.hold_pairs : 1e6 * std::max(H.trace(), 1.0);
+  const double stiffness = alpha * params.hold_pairs;
   H += stiffness * a * a.transpose();
   b += stiffness * offset * a;
 }

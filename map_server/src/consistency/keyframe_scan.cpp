@@ -24,14 +24,11 @@ LabeledCloud KeyframeScan::cloud() const {
 KeyframeScan compactScan(const LabeledCloud& cloud, double voxel) {
   std::array<double, kNumClasses> every_class;
   every_class.fill(1.0);  // every class at the same grid: the map keeps them all
-  LabeledCloud points;
-  points.points = cloud.points;
-  points.labels = cloud.labels;  // times play no part in the map
-  const LabeledCloud down = odom::semanticVoxelDownsample(points, voxel, every_class);
+  // Every voxel gets a label (unlabeled when the cloud has none); times are not kept.
+  const LabeledCloud down = odom::semanticVoxelDownsample(cloud, voxel, every_class);
   KeyframeScan out;
   out.resolution = wire::quantizePoints(down.points, out.xyz);
   out.labels = down.labels;
-  if (out.labels.size() != down.points.size()) out.labels.assign(down.points.size(), 0);
   return out;
 }
 

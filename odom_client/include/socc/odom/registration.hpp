@@ -37,7 +37,7 @@ struct RegistrationParams {
   Eigen::Vector3d hold_direction = Eigen::Vector3d::Zero();
   Eigen::Vector3d hold_position = Eigen::Vector3d::Zero();
   // What the hold is worth, in planar pairs of full weight (a prior on the position along the
-  // direction, in the data's units); 0: held exactly.
+  // direction, in the data's units); 0: no hold.
   double hold_pairs = 0.0;
 };
 
