@@ -44,8 +44,12 @@ void writePose(std::ostream& out, const Eigen::Isometry3d& pose) {
 
 ConsistencyService::ConsistencyService(const ConsistencyParams& params,
                                        const map::MapConfig& map_config,
-                                       const odom::OdomConfig& odom_config)
+                                       const odom::OdomConfig& odom_config,
+                                       std::unique_ptr<KeyframeStore> store,
+                                       const StoreContents* restored, int grid_serial)
     : params_(params), map_config_(map_config), odom_config_(odom_config) {
+  if (restored != nullptr) restore(*restored, grid_serial);
+  store_ = std::move(store);  // after restore: nothing restored is written again
   worker_ = std::thread([this] { run(); });
 }
 
@@ -67,6 +71,7 @@ void ConsistencyService::observe(const std::string& robot, std::int64_t seq, std
     track.index = static_cast<int>(robot_names_.size());
     robot_names_.push_back(robot);
   }
+  if (seq <= track.restored_seq) return;  // a journal replay of what the store holds
   if (track.last_pose)
     track.travelled += (pose.translation() - track.last_pose->translation()).norm();
   track.last_pose = pose;
@@ -105,6 +110,16 @@ void ConsistencyService::flush() {
 }
 
 void ConsistencyService::run() {
+  if (resume_rebuild_) {  // a correction the restart interrupted (busy_ set by restore)
+    try {
+      maybeRebuild();
+    } catch (const std::exception&) {
+      // As a failed keyframe: the grid stays as it is until the next closure.
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    busy_ = false;
+  }
+  idle_.notify_all();
   for (;;) {
     Pending next;
     {
@@ -141,6 +156,8 @@ void ConsistencyService::process(Pending pending) {
   int query = 0;
   double travelled = 0.0;
   double next_attempt = 0.0;
+  const std::size_t first_edge = graph_.edges().size();
+  const std::size_t first_prior = graph_.priors().size();
   {
     std::lock_guard<std::mutex> lock(mutex_);
     RobotTrack& track = robots_.at(pending.robot);
@@ -158,6 +175,7 @@ void ConsistencyService::process(Pending pending) {
     travelled = keyframes_.back().travelled;
     next_attempt = track.next_attempt_travel;
   }
+  storeKeyframe(pending.robot, first_edge, first_prior);
   // Only this thread changes keyframes_ and estimates_: reading them unlocked is safe here.
   if (!matchable || travelled < next_attempt) return;
   const std::vector<Candidate> candidates = findCandidates(keyframes_, query, estimates_, params_);
@@ -199,6 +217,7 @@ void ConsistencyService::process(Pending pending) {
       stats_.max_correction_s,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - pending.arrived).count());
   lock.unlock();
+  storeClosure(*closure, edge);
   if (params_.correct_grid) maybeRebuild();
 }
 
@@ -219,6 +238,7 @@ void ConsistencyService::rebuild(double max_shift) {
   grid->max_shift = max_shift;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    grid->serial = stats_.rebuilds + 1;
     // The keyframes not processed yet are the tail's first entries; later ones join in observe.
     ready_.reset();  // superseded: never swapped in, no robot was told its correction
     tail_.clear();
@@ -253,6 +273,7 @@ void ConsistencyService::rebuild(double max_shift) {
     tail_done_ += more.size();
   }
   grid->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  storeRebuild(*grid);  // before it can be taken: a checkpoint's mark names a stored rebuild
   std::lock_guard<std::mutex> lock(mutex_);
   applied_ = grid->corrections;
   ++stats_.rebuilds;
@@ -277,6 +298,7 @@ std::unique_ptr<RebuiltGrid> ConsistencyService::takeRebuild() {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!ready_) return nullptr;
     grid = std::move(ready_);
+    grid_serial_ = grid->serial;
     rest.assign(tail_.begin() + static_cast<std::ptrdiff_t>(tail_done_), tail_.end());
     tail_.clear();
     tail_done_ = 0;

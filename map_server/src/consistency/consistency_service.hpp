@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <deque>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -25,6 +26,7 @@
 #include "consistency_params.hpp"
 #include "grid_rebuild.hpp"
 #include "keyframe.hpp"
+#include "keyframe_store.hpp"
 #include "place_recognition.hpp"
 #include "pose_graph.hpp"
 #include "socc/map/map_config.hpp"
@@ -52,8 +54,13 @@ struct ConsistencyStats {
 
 class ConsistencyService {
  public:
+  /// store: where every keyframe, closure and rebuild is recorded (null: nowhere). restored:
+  /// the state to start from (a store's contents read back), with grid_serial the rebuild whose
+  /// grid the map holds (0: none); docs/consistency.md, "Durability".
   ConsistencyService(const ConsistencyParams& params, const map::MapConfig& map_config,
-                     const odom::OdomConfig& odom_config = {});
+                     const odom::OdomConfig& odom_config = {},
+                     std::unique_ptr<KeyframeStore> store = nullptr,
+                     const StoreContents* restored = nullptr, int grid_serial = 0);
   ~ConsistencyService();
   ConsistencyService(const ConsistencyService&) = delete;
   ConsistencyService& operator=(const ConsistencyService&) = delete;
@@ -74,6 +81,10 @@ class ConsistencyService {
   /// while it was built integrated into it (on the caller's thread: a few at most); null when
   /// none is ready. The caller swaps it in and tells each robot its correction.
   std::unique_ptr<RebuiltGrid> takeRebuild();
+
+  /// Records in the store that the map's snapshot at (journal_sequence, map_version) holds
+  /// every keyframe observed so far and the last grid taken (call before writing it).
+  void checkpoint(std::int64_t journal_sequence, std::int64_t map_version);
 
   ConsistencyStats stats() const;
   std::vector<Closure> closures() const;
@@ -106,6 +117,9 @@ class ConsistencyService {
     double next_attempt_travel = 0.0;  // closure_spacing after the last closure
     std::vector<int> keyframe_ids;     // filled by the worker
     std::vector<std::int64_t> keyframe_seqs;
+    // Restored from the store: integrations up to this seq are in it (a journal replay shows
+    // them again).
+    std::int64_t restored_seq = std::numeric_limits<std::int64_t>::min();
   };
 
   void run();
@@ -121,6 +135,14 @@ class ConsistencyService {
   };
   /// tail's scans into grid at their robots' corrections (compacted as keyframes are).
   void integrateTail(RebuiltGrid& grid, const std::vector<TailScan>& tail) const;
+  // Durability (consistency_restore.cpp): writing the store, and starting from its contents.
+  void storeKeyframe(const std::string& robot, std::size_t first_edge, std::size_t first_prior);
+  void storeClosure(const Closure& closure, const PoseEdge& edge);
+  void storeRebuild(const RebuiltGrid& grid);
+  void restore(const StoreContents& contents, int grid_serial);
+  void restoreKeyframe(const StoredKeyframe& stored);
+  void restoreClosure(const StoredClosure& stored);
+  void restoreGridPoses(const StoreContents& contents, int grid_serial);
 
   ConsistencyParams params_;
   map::MapConfig map_config_;
@@ -147,6 +169,9 @@ class ConsistencyService {
   std::size_t tail_done_ = 0;  // tail_ entries the worker already integrated into ready_
   std::unique_ptr<RebuiltGrid> ready_;
   std::map<std::string, Eigen::Isometry3d> applied_;  // robot: raw -> grid of the last rebuild
+  int grid_serial_ = 0;                   // the rebuild whose grid was last taken (0: none)
+  std::unique_ptr<KeyframeStore> store_;  // null: not durable
+  bool resume_rebuild_ = false;  // restored: the worker first rebuilds if the grid is behind
 
   std::thread worker_;  // last: started after everything it uses
 };

@@ -28,6 +28,7 @@ struct RebuiltGrid {
   };
   /// Tail keyframes the worker processed after the rebuild was ready: integrated at the swap.
   std::vector<Tail> tail;
+  int serial = 0;          // the service's rebuilds counted from 1 (its store's record)
   int keyframes = 0;       // scans integrated by the worker
   double seconds = 0.0;    // the worker's time for them
   double max_shift = 0.0;  // [m] the largest keyframe move that asked for it

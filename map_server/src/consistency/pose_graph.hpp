@@ -59,6 +59,7 @@ class PoseGraph {
     poses_.at(static_cast<std::size_t>(node)) = pose;
   }
   const std::vector<PoseEdge>& edges() const { return edges_; }
+  const std::vector<PosePrior>& priors() const { return priors_; }
 
   /// Adds edge when the graph optimized with it costs at most max_chi2 (sum of squared
   /// Mahalanobis errors) more than without it; then the poses are the optimized ones. Otherwise

@@ -108,8 +108,11 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
 void MapService::restartConsistency() {
   if (!consistency_) return;
   consistency::ConsistencyParams params = config_.consistency;
-  params.correct_grid = params.correct_grid && map_.stats().num_voxels == 0;
-  consistency_ = std::make_unique<consistency::ConsistencyService>(params, config_.map);
+  const bool foreign = map_.stats().num_voxels != 0;
+  params.correct_grid = params.correct_grid && !foreign;
+  consistency_.reset();  // its worker stops writing before the store is replaced
+  consistency_ = std::make_unique<consistency::ConsistencyService>(
+      params, config_.map, odom::OdomConfig{}, newConsistencyStore(foreign));
 }
 
 void MapService::swapInRebuiltGrid() {

@@ -148,9 +148,16 @@ class MapService {
   /// from the old grid's (a new epoch: clients' cached chunks are stale), every robot it
   /// corrects is told with its next INTEGRATE, and the journal restarts after a checkpoint of it.
   void swapInRebuiltGrid();
-  /// A new consistency service for a new grid (LOAD, CLEAR, a restored snapshot): one that
-  /// did not see the grid's scans estimates but never rebuilds it (it would drop them).
+  /// A new consistency service for a new grid (LOAD, CLEAR, a restored snapshot) with a new
+  /// store: one that did not see the grid's scans estimates but never rebuilds it (it would
+  /// drop them).
   void restartConsistency();
+  // map_service_consistency.cpp: the consistency service's store beside the snapshot.
+  /// After a restart from the snapshot file: the service as its store left it, when the store
+  /// covers the snapshot; else restartConsistency() with the reason on stderr.
+  void resumeConsistency();
+  std::unique_ptr<consistency::KeyframeStore> newConsistencyStore(bool foreign_base) const;
+  std::optional<std::filesystem::path> consistencyStoreFile() const;
 
   ServerConfig config_;
   map::SemanticOccupancyMap map_;

@@ -71,13 +71,23 @@ void MapService::openDurability(const Durability& durability,
                                 const std::optional<std::filesystem::path>& restore_snapshot) {
   if (durability.journal_file && !durability.snapshot_file)
     throw std::runtime_error("a journal needs a snapshot file to checkpoint into");
+  durability_ = Durability{};  // no consistency store is touched before it is read
   if (restore_snapshot) loadSnapshot(*restore_snapshot);
+  durability_ = durability;
+  // The consistency store beside the snapshot file goes with that file only.
+  std::error_code ec;
+  if (restore_snapshot && durability.snapshot_file &&
+      std::filesystem::weakly_canonical(*restore_snapshot, ec) ==
+          std::filesystem::weakly_canonical(*durability.snapshot_file, ec))
+    resumeConsistency();
+  else
+    restartConsistency();
   if (durability.journal_file && std::filesystem::exists(*durability.journal_file))
     replayJournal(Journal::read(*durability.journal_file), durability.show_progress);
-  durability_ = durability;
   if (durability_.journal_file) {
     // Checkpoint right away: the snapshot now holds the replayed state and the journal starts
     // clean (also dropping a torn last event left by the crash).
+    if (consistency_) consistency_->checkpoint(integrations_, map_.version());
     saveSnapshot(*durability_.snapshot_file);
     journal_ = std::make_unique<Journal>(*durability_.journal_file, integrations_,
                                          durability_.journal_sync);
@@ -86,6 +96,8 @@ void MapService::openDurability(const Durability& durability,
 
 std::int64_t MapService::checkpoint() {
   if (!durability_.snapshot_file) return 0;
+  // The consistency store's mark first: a snapshot on disk always has one.
+  if (consistency_) consistency_->checkpoint(integrations_, map_.version());
   saveSnapshot(*durability_.snapshot_file);
   // Only after the snapshot is safely renamed into place may the journal forget its entries.
   if (journal_) journal_->restart(integrations_);

@@ -1,0 +1,166 @@
+// The consistency service's durability (docs/consistency.md, "Durability"): every keyframe,
+// accepted closure and rebuild goes to the store as the worker makes it, and a service started
+// from the store's contents holds the same keyframes, graph and grid poses as the one that
+// wrote it.
+#include "consistency_restore.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "consistency_service.hpp"
+
+namespace socc::consistency {
+
+const StoredCheckpoint* coveringMark(const StoreContents& contents, std::int64_t journal_sequence,
+                                     std::int64_t map_version, std::string& problem) {
+  const auto mark = std::find_if(
+      contents.checkpoints.rbegin(), contents.checkpoints.rend(), [&](const StoredCheckpoint& c) {
+        return c.journal_sequence == journal_sequence && c.map_version == map_version;
+      });
+  if (mark == contents.checkpoints.rend()) {
+    problem = "it has no mark of the snapshot at journal sequence " +
+              std::to_string(journal_sequence) + ", map version " + std::to_string(map_version);
+    return nullptr;
+  }
+  if (static_cast<std::int64_t>(contents.keyframes.size()) < mark->observed) {
+    problem = "it holds " + std::to_string(contents.keyframes.size()) + " of the " +
+              std::to_string(mark->observed) + " keyframes in the snapshot";
+    return nullptr;
+  }
+  const bool rebuilt =
+      std::any_of(contents.rebuilds.begin(), contents.rebuilds.end(),
+                  [&](const StoredRebuild& r) { return r.serial == mark->grid_serial; });
+  if (mark->grid_serial > 0 && !rebuilt) {
+    problem = "it lacks rebuild " + std::to_string(mark->grid_serial) + ", the snapshot's grid";
+    return nullptr;
+  }
+  return &*mark;
+}
+
+void ConsistencyService::checkpoint(std::int64_t journal_sequence, std::int64_t map_version) {
+  if (!store_) return;
+  StoredCheckpoint mark;
+  mark.journal_sequence = journal_sequence;
+  mark.map_version = map_version;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& [name, track] : robots_) mark.observed += track.keyframes;
+    mark.grid_serial = grid_serial_;
+  }
+  store_->add(RecordType::kCheckpoint, encodeCheckpoint(mark));
+}
+
+void ConsistencyService::storeKeyframe(const std::string& robot, std::size_t first_edge,
+                                       std::size_t first_prior) {
+  if (!store_) return;
+  // Only the worker changes keyframes_, estimates_ and graph_: read unlocked.
+  StoredKeyframe record;
+  record.robot = robot;
+  record.keyframe = keyframes_.back();
+  record.keyframe.descriptor = ScanContext();  // recomputed from the points
+  record.estimate = estimates_.back();
+  const std::vector<PoseEdge>& edges = graph_.edges();
+  record.edges.assign(edges.begin() + static_cast<std::ptrdiff_t>(first_edge), edges.end());
+  const std::vector<PosePrior>& priors = graph_.priors();
+  record.priors.assign(priors.begin() + static_cast<std::ptrdiff_t>(first_prior), priors.end());
+  store_->add(RecordType::kKeyframe, encodeKeyframe(record));
+}
+
+void ConsistencyService::storeClosure(const Closure& closure, const PoseEdge& edge) {
+  if (store_) store_->add(RecordType::kClosure, encodeClosure({closure, edge}));
+}
+
+void ConsistencyService::storeRebuild(const RebuiltGrid& grid) {
+  if (!store_) return;
+  StoredRebuild record;
+  record.serial = grid.serial;
+  for (const Keyframe& k : keyframes_) record.poses.push_back(k.grid_pose);
+  record.corrections = grid.corrections;
+  store_->add(RecordType::kRebuild, encodeRebuild(record));
+}
+
+void ConsistencyService::restore(const StoreContents& contents, int grid_serial) {
+  for (const StoredKeyframe& k : contents.keyframes) restoreKeyframe(k);
+  for (const StoredClosure& c : contents.closures) restoreClosure(c);
+  // The graph with every closure: what the last optimization before the restart gave (the
+  // nodes after the last closure continue from it by their odometry, as they were added).
+  if (!closures_.empty()) graph_.optimize();
+  for (std::size_t i = 0; i < graph_.size(); ++i) estimates_[i] = graph_.pose(static_cast<int>(i));
+  restoreGridPoses(contents, grid_serial);
+  stats_.recognition.verified = static_cast<int>(closures_.size());
+  resume_rebuild_ = params_.correct_grid && !closures_.empty();
+  busy_ = resume_rebuild_;
+}
+
+void ConsistencyService::restoreKeyframe(const StoredKeyframe& stored) {
+  Keyframe kf = stored.keyframe;
+  const int id = static_cast<int>(keyframes_.size());
+  auto [it, added] = robots_.try_emplace(stored.robot);
+  RobotTrack& track = it->second;
+  if (added) {
+    track.index = static_cast<int>(robot_names_.size());
+    robot_names_.push_back(stored.robot);
+  }
+  if (kf.id != id || kf.robot != track.index || kf.robot_kf < track.keyframes)
+    throw std::runtime_error("keyframe record " + std::to_string(id) + " is out of order");
+  for (const PoseEdge& e : stored.edges)
+    if (e.to != id || e.from < 0 || e.from >= id)
+      throw std::runtime_error("keyframe record " + std::to_string(id) + " has a bad edge");
+  for (const PosePrior& p : stored.priors)
+    if (p.node != id)
+      throw std::runtime_error("keyframe record " + std::to_string(id) + " has a bad prior");
+  if (!kf.points.empty()) kf.descriptor = ScanContext(kf.points, params_.descriptor);
+  graph_.addNode(stored.estimate);
+  for (const PoseEdge& e : stored.edges) graph_.addEdge(e);
+  for (const PosePrior& p : stored.priors) graph_.addPrior(p);
+  estimates_.push_back(stored.estimate);
+  track.last_keyframe_pose = kf.odom_pose;
+  track.last_pose = kf.odom_pose;
+  track.travelled = kf.travelled;
+  track.keyframes = kf.robot_kf + 1;
+  track.keyframe_ids.push_back(id);
+  track.keyframe_seqs.push_back(kf.seq);
+  track.restored_seq = kf.seq;
+  keyframes_.push_back(std::move(kf));
+  stats_.keyframe_bytes += keyframes_.back().bytes();
+  stats_.scan_bytes += keyframes_.back().scan.bytes();
+}
+
+void ConsistencyService::restoreClosure(const StoredClosure& stored) {
+  const Closure& c = stored.closure;
+  const int n = static_cast<int>(keyframes_.size());
+  if (c.from < 0 || c.from >= n || c.to < 0 || c.to >= n || stored.edge.from != c.from ||
+      stored.edge.to != c.to)
+    throw std::runtime_error("closure record " + std::to_string(closures_.size()) +
+                             " names keyframes the store does not hold");
+  graph_.addEdge(stored.edge);
+  closures_.push_back(c);
+  const Keyframe& query = keyframes_[static_cast<std::size_t>(c.to)];
+  RobotTrack& track = robots_.at(robot_names_[static_cast<std::size_t>(query.robot)]);
+  track.next_attempt_travel =
+      std::max(track.next_attempt_travel, query.travelled + params_.closure_spacing);
+}
+
+void ConsistencyService::restoreGridPoses(const StoreContents& contents, int grid_serial) {
+  const StoredRebuild* grid = nullptr;
+  for (const StoredRebuild& r : contents.rebuilds) {
+    stats_.rebuilds = std::max(stats_.rebuilds, r.serial);  // new rebuilds number on
+    if (r.serial == grid_serial) grid = &r;
+  }
+  if (grid_serial > 0 && grid == nullptr)
+    throw std::runtime_error("the store lacks rebuild " + std::to_string(grid_serial));
+  if (grid != nullptr) applied_ = grid->corrections;
+  grid_serial_ = grid_serial;
+  // Where each scan is in the map's grid: at the rebuild's pose, or (integrated later) at its
+  // robot's correction of that rebuild, or as integrated.
+  for (Keyframe& k : keyframes_) {
+    const auto id = static_cast<std::size_t>(k.id);
+    const auto applied = applied_.find(robot_names_[static_cast<std::size_t>(k.robot)]);
+    if (grid != nullptr && id < grid->poses.size())
+      k.grid_pose = grid->poses[id];
+    else
+      k.grid_pose = applied == applied_.end() ? k.odom_pose : applied->second * k.odom_pose;
+  }
+}
+
+}  // namespace socc::consistency
