@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "consistency_restore.hpp"
 #include "consistency_service.hpp"
 #include "service/map_service.hpp"
 #include "socc/pose_conversion.hpp"
@@ -228,6 +229,49 @@ TEST(MapCorrection, TheServiceSwapsTheGridInAndTellsTheRobotItsCorrectionOnce) {
   ASSERT_EQ(after.header.status, +reply_header_t::OK) << after.header.message;
   EXPECT_FALSE(after.corrected);
   EXPECT_TRUE(fromLcm(server.robots().find("car")->last_pose).isApprox(correction * next, 1e-6));
+}
+
+TEST(MapCorrection, AServiceRestartedFromItsStoreRebuildsWithTheKeyframesFromBeforeTheRestart) {
+  const Drive d = drive(1, kFrames);
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() /
+      ("socc_restart_store_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  constexpr std::size_t kBeforeRestart = 40;  // most of the first lap: no closure yet
+  {
+    ConsistencyService live(params(), map::MapConfig{}, {},
+                            KeyframeStore::create(file, false, true));
+    for (std::size_t i = 0; i < kBeforeRestart; ++i)
+      live.observe("car", static_cast<std::int64_t>(i) * kStep, 0, d.odometry[i], d.scans[i]);
+    live.flush();
+    live.checkpoint(static_cast<std::int64_t>(kBeforeRestart), 1);
+    EXPECT_EQ(live.stats().recognition.verified, 0);
+  }
+  const StoreContents contents = KeyframeStore::read(file);
+  std::string why;
+  const StoredCheckpoint* mark = coveringMark(contents, kBeforeRestart, 1, why);
+  ASSERT_NE(mark, nullptr) << why;
+  ConsistencyService service(params(), map::MapConfig{}, {},
+                             KeyframeStore::resume(file, contents, true), &contents,
+                             mark->grid_serial);
+  for (std::size_t i = kBeforeRestart; i < d.scans.size(); ++i)
+    service.observe("car", static_cast<std::int64_t>(i) * kStep, 0, d.odometry[i], d.scans[i]);
+  service.flush();
+  EXPECT_GE(service.stats().recognition.verified, 1);
+  std::unique_ptr<RebuiltGrid> grid = service.takeRebuild();
+  ASSERT_TRUE(grid);
+  EXPECT_EQ(grid->keyframes, static_cast<int>(d.scans.size()));  // the first lap included
+  const Eigen::Isometry3d corrected = grid->corrections.at("car") * d.odometry.back();
+  EXPECT_LT((corrected.translation() - d.truth.back().translation()).norm(),
+            (d.odometry.back().translation() - d.truth.back().translation()).norm() / 3.0);
+  // Its closures and rebuild are in the store too: a second restart has them.
+  const StoreContents again = KeyframeStore::read(file);
+  EXPECT_EQ(again.keyframes.size(), d.scans.size());
+  EXPECT_EQ(again.closures.size(), service.closures().size());
+  EXPECT_GE(again.rebuilds.size(), 1u);
+  std::cerr << "store: " << again.valid_bytes << " B for " << again.keyframes.size()
+            << " keyframes, " << again.closures.size() << " closures, " << again.rebuilds.size()
+            << " rebuilds (" << again.valid_bytes / again.keyframes.size() << " B/keyframe)\n";
+  std::filesystem::remove(file);
 }
 
 }  // namespace

@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # Integration test of map_server + socc-cli as real processes over UDP multicast on loopback.
-# usage: service_test.sh basic|crash|auth|guard <map_server> <socc-cli>
+# usage: service_test.sh basic|crash|auth|guard|consistency <map_server> <socc-cli>
 #   basic: integrate, duplicate, chunk, stats, pose, save/load, exports, render, clear
 #   crash: kill -9 (idle and mid-run), restart with snapshot + journal -> byte-equal chunks;
 #          corrupt snapshot refused unless --ignore-corrupt-snapshot
 #   auth:  server with --key-file: signed CLI served, unsigned/wrong key UNAUTHENTICATED and
 #          nothing changed, --auth-queries, key file readable by others refused (exit 2)
+#   consistency: --consistency with snapshot + journal, kill -9, restart: the consistency
+#          service resumes its stored keyframes (none twice) and ends with the keyframes of a
+#          server that never crashed
 #   guard: a robot whose poses jump (a diverged trajectory) is refused FAILED_PRECONDITION and
 #          leaves the map unchanged, another robot is served; LOST refuses until TRACKING
 set -euo pipefail
@@ -224,6 +227,32 @@ guard() {
   guard_reference
   [[ $(digest "${q[@]}") == "$guarded" ]] || fail "map differs from one without the refused scans"
   echo "ok: map equals a server that only ever saw the accepted scans"
+}
+
+stop_server() { kill -TERM "$server_pid"; wait "$server_pid" 2>/dev/null || true; server_pid=""; }
+keyframe_seqs() { cut -d' ' -f1,2 "$1/keyframes.txt"; }
+
+consistency() {
+  local durable=(--consistency --snapshot-dir "$work/snaps" --journal "$work/journal.lcmlog")
+  start_server "${durable[@]}" --snapshot-period 1
+  for s in $(seq 1 12); do integrate robot1 "$s" >/dev/null; done
+  sleep 1.5  # a periodic snapshot marks the store; the worker stores the keyframes
+  for s in $(seq 13 16); do integrate robot1 "$s" >/dev/null; done
+  kill9_server
+  [[ -s $work/snaps/map.snap.consistency ]] || fail "no consistency store beside the snapshot"
+  start_server "${durable[@]}" --restore "$work/snaps/map.snap" --consistency-dir "$work/crashed"
+  grep -Eq "consistency state restored: [1-9][0-9]* keyframes" "$work/server.log" ||
+    fail "the consistency state was not restored"
+  echo "ok: $(grep -o 'consistency state restored: [0-9]* keyframes' "$work/server.log") after kill -9"
+  for s in $(seq 17 24); do integrate robot1 "$s" >/dev/null; done
+  stop_server
+  [[ -z $(keyframe_seqs "$work/crashed" | sort | uniq -d) ]] || fail "a keyframe stored twice"
+  start_server --consistency --consistency-dir "$work/clean" --quiet
+  for s in $(seq 1 24); do integrate robot1 "$s" >/dev/null; done
+  stop_server
+  [[ $(keyframe_seqs "$work/crashed") == $(keyframe_seqs "$work/clean") ]] ||
+    fail "keyframes after kill -9 + restart differ from a clean run"
+  echo "ok: $(wc -l <"$work/clean/keyframes.txt") keyframes, the same as a server that never crashed"
 }
 
 "$mode"

@@ -2,6 +2,7 @@
 // applied INTEGRATE (not by duplicates or refusals), and fed again by journal replay.
 #include <gtest/gtest.h>
 
+#include "keyframe_store.hpp"
 #include "service_test_helpers.hpp"
 
 namespace socc::service {
@@ -51,6 +52,81 @@ TEST(ConsistencyHook, JournalReplayRebuildsTheKeyframes) {
   restored.openDurability(durability, dir.path() / "map.snap");
   restored.consistency()->flush();
   EXPECT_EQ(restored.consistency()->stats().keyframes, 3);  // x = 0, 3, 6
+}
+
+std::vector<std::int64_t> keyframeSeqs(MapService& service) {
+  service.consistency()->flush();
+  std::vector<std::int64_t> seqs;
+  for (const auto& k : service.consistency()->keyframePoses()) seqs.push_back(k.seq);
+  return seqs;
+}
+
+TEST(ConsistencyHook, ARestartResumesTheStoredKeyframesAndReplaysNoneTwice) {
+  test::TempDir dir;
+  const Durability durability{dir.path() / "map.snap", dir.path() / "journal.lcmlog"};
+  const std::filesystem::path store = dir.path() / "map.snap.consistency";
+  {
+    MapService live(withConsistency(dir.path()));
+    live.openDurability(durability, std::nullopt);
+    for (int seq = 1; seq <= 7; ++seq) live.integrate(scan("robot1", seq, seq - 1.0));
+    live.consistency()->flush();
+    live.checkpoint();  // the snapshot holds 3 keyframes' scans, the store their keyframes
+    for (int seq = 8; seq <= 10; ++seq) live.integrate(scan("robot1", seq, seq - 1.0));
+    EXPECT_EQ(keyframeSeqs(live), (std::vector<std::int64_t>{1, 4, 7, 10}));
+    // Dropped like a killed process.
+  }
+  EXPECT_EQ(consistency::KeyframeStore::read(store).keyframes.size(), 4u);
+  MapService restored(withConsistency(dir.path()));
+  restored.openDurability(durability, dir.path() / "map.snap");
+  // From the store, the journal's 8..10 replayed without a second keyframe 10.
+  EXPECT_EQ(keyframeSeqs(restored), (std::vector<std::int64_t>{1, 4, 7, 10}));
+  EXPECT_EQ(consistency::KeyframeStore::read(store).keyframes.size(), 4u);
+  restored.integrate(scan("robot1", 11, 12.0));
+  EXPECT_EQ(keyframeSeqs(restored), (std::vector<std::int64_t>{1, 4, 7, 10, 11}));
+  EXPECT_EQ(consistency::KeyframeStore::read(store).keyframes.size(), 5u);
+}
+
+TEST(ConsistencyHook, WithoutItsStoreARestartKeepsOnlyTheReplayedKeyframes) {
+  test::TempDir dir;
+  const Durability durability{dir.path() / "map.snap", dir.path() / "journal.lcmlog"};
+  {
+    MapService live(withConsistency(dir.path()));
+    live.openDurability(durability, std::nullopt);
+    for (int seq = 1; seq <= 7; ++seq) live.integrate(scan("robot1", seq, seq - 1.0));
+    live.consistency()->flush();
+    live.checkpoint();
+    live.integrate(scan("robot1", 8, 9.0));
+  }
+  std::filesystem::remove(dir.path() / "map.snap.consistency");
+  MapService restored(withConsistency(dir.path()));
+  restored.openDurability(durability, dir.path() / "map.snap");
+  EXPECT_EQ(keyframeSeqs(restored), (std::vector<std::int64_t>{8}));
+  // A new store, marked as begun on a grid it did not see built.
+  EXPECT_TRUE(consistency::KeyframeStore::read(dir.path() / "map.snap.consistency").foreign_base);
+}
+
+TEST(ConsistencyHook, ClearAndLoadStartANewStore) {
+  test::TempDir dir;
+  const Durability durability{dir.path() / "map.snap", dir.path() / "journal.lcmlog"};
+  const std::filesystem::path store = dir.path() / "map.snap.consistency";
+  MapService live(withConsistency(dir.path()));
+  live.openDurability(durability, std::nullopt);
+  for (int seq = 1; seq <= 4; ++seq) live.integrate(scan("robot1", seq, 3.0 * seq));
+  EXPECT_EQ(keyframeSeqs(live).size(), 4u);
+  live.saveSnapshot(dir.path() / "other.snap");
+  map_command_request_t command{};
+  command.command = map_command_request_t::CLEAR;
+  ASSERT_EQ(live.command(command).header.status, +reply_header_t::OK);
+  EXPECT_TRUE(keyframeSeqs(live).empty());
+  consistency::StoreContents c = consistency::KeyframeStore::read(store);
+  EXPECT_TRUE(c.keyframes.empty());
+  EXPECT_FALSE(c.foreign_base);
+  command.command = map_command_request_t::LOAD;
+  command.path = "other.snap";
+  ASSERT_EQ(live.command(command).header.status, +reply_header_t::OK);
+  c = consistency::KeyframeStore::read(store);
+  EXPECT_TRUE(c.keyframes.empty());
+  EXPECT_TRUE(c.foreign_base);  // the loaded grid's scans are not in it: never rebuilt
 }
 
 }  // namespace

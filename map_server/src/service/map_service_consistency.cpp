@@ -9,7 +9,7 @@
 namespace socc::service {
 
 std::optional<std::filesystem::path> MapService::consistencyStoreFile() const {
-  if (!consistency_ || !durability_.snapshot_file) return std::nullopt;
+  if (!config_.consistency.enabled || !durability_.snapshot_file) return std::nullopt;
   return durability_.snapshot_file->string() + ".consistency";
 }
 
@@ -29,9 +29,10 @@ std::unique_ptr<consistency::KeyframeStore> MapService::newConsistencyStore(
 
 void MapService::resumeConsistency() {
   const auto file = consistencyStoreFile();
-  if (!file || !std::filesystem::exists(*file)) return restartConsistency();
-  std::string why;
+  if (!file) return restartConsistency();
+  std::string why = "it does not exist";
   try {
+    if (!std::filesystem::exists(*file)) throw std::runtime_error(why);
     const consistency::StoreContents contents = consistency::KeyframeStore::read(*file);
     if (!contents.problem.empty()) std::cerr << "map_server: " << contents.problem << '\n';
     if (const auto* mark =
@@ -51,7 +52,7 @@ void MapService::resumeConsistency() {
     }
   } catch (const std::exception& e) {
     why = e.what();
-    std::error_code ec;  // kept for inspection, not overwritten by the new store
+    std::error_code ec;  // kept for inspection, not replaced by the new store
     std::filesystem::rename(*file, file->string() + ".unreadable", ec);
   }
   std::cerr << "map_server: consistency state not restored from " << file->string() << ": " << why
