@@ -3,6 +3,7 @@
 // keyframes, and never accept a wrong closure (also not between two robots in two worlds).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 
 #include "consistency_restore.hpp"
@@ -271,6 +272,41 @@ TEST(MapCorrection, AServiceRestartedFromItsStoreRebuildsWithTheKeyframesFromBef
   std::cerr << "store: " << again.valid_bytes << " B for " << again.keyframes.size()
             << " keyframes, " << again.closures.size() << " closures, " << again.rebuilds.size()
             << " rebuilds (" << again.valid_bytes / again.keyframes.size() << " B/keyframe)\n";
+  // The swapped grid is checkpointed; a second restart from that mark has the same graph and
+  // nothing to rebuild. From the mark before the swap (kill -9 before its checkpoint) the
+  // restarted service makes the interrupted correction again, from all keyframes.
+  service.checkpoint(60, 2);
+  const auto poses = service.keyframePoses();
+  const auto read_start = std::chrono::steady_clock::now();
+  const StoreContents last = KeyframeStore::read(file);
+  const auto read_end = std::chrono::steady_clock::now();
+  const StoredCheckpoint* swapped = coveringMark(last, 60, 2, why);
+  ASSERT_NE(swapped, nullptr) << why;
+  EXPECT_EQ(swapped->grid_serial, grid->serial);
+  {
+    ConsistencyService again_service(params(), map::MapConfig{}, {}, nullptr, &last,
+                                     swapped->grid_serial);
+    again_service.flush();
+    std::cerr << "restart: store read in "
+              << std::chrono::duration<double>(read_end - read_start).count()
+              << " s, service restored in "
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - read_end).count()
+              << " s\n";
+    EXPECT_FALSE(again_service.takeRebuild());
+    const auto restored = again_service.keyframePoses();
+    ASSERT_EQ(restored.size(), poses.size());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < poses.size(); ++i)
+      worst = std::max(
+          worst, (restored[i].optimized.translation() - poses[i].optimized.translation()).norm());
+    EXPECT_LT(worst, 0.01) << "optimized poses after the restart";
+    EXPECT_EQ(again_service.closures().size(), service.closures().size());
+  }
+  ConsistencyService interrupted(params(), map::MapConfig{}, {}, nullptr, &last, 0);
+  interrupted.flush();
+  const std::unique_ptr<RebuiltGrid> resumed = interrupted.takeRebuild();
+  ASSERT_TRUE(resumed);
+  EXPECT_EQ(resumed->keyframes, static_cast<int>(d.scans.size()));
   std::filesystem::remove(file);
 }
 
