@@ -177,11 +177,12 @@ TEST(KeyframeStore, ABadHeaderIsAClearError) {
 TEST(KeyframeStore, ARestoredServiceHoldsTheSameKeyframesAndGraph) {
   StoreDir dir;
   const auto file = dir.path / "store";
-  ConsistencyParams params;
-  params.keyframe_distance = 3.0;
+  ConsistencyParams store_params;
+  store_params.keyframe_distance = 3.0;
   std::vector<ConsistencyService::KeyframePose> before;
   {
-    ConsistencyService live(params, map::MapConfig{}, {}, KeyframeStore::create(file, false, true));
+    ConsistencyService live(store_params, map::MapConfig{}, {},
+                            KeyframeStore::create(file, false, true));
     for (int seq = 0; seq < 8; ++seq)
       live.observe(seq < 5 ? "a" : "b", seq, seq, poseAt(2.0 * seq, 0.02 * seq), streetScan(seq));
     live.flush();
@@ -195,7 +196,11 @@ TEST(KeyframeStore, ARestoredServiceHoldsTheSameKeyframesAndGraph) {
   EXPECT_EQ(mark->observed, static_cast<std::int64_t>(before.size()));
   EXPECT_EQ(coveringMark(contents, 8, 4, why), nullptr);  // another grid
   EXPECT_NE(why.find("no mark"), std::string::npos);
-  ConsistencyService restored(params, map::MapConfig{}, {},
+  StoreContents short_of_one = contents;  // killed before the worker stored the last keyframe
+  short_of_one.keyframes.pop_back();
+  EXPECT_EQ(coveringMark(short_of_one, 8, 3, why), nullptr);
+  EXPECT_NE(why.find("holds 4 of the 5 keyframes"), std::string::npos) << why;
+  ConsistencyService restored(store_params, map::MapConfig{}, {},
                               KeyframeStore::resume(file, contents, true), &contents,
                               mark->grid_serial);
   restored.flush();

@@ -98,7 +98,7 @@ bool readRecord(std::istream& in, std::uint64_t file_size, StoreContents& out) {
   if (r.get<std::uint32_t>() != kRecordMarker) throw std::runtime_error("no record marker");
   const auto type = static_cast<RecordType>(r.get<std::uint8_t>());
   const auto size = r.get<std::uint64_t>();
-  if (size + 4 > file_size - out.valid_bytes - kFrameHead)
+  if (size > file_size || size + 4 > file_size - out.valid_bytes - kFrameHead)
     throw std::runtime_error("torn record (" + std::to_string(size) + " bytes announced)");
   std::string payload(static_cast<std::size_t>(size), '\0');
   std::uint32_t crc = 0;
