@@ -8,6 +8,9 @@
 // It corrects the estimate of every keyframe (and, through them, of every integration:
 // corrected()) and, after a closure that moves keyframes, rebuilds the grid from the keyframe
 // scans at their optimized poses on its thread; the map service swaps it in (takeRebuild).
+// With a store (keyframe_store.hpp) every keyframe, accepted closure and rebuild is recorded
+// as the worker makes it, and a service started from the store's contents goes on with the
+// same keyframes and graph (consistency_restore.cpp).
 #include <Eigen/Geometry>
 #include <chrono>
 #include <condition_variable>
