@@ -4,6 +4,7 @@
 // Exit 1 when a target is missed: wrong closures > 0, map-frame ATE not --min-gain times lower
 // than the odometry's, revisits mapped twice > --max-doubled.
 #include <CLI/CLI.hpp>
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -89,6 +90,28 @@ double rmse(const std::vector<double>& e) {
 
 // What a client output (poses_tum.txt) against the truth, in the map frame (no alignment):
 // each pose is matched to the sequence's frame of the same stamp (times.txt).
+// The vertical error as a tilted map frame: z error = a x + b y + c over the truth's positions
+// (least squares). A tilt is consistent everywhere: no loop closure can observe it.
+struct TiltFit {
+  double degrees = 0.0;   // tilt of the fitted plane
+  double residual = 0.0;  // RMS of the vertical error the plane leaves [m]
+};
+
+TiltFit fitTilt(const std::vector<Eigen::Vector3d>& truth, const std::vector<double>& z_error) {
+  TiltFit out;
+  if (truth.size() < 3) return out;
+  Eigen::MatrixXd a(truth.size(), 3);
+  Eigen::VectorXd z(truth.size());
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    a.row(static_cast<Eigen::Index>(i)) << truth[i].x(), truth[i].y(), 1.0;
+    z(static_cast<Eigen::Index>(i)) = z_error[i];
+  }
+  const Eigen::Vector3d p = a.colPivHouseholderQr().solve(z);
+  out.degrees = std::atan(std::hypot(p.x(), p.y())) * 180.0 / M_PI;
+  out.residual = std::sqrt((a * p - z).squaredNorm() / static_cast<double>(truth.size()));
+  return out;
+}
+
 struct ClientScore {
   std::size_t frames = 0;  // poses output
   double ate = 0.0;        // RMSE [m]
@@ -163,11 +186,21 @@ int main(int argc, char** argv) {
       return gt[static_cast<std::size_t>(seq)];
     };
     std::vector<double> before, after;
+    // Vertical and horizontal parts of the error, before and after.
+    std::vector<double> z_before, z_after, xy_before, xy_after;
+    std::vector<Eigen::Vector3d> truth_positions;
     std::vector<double> travelled(keyframes.size(), 0.0);
     for (std::size_t i = 0; i < keyframes.size(); ++i) {
       const KeyframeRow& k = keyframes[i];
-      before.push_back((k.odom.translation() - truth(k.seq).translation()).norm());
-      after.push_back((k.optimized.translation() - truth(k.seq).translation()).norm());
+      const Eigen::Vector3d e_before = k.odom.translation() - truth(k.seq).translation();
+      const Eigen::Vector3d e_after = k.optimized.translation() - truth(k.seq).translation();
+      before.push_back(e_before.norm());
+      after.push_back(e_after.norm());
+      z_before.push_back(e_before.z());
+      z_after.push_back(e_after.z());
+      xy_before.push_back(e_before.head<2>().norm());
+      xy_after.push_back(e_after.head<2>().norm());
+      truth_positions.push_back(truth(k.seq).translation());
       if (i > 0 && keyframes[i - 1].robot == k.robot)
         travelled[i] =
             travelled[i - 1] +
@@ -188,6 +221,7 @@ int main(int argc, char** argv) {
     // revisit_travel of path (or of two robots). Their surfaces are mapped twice when the
     // estimate's relative pose errs by more than doubled_m.
     int revisits = 0, doubled_before = 0, doubled_after = 0;
+    double revisit_max_before = 0.0;  // the largest contradiction a closure could observe
     for (std::size_t j = 0; j < keyframes.size(); ++j)
       for (std::size_t i = 0; i < j; ++i) {
         const KeyframeRow& a = keyframes[i];
@@ -200,6 +234,7 @@ int main(int argc, char** argv) {
         const auto err = [&truth_ab](const Eigen::Isometry3d& pa, const Eigen::Isometry3d& pb) {
           return (truth_ab.inverse() * (pa.inverse() * pb)).translation().norm();
         };
+        revisit_max_before = std::max(revisit_max_before, err(a.odom, b.odom));
         doubled_before += err(a.odom, b.odom) > doubled_m ? 1 : 0;
         doubled_after += err(a.optimized, b.optimized) > doubled_m ? 1 : 0;
       }
@@ -215,6 +250,15 @@ int main(int argc, char** argv) {
     std::printf("| map-frame ATE max | %.3f m | %.3f m | |\n",
                 before.empty() ? 0.0 : *std::max_element(before.begin(), before.end()),
                 after.empty() ? 0.0 : *std::max_element(after.begin(), after.end()));
+    std::printf("| of it vertical / horizontal (RMSE) | %.3f / %.3f m | %.3f / %.3f m | |\n",
+                rmse(z_before), rmse(xy_before), rmse(z_after), rmse(xy_after));
+    const TiltFit tilt = fitTilt(truth_positions, z_before);
+    std::printf(
+        "| vertical error as a tilted map: tilt, residual (RMSE) | %.2f deg, %.3f m | | |\n",
+        tilt.degrees, tilt.residual);
+    std::printf(
+        "| largest revisit relative pose error (what a closure can observe) | %.3f m | | |\n",
+        revisit_max_before);
     std::printf(
         "| revisits mapped twice (> %.1f m) | %d of %d (%.0f %%) | %d of %d (%.0f %%) | <= %.0f %% "
         "|\n",
@@ -230,6 +274,13 @@ int main(int argc, char** argv) {
                 km > 0.0 ? stats["scan_bytes"] / 1e6 / km : 0.0);
     std::printf("| grid rebuilds (longest) | | %.0f (%.2f s, %.0f scans) | |\n", stats["rebuilds"],
                 stats["max_rebuild_s"], stats["rebuild_keyframes"]);
+    if (stats.count("edge_checks"))
+      std::printf(
+          "| odometry edges scan to scan: registered / snaps of checked, s per keyframe (max) | "
+          "| %.0f / %.0f of %.0f, %.3f s (%.2f s) | |\n",
+          stats["edge_registered"], stats["edge_snaps"], stats["edge_checks"],
+          stats["edge_checks"] > 0.0 ? stats["edge_s"] / stats["edge_checks"] : 0.0,
+          stats["edge_max_s"]);
     double client_gain = 0.0;
     if (!client_tum.empty() && !times_file.empty()) {
       const std::vector<double> times = readTimes(times_file);

@@ -13,12 +13,15 @@
 # both runs are there, else the keyframes', any revisit still mapped twice), 0 with
 # --no-targets.
 #
+# --client-config FILE: odom_client's --config (both runs), e.g. odom_client/config/kitti.yaml,
+# the simulated HDL-64's vertical-angle correction, for a --realism kitti sequence.
+#
 # Usage: scripts/bench_consistency.sh SEQ_DIR [--build BUILD] [--out OUT] [--frames N]
 #                                     [--first-frame N] [--min-gain G] [--no-targets]
-#                                     [--no-alone]
+#                                     [--no-alone] [--client-config FILE]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 [ $# -ge 1 ] || usage 2
 case "$1" in -h|--help) usage 0 ;; esac
@@ -34,6 +37,7 @@ while [ $# -gt 0 ]; do
     --min-gain) eval_args+=(--min-gain "$2"); shift 2 ;;
     --no-targets) judge=0; shift ;;
     --no-alone) alone=0; shift ;;
+    --client-config) client_args+=(--config "$2"); shift 2 ;;
     -h|--help) usage 0 ;;
     *) echo "bench_consistency: unknown argument $1" >&2; usage 2 ;;
   esac

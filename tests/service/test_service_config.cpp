@@ -45,6 +45,9 @@ TEST(ServerConfig, ShippedFileStatesTheConsistencyDefaults) {
   EXPECT_EQ(read.search_radius, defaults.search_radius);
   EXPECT_EQ(read.drift_share, defaults.drift_share);
   EXPECT_EQ(read.max_descriptor_distance, defaults.max_descriptor_distance);
+  EXPECT_EQ(read.scan_to_scan_edges, defaults.scan_to_scan_edges);
+  EXPECT_EQ(read.snap_min_t, defaults.snap_min_t);
+  EXPECT_EQ(read.snap_min_r, defaults.snap_min_r);
 }
 
 TEST(ServerConfig, ShippedFileStatesTheLocalizationBudget) {

@@ -153,6 +153,8 @@ void ConsistencyService::process(Pending pending) {
   }
   const bool matchable = !kf.points.empty();  // not a pose-only keyframe (max_pending_scans)
   if (matchable) kf.descriptor = ScanContext(kf.points, params_.descriptor);
+  kf.id = static_cast<int>(keyframes_.size());  // only this thread adds keyframes
+  const std::optional<PoseEdge> odometry = measureOdometry(kf, pending.robot);
   int query = 0;
   double travelled = 0.0;
   double next_attempt = 0.0;
@@ -161,11 +163,10 @@ void ConsistencyService::process(Pending pending) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     RobotTrack& track = robots_.at(pending.robot);
-    kf.id = static_cast<int>(keyframes_.size());
     // In the grid at its robot's correction of the last rebuild (as integrated before any).
     const auto applied = applied_.find(pending.robot);
     kf.grid_pose = applied == applied_.end() ? kf.odom_pose : applied->second * kf.odom_pose;
-    addToGraph(kf, track);
+    addToGraph(kf, track, odometry);
     track.keyframe_ids.push_back(kf.id);
     track.keyframe_seqs.push_back(kf.seq);
     keyframes_.push_back(std::move(kf));
@@ -308,22 +309,44 @@ std::unique_ptr<RebuiltGrid> ConsistencyService::takeRebuild() {
   return grid;
 }
 
-void ConsistencyService::addToGraph(const Keyframe& kf, const RobotTrack& track) {
-  // The new node continues from its predecessor's optimized pose (the correction so far).
+std::optional<PoseEdge> ConsistencyService::measureOdometry(const Keyframe& kf,
+                                                            const std::string& robot) {
+  int previous_id = -1, before_id = -1;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const std::vector<int>& ids = robots_.at(robot).keyframe_ids;
+    if (!ids.empty()) previous_id = ids.back();
+    if (ids.size() > 1) before_id = ids[ids.size() - 2];
+  }
+  if (previous_id < 0) return std::nullopt;
+  // Only this thread changes keyframes_: reading them unlocked is safe here.
+  const Keyframe& previous = keyframes_[static_cast<std::size_t>(previous_id)];
+  // The edge into previous as the graph measures it: the robot's motion before, a guess without
+  // the jump when this edge holds one. Odometry edges are among the last few added.
+  std::optional<Eigen::Isometry3d> motion;
+  const std::vector<PoseEdge>& edges = graph_.edges();
+  for (auto e = edges.rbegin(); e != edges.rend() && before_id >= 0 && !motion; ++e)
+    if (e->from == before_id && e->to == previous_id) motion = e->relative;
+  OdometryEdgeCheck check;
+  const PoseEdge edge = odometryEdge(previous, kf, kf.travelled - previous.travelled, motion,
+                                     params_, map_config_, odom_config_, &check);
+  std::lock_guard<std::mutex> lock(mutex_);
+  tallyEdge(stats_.odometry_edges, check);
+  if (check.checked) edge_checks_.emplace_back(kf.id, check);
+  return edge;
+}
+
+void ConsistencyService::addToGraph(const Keyframe& kf, const RobotTrack& track,
+                                    const std::optional<PoseEdge>& odometry) {
+  // The new node continues from its predecessor's optimized pose (the correction so far) by the
+  // integrated relative pose: its estimate stays where the client's map puts it (the closure
+  // guesses start there) even when the edge measures the scans' own relative pose instead.
   Eigen::Isometry3d estimate = kf.odom_pose;
-  if (!track.keyframe_ids.empty()) {
+  if (!track.keyframe_ids.empty() && odometry) {
     const Keyframe& previous = keyframes_[static_cast<std::size_t>(track.keyframe_ids.back())];
-    const Eigen::Isometry3d relative = previous.odom_pose.inverse() * kf.odom_pose;
-    estimate = estimates_[static_cast<std::size_t>(previous.id)] * relative;
-    const double distance = kf.travelled - previous.travelled;
-    PoseEdge edge;
-    edge.from = previous.id;
-    edge.to = kf.id;
-    edge.relative = relative;
-    edge.information =
-        isotropicInformation(params_.odometry_sigma_t + params_.odometry_sigma_t_per_m * distance,
-                             params_.odometry_sigma_r + params_.odometry_sigma_r_per_m * distance);
-    graph_.addEdge(edge);
+    estimate = estimates_[static_cast<std::size_t>(previous.id)] *
+               (previous.odom_pose.inverse() * kf.odom_pose);
+    graph_.addEdge(*odometry);
   }
   graph_.addNode(estimate);
   estimates_.push_back(estimate);
@@ -401,6 +424,16 @@ void ConsistencyService::write(const std::filesystem::path& dir) const {
     writePose(cl, c.relative);
     cl << ' ' << c.fitness << ' ' << c.free << ' ' << (c.by_descriptor ? 1 : 0) << '\n';
   }
+  std::ofstream ed(dir / "odometry_edges.txt");
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& [id, c] : edge_checks_) {
+      const Keyframe& k = keyframes_[static_cast<std::size_t>(id)];
+      ed << robot_names_[static_cast<std::size_t>(k.robot)] << ' ' << k.seq << ' '
+         << (c.registered ? 1 : 0) << ' ' << (c.snap ? 1 : 0) << ' ' << c.jump_t << ' ' << c.jump_r
+         << ' ' << c.seconds << '\n';
+    }
+  }
   const ConsistencyStats s = stats();
   std::ofstream st(dir / "stats.txt");
   st << "robots " << s.robots << "\nkeyframes " << s.keyframes << "\nattempts "
@@ -411,8 +444,11 @@ void ConsistencyService::write(const std::filesystem::path& dir) const {
      << s.max_correction_s << "\nkeyframe_bytes " << s.keyframe_bytes << "\ntravelled_m "
      << s.travelled << "\nscans_dropped " << s.scans_dropped << "\nscan_bytes " << s.scan_bytes
      << "\nrebuilds " << s.rebuilds << "\nmax_rebuild_s " << s.max_rebuild_s
-     << "\nrebuild_keyframes " << s.rebuild_keyframes << '\n';
-  if (!kf || !cl || !st) throw std::runtime_error("cannot write " + dir.string());
+     << "\nrebuild_keyframes " << s.rebuild_keyframes << "\nedge_checks "
+     << s.odometry_edges.checked << "\nedge_registered " << s.odometry_edges.registered
+     << "\nedge_snaps " << s.odometry_edges.snaps << "\nedge_s " << s.odometry_edges.seconds
+     << "\nedge_max_s " << s.odometry_edges.max_seconds << '\n';
+  if (!kf || !cl || !ed || !st) throw std::runtime_error("cannot write " + dir.string());
 }
 
 }  // namespace socc::consistency

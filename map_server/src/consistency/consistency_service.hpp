@@ -30,6 +30,7 @@
 #include "grid_rebuild.hpp"
 #include "keyframe.hpp"
 #include "keyframe_store.hpp"
+#include "odometry_edge.hpp"
 #include "place_recognition.hpp"
 #include "pose_graph.hpp"
 #include "socc/map/map_config.hpp"
@@ -44,6 +45,7 @@ struct ConsistencyStats {
   int pending = 0;        // keyframes waiting for the worker
   int scans_dropped = 0;  // keyframes kept as poses only: the worker was max_pending_scans behind
   RecognitionTally recognition;
+  OdometryEdgeTally odometry_edges;  // scan-to-scan checks of the odometry edges
   int optimizations = 0;
   double last_optimization_s = 0.0;
   double max_correction_s = 0.0;  // keyframe arrival to its closure's optimized poses
@@ -101,7 +103,8 @@ class ConsistencyService {
   std::vector<KeyframePose> keyframePoses() const;
 
   /// Writes keyframes.txt (robot seq odom[12] optimized[12]), closures.txt (robot seq robot seq
-  /// relative[12] fitness free) and stats.txt into dir.
+  /// relative[12] fitness free), odometry_edges.txt (robot seq registered snap jump_t jump_r
+  /// seconds: the scan-to-scan check of the edge to that keyframe) and stats.txt into dir.
   void write(const std::filesystem::path& dir) const;
 
  private:
@@ -127,7 +130,11 @@ class ConsistencyService {
 
   void run();
   void process(Pending pending);
-  void addToGraph(const Keyframe& keyframe, const RobotTrack& track);
+  /// odometry: the edge from the robot's previous keyframe (none for its first).
+  void addToGraph(const Keyframe& keyframe, const RobotTrack& track,
+                  const std::optional<PoseEdge>& odometry);
+  /// The odometry edge from the robot's previous keyframe to kf (scan to scan where it snapped).
+  std::optional<PoseEdge> measureOdometry(const Keyframe& kf, const std::string& robot);
   /// After a correcting closure: rebuilds the grid when a keyframe moved far enough.
   void maybeRebuild();
   void rebuild(double max_shift);
@@ -164,6 +171,7 @@ class ConsistencyService {
   std::vector<Eigen::Isometry3d> estimates_;  // optimized keyframe poses
   PoseGraph graph_;  // the worker's alone (nodes added under the lock, optimized without)
   std::vector<Closure> closures_;
+  std::vector<std::pair<int, OdometryEdgeCheck>> edge_checks_;  // keyframe: its edge's check
   ConsistencyStats stats_;
   // Map correction. While a rebuild runs or waits for takeRebuild, every keyframe observed
   // since it started (with those still queued then) is kept in tail_ for it.

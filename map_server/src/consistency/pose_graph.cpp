@@ -4,6 +4,7 @@
 #include <ceres/manifold.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -106,7 +107,14 @@ double PoseGraph::chi2() const {
 
 bool PoseGraph::addConsistentEdge(const PoseEdge& edge, double max_chi2, double* chi2_increase,
                                   OptimizationSummary* summary) {
-  const double before = chi2();
+  // Without it, optimized: the current poses need not be the optimum (a new odometry edge that
+  // measures a snap the integrated poses contain), and that residual is no closure's merit.
+  double before = chi2();
+  if (before > 0.0) {
+    PoseGraph without = *this;
+    without.optimize();
+    before = std::min(before, without.chi2());
+  }
   PoseGraph trial = *this;
   trial.addEdge(edge);
   const OptimizationSummary s = trial.optimize();

@@ -62,8 +62,9 @@ class PoseGraph {
   const std::vector<PosePrior>& priors() const { return priors_; }
 
   /// Adds edge when the graph optimized with it costs at most max_chi2 (sum of squared
-  /// Mahalanobis errors) more than without it; then the poses are the optimized ones. Otherwise
-  /// the graph is left as it was and false is returned. chi2_increase: the increase measured.
+  /// Mahalanobis errors) more than the graph optimized without it; then the poses are the optimized
+  /// ones. Otherwise the graph is left as it was and false is returned. chi2_increase: the increase
+  /// measured.
   bool addConsistentEdge(const PoseEdge& edge, double max_chi2, double* chi2_increase = nullptr,
                          OptimizationSummary* summary = nullptr);
 
