@@ -65,13 +65,15 @@ bool finiteHistogram(const pcl::FPFHSignature33& f) {
 
 }  // namespace
 
-FeatureCloud describe(const std::vector<Eigen::Vector3f>& points, const FeatureParams& params,
-                      const NormalSideTest& flip) {
+OrientedKeypoints orientedKeypoints(const std::vector<Eigen::Vector3f>& points,
+                                    const FeatureParams& params, const NormalSideTest& flip) {
+  if (points.empty()) return OrientedKeypoints(new pcl::PointCloud<pcl::PointNormal>);
+  return withNormals(keypointsOf(points, params.keypoint_voxel), params.normal_radius, flip);
+}
+
+FeatureCloud describeOriented(const OrientedKeypoints& keypoints, const FeatureParams& params) {
   FeatureCloud out;
-  if (points.empty()) return out;
-  const pcl::PointCloud<pcl::PointNormal>::Ptr keypoints =
-      withNormals(keypointsOf(points, params.keypoint_voxel), params.normal_radius, flip);
-  if (keypoints->empty()) return out;
+  if (!keypoints || keypoints->empty()) return out;
   pcl::PointCloud<pcl::FPFHSignature33> features;
   pcl::FPFHEstimationOMP<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33> fpfh(kThreads);
   fpfh.setInputCloud(keypoints);
@@ -86,6 +88,11 @@ FeatureCloud describe(const std::vector<Eigen::Vector3f>& points, const FeatureP
     out.features->push_back(features[i]);
   }
   return out;
+}
+
+FeatureCloud describe(const std::vector<Eigen::Vector3f>& points, const FeatureParams& params,
+                      const NormalSideTest& flip) {
+  return describeOriented(orientedKeypoints(points, params, flip), params);
 }
 
 }  // namespace socc::localization

@@ -32,6 +32,15 @@ struct FeatureCloud {
 /// be flipped. Normals start turned towards the origin (the sensor, for a scan).
 using NormalSideTest = std::function<bool(const Eigen::Vector3f& p, const Eigen::Vector3f& n)>;
 
+/// Keypoints with normals (turned by flip): the part of describe() that may need the grid.
+using OrientedKeypoints = pcl::PointCloud<pcl::PointNormal>::Ptr;
+OrientedKeypoints orientedKeypoints(const std::vector<Eigen::Vector3f>& points,
+                                    const FeatureParams& params, const NormalSideTest& flip = {});
+
+/// FPFH of oriented keypoints, those on structure kept: the costly part, needing no grid.
+FeatureCloud describeOriented(const OrientedKeypoints& keypoints, const FeatureParams& params);
+
+/// describeOriented(orientedKeypoints(points, params, flip), params).
 FeatureCloud describe(const std::vector<Eigen::Vector3f>& points, const FeatureParams& params,
                       const NormalSideTest& flip = {});
 

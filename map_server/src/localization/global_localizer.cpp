@@ -121,15 +121,15 @@ struct GlobalLocalizer::Impl {
   explicit Impl(const LocalizerParams& p) : params(p) {}
 
   LocalizerParams params;
-  std::shared_ptr<const IndexedFeatures> map;  // with its trees: built once per rebuild
-  std::int64_t map_occupied = -1;              // occupied voxels when map was built; -1: never
+  std::shared_ptr<MapFeatures> map;  // described by the first search after a rebuild
+  std::int64_t map_occupied = -1;    // occupied voxels when map was built; -1: never
 
   void refresh(const map::SemanticOccupancyMap& m) {
     const std::int64_t occupied = m.stats().num_occupied;
     const double change = std::abs(static_cast<double>(occupied - map_occupied));
     if (map && change <= params.rebuild_change * static_cast<double>(map_occupied)) return;
-    map = std::make_shared<IndexedFeatures>(
-        describe(occupiedPoints(m), params.features, freeSideOf(m)));
+    map = std::make_shared<MapFeatures>(
+        orientedKeypoints(occupiedPoints(m), params.features, freeSideOf(m)), params.features);
     map_occupied = occupied;
   }
 };
@@ -140,7 +140,7 @@ GlobalLocalizer::GlobalLocalizer(GlobalLocalizer&&) noexcept = default;
 GlobalLocalizer& GlobalLocalizer::operator=(GlobalLocalizer&&) noexcept = default;
 
 std::size_t GlobalLocalizer::mapKeypoints() const {
-  return impl_->map ? impl_->map->cloud.size() : 0;
+  return impl_->map ? impl_->map->get().cloud.size() : 0;
 }
 
 LocalizeSearch GlobalLocalizer::prepare(const map::SemanticOccupancyMap& map,

@@ -8,7 +8,9 @@
 //
 // The map's descriptors are cached. They are rebuilt when the map's occupied voxels changed by
 // more than rebuild_change since the last build (new ground mapped), not at every Integrate: a
-// live map changes with every scan, a rebuild of a large map takes seconds.
+// live map changes with every scan, a rebuild of a large map takes seconds. A rebuild's grid
+// part (keypoints, normals turned to the free side) runs in prepare(); its FPFH and trees in the
+// first search's run() (map_features.hpp).
 //
 // A search runs in three parts (localize_search.hpp): prepare and finish need the map (its
 // thread), LocalizeSearch::run does not; localize() runs all three in turn.
@@ -43,7 +45,8 @@ class GlobalLocalizer {
   /// thread.
   static LocalizeAnswer finish(const map::SemanticOccupancyMap& map, LocalizeSearch search);
 
-  /// Map keypoints of the current descriptor cache (0 before the first localize()).
+  /// Map keypoints of the current descriptor cache (0 before the first localize()); describes
+  /// the cache when no search did yet.
   std::size_t mapKeypoints() const;
 
  private:

@@ -28,17 +28,18 @@ double reachOf(const FeatureCloud& scan) {
 
 void LocalizeSearch::run(const std::atomic<bool>* cancel) {
   found_.clear();
-  answer_.map_keypoints = map_ ? map_->cloud.size() : 0;
+  const IndexedFeatures* map = map_ ? &map_->get() : nullptr;
+  answer_.map_keypoints = map ? map->cloud.size() : 0;
   const FeatureCloud source = describe(scan_, params_.features);
   answer_.scan_keypoints = source.size();
   if (source.size() < 3 || answer_.map_keypoints < 3) return;
   if (hint_) {
     // Only the map a scan from within the hint can see: a smaller feature tree, fewer lookalikes.
-    const IndexedFeatures target(nearHint(map_->cloud, *hint_, reachOf(source)));
+    const IndexedFeatures target(nearHint(map->cloud, *hint_, reachOf(source)));
     if (target.cloud.size() < 3) return;
     found_ = searchHypotheses(target, source, params_.search, &answer_.search, cancel);
   } else {
-    found_ = searchHypotheses(*map_, source, params_.search, &answer_.search, cancel);
+    found_ = searchHypotheses(*map, source, params_.search, &answer_.search, cancel);
   }
 }
 

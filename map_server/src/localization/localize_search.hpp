@@ -13,6 +13,7 @@
 
 #include "feature_cloud.hpp"
 #include "hypothesis_search.hpp"
+#include "map_features.hpp"
 
 namespace socc::localization {
 
@@ -48,7 +49,8 @@ struct LocalizeAnswer {
 
 class LocalizeSearch {
  public:
-  /// The scan's descriptors and the hypothesis search. Touches no grid: safe on any thread
+  /// The map's descriptors when no search described them yet (MapFeatures), the scan's, and
+  /// the hypothesis search. Touches no grid: safe on any thread
   /// while the map changes. cancel (may be null) is polled between draws; a cancelled search
   /// finds nothing (answer().search.cancelled).
   void run(const std::atomic<bool>* cancel = nullptr);
@@ -59,8 +61,8 @@ class LocalizeSearch {
   friend class GlobalLocalizer;
 
   LocalizerParams params_;
-  std::shared_ptr<const IndexedFeatures> map_;  // the descriptors at prepare time
-  std::vector<Eigen::Vector3f> scan_;           // sensor frame
+  std::shared_ptr<MapFeatures> map_;   // the descriptors at prepare time (described by run())
+  std::vector<Eigen::Vector3f> scan_;  // sensor frame
   std::optional<LocalizeHint> hint_;
   int max_candidates_ = 0;
   LocalizeAnswer answer_;          // keypoint counts and the budget spent, by run()
