@@ -96,7 +96,7 @@ TEST(DeferredLocalize, ReplyComesFromPollOthersAreServedMeanwhileSameAnswerAsInl
   Harness h;
   const localize_request_t request = localizeRequest(simulatedPoints(h.scene, 5), "searcher", 1);
   const auto sent = std::chrono::steady_clock::now();
-  h.send(channels::kLocalize, request);  // the LCM thread's part: checks, descriptors (built)
+  h.send(channels::kLocalize, request);  // the LCM thread's part: checks, map keypoints
   const auto begun = std::chrono::steady_clock::now();
   EXPECT_TRUE(h.localizeReplies("searcher").empty()) << "the search is not answered inline";
   EXPECT_EQ(h.router->searchesUnderWay(), 1u);
@@ -115,7 +115,7 @@ TEST(DeferredLocalize, ReplyComesFromPollOthersAreServedMeanwhileSameAnswerAsInl
   const localize_reply_t& reply = replies.front();
   ASSERT_EQ(reply.header.status, +reply_header_t::OK) << reply.header.message;
   std::printf(
-      "LOCALIZE: %.3f s on the LCM thread before the search (map descriptors built), "
+      "LOCALIZE: %.3f s on the LCM thread before the search (map keypoints oriented), "
       "reply after %.3f s\n",
       std::chrono::duration<double>(begun - sent).count(), reply.seconds);
   EXPECT_EQ(reply.header.request_id, 1);
