@@ -108,7 +108,9 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
                trajectory_.stamps.empty() ? 0 : std::llround(trajectory_.stamps.back() * 1e6));
   if (own_)
     std::cerr << "odom_client: the input ended in the robot's own frame (the shared map was "
-                 "not found): nothing of it was integrated\n";
+                 "not found): nothing of it was integrated; "
+              << own_->keyframes().size() << " keyframes kept ("
+              << own_->keyframeBytes() / (1024.0 * 1024.0) << " MiB)\n";
   bar.finish();
   wall_seconds_ = std::chrono::duration<double>(Clock::now() - run_start).count();
 }

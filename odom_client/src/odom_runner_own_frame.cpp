@@ -14,13 +14,15 @@ namespace socc::odom {
 namespace {
 
 std::string mergeText(const Eigen::Isometry3d& shared_T_own, std::size_t keyframes,
-                      std::size_t bytes) {
+                      const OwnFrameMap& own) {
+  constexpr double kMiB = 1024.0 * 1024.0;
   std::ostringstream out;
   out.precision(2);
   out << std::fixed << "merged into the shared map (own frame moved "
       << shared_T_own.translation().norm() << " m, "
       << Eigen::AngleAxisd(shared_T_own.linear()).angle() * 180.0 / M_PI << " deg; " << keyframes
-      << " kept scans integrated, " << bytes / (1024.0 * 1024.0) << " MiB kept)";
+      << " kept scans integrated; kept " << own.keyframeBytes() / kMiB << " MiB of keyframes and "
+      << own.recentBytes() / kMiB << " MiB of recent scans)";
   return out.str();
 }
 
@@ -113,7 +115,7 @@ void OdomRunner::mergeOwnFrame(Odometry& odometry, const FrameEstimate& newest,
     trajectory_.poses[i] = shared_T_own * trajectory_.poses[i];
   odometry.correct(shared_T_own);  // as a map correction: the motion model goes on
   watch(odometry);
-  jump_ = mergeText(shared_T_own, kept.size(), own_->bytes());
+  jump_ = mergeText(shared_T_own, kept.size(), *own_);
   std::cerr << "odom_client: " << jump_ << "\n";
   if (own_->droppedKeyframes() > 0)
     std::cerr << "odom_client: " << own_->droppedKeyframes()

@@ -24,8 +24,8 @@ bool OwnFrameMap::isKeyframe(const Eigen::Isometry3d& pose) const {
          Eigen::AngleAxisd(step.linear()).angle() >= limits_.keyframe_angle;
 }
 
-std::size_t OwnFrameMap::bytes() const {
-  std::size_t total = recent_.bytes();
+std::size_t OwnFrameMap::keyframeBytes() const {
+  std::size_t total = 0;
   for (const OwnKeyframe& k : keyframes_) total += cloudBytes(k.cloud) + sizeof(OwnKeyframe);
   return total;
 }

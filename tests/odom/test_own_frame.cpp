@@ -51,7 +51,8 @@ TEST(OwnFrameMap, KeepsAScanEveryFewMetresAndBoundsThem) {
   EXPECT_EQ(own.keyframes().front().seq, 8);
   EXPECT_EQ(own.keyframes().back().seq, 20);
   EXPECT_TRUE(own.newestPose().isApprox(along(10.0)));
-  EXPECT_GT(own.bytes(), 0u);
+  EXPECT_GT(own.keyframeBytes(), 0u);
+  EXPECT_GT(own.recentBytes(), 0u);
 }
 
 TEST(OwnFrameMap, MergeMovesTheKeptScansInOrderAndEndsWithTheNewestFrame) {
@@ -116,16 +117,16 @@ OwnFrameRun driveOwnFrame(const OdomConfig& cfg, const socc::sim::Scene& scene, 
 
 TEST(OwnFrame, MergedIntoTheSharedFrameWhereItWasMappedNeverElsewhere) {
   socc::sim::SceneOptions options;
-  options.frames = 60;
+  options.frames = 30;
   const socc::sim::Scene scene = socc::sim::buildScene(options);
   const socc::sim::LidarModel lidar = socc::sim::lidarPreset("vlp32");
-  // Robot A maps frames 0-29 from its exact start (the shared frame is the GT frame).
+  // Robot A maps frames 0-19 from its exact start (the shared frame is the GT frame).
   ClosedLoop a(scene.trajectory.poseAt(0.0));
-  for (int k = 0; k < 30; ++k) a.step(simulated(scene, lidar, k, false), k);
+  for (int k = 0; k < 20; ++k) a.step(simulated(scene, lidar, k, false), k);
   InProcessMap access(a.map, a.cfg, smallMapSearch());
 
-  const OwnFrameRun b = driveOwnFrame(a.cfg, scene, 12, 6, access);
-  ASSERT_GE(b.merged_at, 12 + a.cfg.relocalize_confirm_scans - 1) << "not merged, or unconfirmed";
+  const OwnFrameRun b = driveOwnFrame(a.cfg, scene, 8, 5, access);
+  ASSERT_GE(b.merged_at, 8 + a.cfg.relocalize_confirm_scans - 1) << "not merged, or unconfirmed";
   const Eigen::Isometry3d d =
       a.poses.at(static_cast<std::size_t>(b.merged_at)).inverse() * b.shared_pose;
   std::printf("merged at scan %d: %.3f m, %.3f deg from A's pose\n", b.merged_at,
@@ -135,7 +136,7 @@ TEST(OwnFrame, MergedIntoTheSharedFrameWhereItWasMappedNeverElsewhere) {
 
   socc::sim::SceneOptions other = options;
   other.seed = 99;  // another street: same kind of place, other buildings
-  const OwnFrameRun c = driveOwnFrame(a.cfg, socc::sim::buildScene(other), 5, 4, access);
+  const OwnFrameRun c = driveOwnFrame(a.cfg, socc::sim::buildScene(other), 5, 3, access);
   EXPECT_EQ(c.merged_at, -1) << "merged into a place that is not in the map";
 }
 

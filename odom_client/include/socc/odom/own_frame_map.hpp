@@ -50,8 +50,10 @@ class OwnFrameMap {
   const std::vector<OwnKeyframe>& keyframes() const { return keyframes_; }
   /// Keyframes dropped by max_keyframes.
   std::size_t droppedKeyframes() const { return dropped_; }
-  /// Memory of the kept scans [bytes]: target and keyframes.
-  std::size_t bytes() const;
+  /// Memory of the keyframes [bytes] (what grows with the path; the target is bounded).
+  std::size_t keyframeBytes() const;
+  /// Memory of the last scans of the target [bytes].
+  std::size_t recentBytes() const { return recent_.bytes(); }
 
  private:
   bool isKeyframe(const Eigen::Isometry3d& pose) const;
