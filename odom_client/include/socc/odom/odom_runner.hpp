@@ -6,7 +6,9 @@
 // integrates nothing (the shared map is never fed a pose the robot does not trust) until it has
 // found itself in the map again: it relocalizes (relocalization.hpp) near its last good pose
 // first, anywhere after half of relocalize_timeout, and resumes there; a search that outlasts
-// relocalize_timeout ends the run LOST.
+// relocalize_timeout ends the run LOST. With --own-frame a robot without a pose maps in its own
+// frame (OwnFrameMap, odom_runner_own_frame.cpp), integrating nothing, until its search finds
+// the shared map; then its kept scans are integrated there and it goes on as any robot.
 // Stateless between frames apart from the odometry state: no map is kept beyond one chunk and
 // the voxels of the last frame.
 #include <Eigen/Geometry>
