@@ -546,7 +546,7 @@ own_frame() {
   # start, which sees little of it until B has driven there.
   "$sim_bin" --frames 81 --sensor vlp32 --quiet --max-range 25 --speed 15 --out "$work/here" \
     --seed 7 >/dev/null || fail "socc-sim failed"
-  "$sim_bin" --frames 20 --sensor vlp32 --quiet --max-range 25 --speed 15 --out "$work/elsewhere" --seed 8 >/dev/null ||
+  "$sim_bin" --frames 12 --sensor vlp32 --quiet --max-range 25 --speed 15 --out "$work/elsewhere" --seed 8 >/dev/null ||
     fail "socc-sim failed"
   # A search (LOCALIZE + verification) takes seconds here: on the first two scans, then once a
   # second of scans.
