@@ -136,7 +136,7 @@ TEST(OwnFrame, MergedIntoTheSharedFrameWhereItWasMappedNeverElsewhere) {
 
   socc::sim::SceneOptions other = options;
   other.seed = 99;  // another street: same kind of place, other buildings
-  const OwnFrameRun c = driveOwnFrame(a.cfg, socc::sim::buildScene(other), 5, 3, access);
+  const OwnFrameRun c = driveOwnFrame(a.cfg, socc::sim::buildScene(other), 5, 2, access);
   EXPECT_EQ(c.merged_at, -1) << "merged into a place that is not in the map";
 }
 
