@@ -16,24 +16,33 @@
 # --client-config FILE: odom_client's --config (both runs), e.g. odom_client/config/kitti.yaml,
 # the simulated HDL-64's vertical-angle correction, for a --realism kitti sequence.
 #
+# --robots 2: two clients at the same time, each on half of the frames: robot 1 from the
+# sequence's start (its GT frame), robot 2 from the middle with --own-frame and no initial pose
+# (maps in its own frame until it enters robot 1's map, docs/relocalization.md "Own frame"; its
+# searches: relocalize_timeout 1 s, then one per own_frame_search_period 2 s of scans). Both
+# robots' map-frame poses are scored together; robot 2 never merged (exit 5) is reported and
+# only robot 1's poses are scored.
+#
 # Usage: scripts/bench_consistency.sh SEQ_DIR [--build BUILD] [--out OUT] [--frames N]
 #                                     [--first-frame N] [--min-gain G] [--no-targets]
-#                                     [--no-alone] [--client-config FILE]
+#                                     [--no-alone] [--client-config FILE] [--robots 1|2]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 [ $# -ge 1 ] || usage 2
 case "$1" in -h|--help) usage 0 ;; esac
 [ -d "$1" ] || { echo "bench_consistency: $1 is not a directory" >&2; exit 2; }
 dir="$(cd "$1" && pwd)"; shift
-build="$root/build"; out=""; client_args=(); eval_args=(); judge=1; alone=1
+build="$root/build"; out=""; client_args=(); eval_args=(); judge=1; alone=1; robots=1
+first=0; frames=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    --frames) client_args+=(--last-frame "$(($2 - 1))"); shift 2 ;;
-    --first-frame) client_args+=(--first-frame "$2"); shift 2 ;;
+    --frames) frames=$2; shift 2 ;;
+    --first-frame) first=$2; shift 2 ;;
+    --robots) robots=$2; shift 2 ;;
     --min-gain) eval_args+=(--min-gain "$2"); shift 2 ;;
     --no-targets) judge=0; shift ;;
     --no-alone) alone=0; shift ;;
@@ -43,6 +52,10 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ -f "$dir/poses.txt" ] || { echo "bench_consistency: $dir/poses.txt missing" >&2; exit 2; }
+[[ $robots == 1 || $robots == 2 ]] || { echo "bench_consistency: --robots must be 1 or 2" >&2; exit 2; }
+total=$(find "$dir/velodyne" -name '*.bin' | wc -l)
+last=$((frames > 0 ? frames - 1 : total - 1))
+middle=$(((first + last + 1) / 2))
 out="${out:-$root/out/bench_consistency_$(basename "$dir")}"
 mkdir -p "$out"
 for bin in map_server/map_server odom_client/odom_client tools/socc-cli bench/bench_consistency_eval; do
@@ -52,7 +65,33 @@ done
 # Private multicast port so concurrent runs never see each other; ttl=0 keeps it on this machine.
 server=""
 trap '[ -z "$server" ] || kill "$server" 2>/dev/null || true' EXIT
-# run NAME [server args...]: one map_server + one odom_client into $out/NAME.
+# client DIR ROBOT URL [odom_client args...]: one odom_client into DIR (exit 0 or 3 accepted).
+client() {
+  local to=$1 robot=$2 url=$3 rc=0; shift 3
+  mkdir -p "$to"
+  "$build/odom_client/odom_client" --kitti "$dir" --lcm-url "$url" --robot-id "$robot" \
+    --out-dir "$to" "${client_args[@]}" "$@" >"$to/client_summary.txt" 2>"$to/client.log" || rc=$?
+  [ "$rc" -eq 0 ] || [ "$rc" -eq 3 ] || [ "$rc" -eq 5 ] ||
+    { echo "bench_consistency: odom_client failed ($rc), see $to/client.log" >&2; exit 1; }
+  echo "$rc" >"$to/exit_code"
+}
+# run_two DIR URL: robot 1 on the first half, robot 2 (--own-frame) on the second, at once; both
+# robots' map-frame poses into DIR/poses_tum.txt.
+run_two() {
+  local to=$1 url=$2 pid1 pid2
+  printf 'relocalize_timeout: 1.0\nown_frame_search_period: 2.0\n' >"$out/own_frame.yaml"
+  client "$to/robot1" bench "$url" --first-frame "$first" --last-frame "$((middle - 1))" &
+  pid1=$!
+  client "$to/robot2" bench2 "$url" --first-frame "$middle" --last-frame "$last" --own-frame \
+    --config "$out/own_frame.yaml" &
+  pid2=$!
+  wait "$pid1" || exit 1
+  wait "$pid2" || exit 1
+  grep -h "found the shared map\|merged into\|input ended" "$to/robot2/client.log" >&2 || true
+  { cat "$to/robot1/poses_tum.txt"; cat "$to/robot2/poses_tum.txt" 2>/dev/null || true; } |
+    sort -n >"$to/poses_tum.txt"
+}
+# run NAME [server args...]: one map_server + the odom_client(s) into $out/NAME.
 run() {
   local name="$1"; shift
   local url="udpm://239.255.76.67:$((20000 + RANDOM % 40000))?ttl=0&recv_buf_size=33554432"
@@ -64,14 +103,12 @@ run() {
     "$build/tools/socc-cli" --lcm-url "$url" --client-id bench stats >/dev/null 2>&1 && break
     sleep 0.2
   done
-  echo "bench_consistency: odom_client on $dir ($name)" >&2
-  local client_rc=0
-  "$build/odom_client/odom_client" --kitti "$dir" --lcm-url "$url" --robot-id bench \
-    --out-dir "$out/$name" "${client_args[@]}" >"$out/$name/client_summary.txt" \
-    2>"$out/$name/client.log" || client_rc=$?
-  [ "$client_rc" -eq 0 ] || [ "$client_rc" -eq 3 ] ||
-    { echo "bench_consistency: odom_client failed ($client_rc), see $out/$name/client.log" >&2
-      exit 1; }
+  echo "bench_consistency: odom_client on $dir ($name, $robots robot(s))" >&2
+  if [ "$robots" -eq 1 ]; then
+    client "$out/$name" bench "$url" --first-frame "$first" --last-frame "$last"
+  else
+    run_two "$out/$name" "$url"
+  fi
   # A clean stop: the server finishes the keyframes it holds, then writes what it was asked to.
   kill -TERM "$server"
   wait "$server" || { echo "bench_consistency: map_server failed, see $out/$name/server.log" >&2

@@ -36,7 +36,8 @@ struct Args {
   std::string lcm_url{socc::channels::kDefaultLcmUrl};
   std::string scan_lcm_url;               // --live: where scans arrive; empty = lcm_url
   std::vector<std::string> config_files;  // --config, layered in order
-  bool live = false, no_semantics = false, resume = false, quiet = false, relocalize = false;
+  bool live = false, no_semantics = false, resume = false, quiet = false, relocalize = false,
+       own_frame = false;
   double hint_radius = 0.0, hint_yaw_tolerance_deg = 180.0;
   double frame_period = 0.0;  // --frame-period; 0: the config's frame_period
   std::int64_t first = 0, last = -1;
@@ -115,6 +116,16 @@ void addOptions(CLI::App& app, Args& a) {
       "find the first scan's pose in the server's map (LOCALIZE + verification, "
       "docs/relocalization.md) unless --initial-pose gives it; a robot that gets lost searches "
       "again");
+  app.add_flag(
+         "--own-frame", a.own_frame,
+         "a robot with no pose in the server's map yet (e.g. switched on where nobody has "
+         "mapped): maps in its own frame (identity at its first scan) and integrates "
+         "nothing while it searches the shared map (every scan for relocalize_timeout, then "
+         "every own_frame_search_period); once a place is verified and confirmed it is merged: its "
+         "kept scans go into the shared map and it goes on there. Exits 5 when the input "
+         "ends before the merge (poses_own_frame_*.txt instead of poses_*.txt; "
+         "docs/relocalization.md \"Own frame\")")
+      ->excludes(reloc_opt);
   app.add_option("--pose-hint", a.pose_hint,
                  "--relocalize: search near \"x y z yaw\" [m, rad] (map frame) only; needs "
                  "--hint-radius")
@@ -169,6 +180,9 @@ void checkArgs(const Args& a) {
       !why.empty())
     throw std::runtime_error("--lcm-url " + a.lcm_url + ": " + why);
   if (a.robot_id.empty()) throw std::runtime_error("--robot-id must not be empty");
+  if (a.own_frame && (!a.initial_pose.empty() || a.resume))
+    throw std::runtime_error(
+        "--own-frame is for a robot without a pose: not with --initial-pose or --resume");
 }
 
 Eigen::Isometry3d parsePose(const std::string& text) {
@@ -247,14 +261,19 @@ std::unique_ptr<ScanSource> openSource(const Args& a, const OdomConfig& config) 
   return source;
 }
 
-void writeOutputs(const fs::path& out_dir, const Trajectory& t) {
+// Map-frame poses go to poses_kitti.txt / poses_tum.txt; a robot never merged into the shared
+// map (--own-frame) has own-frame poses only, written as poses_own_frame_*.txt so that nothing
+// takes them for map-frame poses.
+void writeOutputs(const fs::path& out_dir, const Trajectory& t, bool own_frame) {
   if (out_dir.empty()) return;
-  socc::writeKittiPoses(out_dir / "poses_kitti.txt", t.poses);
-  socc::writeTumPoses(out_dir / "poses_tum.txt", t.poses, t.stamps);
+  const std::string prefix = own_frame ? "poses_own_frame_" : "poses_";
+  socc::writeKittiPoses(out_dir / (prefix + "kitti.txt"), t.poses);
+  socc::writeTumPoses(out_dir / (prefix + "tum.txt"), t.poses, t.stamps);
 }
 
 // Registers every scan of the source; the outputs are written even when a frame fails.
-// Returns the exit code: 0, 1 (error), 3 (the run ended LOST) or 4 (--relocalize found no pose).
+// Returns the exit code: 0, 1 (error), 3 (the run ended LOST), 4 (--relocalize found no pose) or
+// 5 (--own-frame: the input ended before the robot was merged into the shared map).
 int runOdometry(const Args& a, const OdomConfig& config, socc::rpc::MapClient& client,
                 const RunOptions& options, ScanSource& source) {
   std::signal(SIGINT, onSignal);
@@ -271,12 +290,18 @@ int runOdometry(const Args& a, const OdomConfig& config, socc::rpc::MapClient& c
     std::cerr << "odom_client: error: " << e.what() << "\n";
     rc = 1;
   }
-  writeOutputs(a.out_dir, runner.trajectory());
+  writeOutputs(a.out_dir, runner.trajectory(), runner.endedInOwnFrame());
   std::cout << log.summary(runner.wallSeconds());
   if (rc == 0 && runner.trackingState() == TrackingState::kLost) {
     std::cerr << "odom_client: error: the run ended LOST: frames after the robot lost track "
                  "were not integrated (frames.csv status column)\n";
     rc = 3;
+  }
+  if (rc == 0 && runner.endedInOwnFrame()) {
+    std::cerr << "odom_client: error: not merged into the shared map by the end of the input "
+                 "(--own-frame): nothing was integrated; own-frame poses in "
+                 "poses_own_frame_kitti.txt / poses_own_frame_tum.txt\n";
+    rc = 5;
   }
   return rc;
 }
@@ -312,6 +337,7 @@ int main(int argc, char** argv) {
       options.initial_pose_known = true;
     }
     options.relocalize = args.relocalize;
+    options.own_frame = args.own_frame;
     if (!args.pose_hint.empty()) options.hint = parseHint(args);
     if (args.resume) resumeFromServer(client, args, config, options);
     if (args.resume && !args.input.empty() &&

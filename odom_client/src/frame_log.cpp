@@ -101,7 +101,10 @@ std::string FrameLog::summary(double wall_seconds) const {
       << "; iterations " << m.iterations << "; alpha " << m.alpha << "\n"
       << "health: " << count("ok") << " ok, " << count("degenerate") << " degenerate, "
       << count("retried") << " retried, " << count("unhealthy") << " unhealthy, " << count("lost")
-      << " lost\n";
+      << " lost";
+  if (const std::int64_t own = count("own_frame"); own > 0)
+    out << ", " << own << " in its own frame (--own-frame, before the merge)";
+  out << "\n";
   return out.str();
 }
 

@@ -36,6 +36,8 @@ std::string progressText(const FrameStats& stats, TrackingState state) {
   return out.str();
 }
 
+}  // namespace
+
 void addHealth(const FrameEstimate& e, FrameStats& stats) {
   stats.planar = e.registration.planar;
   stats.non_planar = e.registration.non_planar;
@@ -53,15 +55,15 @@ void addHealth(const FrameEstimate& e, FrameStats& stats) {
   stats.speed = e.health.linear_speed;
 }
 
-}  // namespace
-
 OdomRunner::OdomRunner(const OdomConfig& config, rpc::MapClient& client, RunOptions options)
     : config_(config),
       client_(client),
       options_(options),
       tracking_(config.max_unhealthy_frames),
       localized_(!options.relocalize || options.initial_pose_known),
-      hint_(options.hint) {}
+      hint_(options.hint) {
+  if (options_.initial_pose_known) options_.own_frame = false;  // it is in the shared frame
+}
 
 void OdomRunner::run(ScanSource& source, FrameLog& log) {
   log_ = &log;
@@ -81,6 +83,12 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
       continue;
     }
     const PreparedScan& scan = *next->scan;
+    if (options_.own_frame && own_since_utime_ < 0) startOwnFrame(odometry, scan);
+    if (own_) {
+      ownFrameScan(odometry, scan, frame_start);
+      bar.tick("own frame");
+      continue;
+    }
     if (!localized_ && !relocalize(odometry, scan)) {
       if (gave_up_) break;
       bar.tick("relocalizing");
@@ -98,6 +106,11 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
     sendStatus(robot_status_request_t::LOST, "the input ended before relocalization succeeded",
                trajectory_.seqs.empty() ? 0 : trajectory_.seqs.back(),
                trajectory_.stamps.empty() ? 0 : std::llround(trajectory_.stamps.back() * 1e6));
+  if (own_)
+    std::cerr << "odom_client: the input ended in the robot's own frame (the shared map was "
+                 "not found): nothing of it was integrated; "
+              << own_->keyframes().size() << " keyframes kept ("
+              << own_->keyframeBytes() / (1024.0 * 1024.0) << " MiB)\n";
   bar.finish();
   wall_seconds_ = std::chrono::duration<double>(Clock::now() - run_start).count();
 }

@@ -41,24 +41,29 @@ Relocalization Relocalizer::add(const PreparedScan& scan, MapAccess& map,
     out.problem = "waiting for the next scan (the first one's motion is not known yet)";
     return out;
   }
-  const PreparedScan stacked = stack_.cloud();
+  return addStacked(stack_.cloud(), out.stacked, stack_.lastMotion(), map, hint);
+}
+
+Relocalization Relocalizer::addStacked(const PreparedScan& stacked, int scans,
+                                       const Eigen::Isometry3d& motion, MapAccess& map,
+                                       const std::optional<PoseHint>& hint) {
   const std::vector<Eigen::Vector3f> points =
       localizationPoints(stacked.cloud, config_.relocalize_voxel_size, kMaxLocalizePoints);
   const std::vector<Eigen::Isometry3d> candidates =
       map.candidates(points, hint, config_.relocalize_candidates);
-  out.candidates = static_cast<int>(candidates.size());
-  const Eigen::Isometry3d motion = stack_.lastMotion();
   const std::vector<Eigen::Isometry3d> poses = withNew(places_.predicted(motion), candidates);
   if (poses.empty()) {
     places_.clear();
+    Relocalization out;
+    out.stacked = scans;
     out.problem = "no candidate pose: the scans match nothing in the map";
     return out;
   }
   std::string problem;
   std::vector<VerifiedPlace> verified = verifyPlaces(config_, stacked, points, map, poses, problem);
   Relocalization verdict = places_.update(motion, std::move(verified));
-  verdict.candidates = out.candidates;
-  verdict.stacked = out.stacked;
+  verdict.candidates = static_cast<int>(candidates.size());
+  verdict.stacked = scans;
   if (!problem.empty() && !verdict.pose) verdict.problem = problem;
   return verdict;
 }

@@ -3,7 +3,7 @@
 # socc-cli processes and lcm-logplayer over UDP multicast on loopback (random group, port
 # 50000-59999).
 #
-# Usage: multirobot_test.sh logplayer|robots|client_restart|server_restart|lost|relocalize|health|busy_search --server BIN --client BIN --cli BIN
+# Usage: multirobot_test.sh logplayer|robots|client_restart|server_restart|lost|relocalize|own_frame|health|busy_search --server BIN --client BIN --cli BIN
 #                           [--to-lcmlog BIN] [--sim BIN] [--data DIR]
 #   logplayer: socc-to-lcmlog converts frames 0-7 of DATA/kitti_00_first16 to a log,
 #              odom_client --live consumes it from lcm-logplayer; its poses must equal an offline
@@ -48,12 +48,20 @@
 #              kidnapped (5 scans of the other world, then scans from 15 frames further on): it
 #              gets lost, relocalizes, and its poses after the recovery are within 0.1 m / 1 deg
 #              (median) of A's poses of those frames.
+#   own_frame: robot A maps frames 30-80 of a socc-sim street from its GT pose. Robot B drives
+#              frames 0-60 with --own-frame and no pose: it maps in its own frame, is merged into
+#              A's map frame exactly once, with an own-frame stretch before; the server's pose
+#              history of B holds kept scans from before the merge (they reached the shared map)
+#              within 0.1 m / 1 deg of the GT; B's poses_tum.txt has a map-frame pose for every
+#              scan, within 0.1 m / 1 deg (median) of the GT after the merge. Robot C drives a
+#              world A never mapped with --own-frame: not merged, exit 5, own-frame poses in
+#              poses_own_frame_*.txt (no poses_kitti.txt), the map unchanged.
 set -euo pipefail
-usage() { sed -n '2,40p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,48p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 case "${1:-}" in
   -h|--help) usage 0 ;;
-  logplayer|robots|client_restart|server_restart|lost|relocalize|health|busy_search) mode=$1; shift ;;
+  logplayer|robots|client_restart|server_restart|lost|relocalize|own_frame|health|busy_search) mode=$1; shift ;;
   *) usage 2 ;;
 esac
 server_bin="" client_bin="" cli_bin="" to_lcmlog_bin="" sim_bin="" data=""
@@ -520,6 +528,67 @@ relocalize() {
   { sed -n 1,15p "$work/mapper/poses_kitti.txt"; sed -n 26,40p "$work/mapper/poses_kitti.txt"; } \
     >"$work/kidnapped_reference.txt"
   within_10cm_1deg "$work/recovered.tum" "$work/kidnapped_reference.txt" "robot D (after recovery)"
+  stop_server
+}
+
+# gt_pose GT_FILE FRAME: "x y z roll pitch yaw" of a KITTI pose row (frame FRAME), for --initial-pose.
+gt_pose() {
+  sed -n "$(($2 + 1))p" "$1" | python3 -c '
+import math, sys
+r = [float(v) for v in sys.stdin.read().split()]
+roll = math.atan2(r[9], r[10]); pitch = -math.asin(max(-1.0, min(1.0, r[8]))); yaw = math.atan2(r[4], r[0])
+print(r[3], r[7], r[11], roll, pitch, yaw)'
+}
+
+own_frame() {
+  [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
+  # 25 m of range at 15 m/s: A's map (frames 30-80, from 45 m on) begins about 20 m ahead of B's
+  # start, which sees little of it until B has driven there.
+  "$sim_bin" --frames 81 --sensor vlp32 --quiet --max-range 25 --speed 15 --out "$work/here" \
+    --seed 7 >/dev/null || fail "socc-sim failed"
+  "$sim_bin" --frames 12 --sensor vlp32 --quiet --max-range 25 --speed 15 --out "$work/elsewhere" --seed 8 >/dev/null ||
+    fail "socc-sim failed"
+  # A search (LOCALIZE + verification) takes seconds here: on the first two scans, then once a
+  # second of scans.
+  printf 'relocalize_timeout: 0.1\nown_frame_search_period: 1.0\n' >"$work/own.yaml"
+  map_digest() { cli chunk --sphere 0 0 0 300 --fields features stats free index --digest | sed -n 's/^digest=//p'; }
+  run_client() {  # run_client NAME [odom_client options]: exit code in $rc
+    local name=$1; shift
+    rc=0
+    "$client_bin" --lcm-url "$url" --robot-id "$name" --quiet --out-dir "$work/$name" "$@" \
+      >"$work/$name.log" 2>&1 || rc=$?
+  }
+  start_server shared
+  run_client mapper --kitti "$work/here" --first-frame 30 --last-frame 80 \
+    --initial-pose "$(gt_pose "$work/here/poses.txt" 30)"
+  ((rc == 0)) || fail "robot A failed: $(tail -5 "$work/mapper.log")"
+
+  run_client joiner --kitti "$work/here" --last-frame 60 --own-frame --config "$work/own.yaml"
+  ((rc == 0)) || fail "robot B exited $rc: $(tail -5 "$work/joiner.log")"
+  [[ $(grep -c "found the shared map" "$work/joiner.log") == 1 ]] ||
+    fail "robot B was not merged exactly once: $(grep -m3 'shared map' "$work/joiner.log")"
+  local merged own
+  merged=$(sed -n 's/.*found the shared map at frame \([0-9]*\).*/\1/p' "$work/joiner.log")
+  own=$(awk -F, '$21 == "own_frame"' "$work/joiner/frames.csv" | wc -l)
+  echo "robot B: $own scans in its own frame, merged at frame $merged: $(grep -m1 'merged into' "$work/joiner.log" | sed 's/^odom_client: //')"
+  ((own >= 5)) || fail "robot B had no own-frame stretch before the merge ($own scans)"
+  [[ $(wc -l <"$work/joiner/poses_tum.txt") == 61 ]] || fail "robot B: not one map-frame pose per scan"
+  cli pose joiner --history-tum "$work/joiner_history.tum" >/dev/null || fail "GET_ROBOT_POSE history failed"
+  awk -v t="$merged" '$1 < t * 0.1 - 1e-3' "$work/joiner_history.tum" >"$work/kept.tum"
+  (($(wc -l <"$work/kept.tum") >= 2)) || fail "robot B's scans before the merge did not reach the shared map"
+  within_10cm_1deg "$work/kept.tum" "$work/here/poses.txt" "robot B's kept scans in the shared map"
+  awk -v t="$merged" '$1 > t * 0.1 + 1e-3' "$work/joiner/poses_tum.txt" >"$work/after.tum"
+  within_10cm_1deg "$work/after.tum" "$work/here/poses.txt" "robot B after the merge"
+  within_10cm_1deg "$work/joiner/poses_tum.txt" "$work/here/poses.txt" "robot B, every scan"
+
+  local before; before=$(map_digest)
+  run_client stranger --kitti "$work/elsewhere" --own-frame --config "$work/own.yaml"
+  ((rc == 5)) || fail "robot C (never in A's area) exited $rc, expected 5: $(tail -5 "$work/stranger.log")"
+  grep -q "found the shared map at" "$work/stranger.log" && fail "robot C was merged into a place A never mapped"
+  [[ -s $work/stranger/poses_own_frame_kitti.txt && ! -e $work/stranger/poses_kitti.txt ]] ||
+    fail "robot C: own-frame poses not written as poses_own_frame_*.txt"
+  [[ $(map_digest) == "$before" ]] || fail "robot C changed the shared map"
+  echo "robot C (never in A's area): not merged, exit 5, map unchanged"
   stop_server
 }
 

@@ -39,7 +39,9 @@ struct FrameStats {
   int deskew_passes = 0;
   // Health (odom_client/README.md "Health"): status is "ok", "degenerate", "retried",
   // "unhealthy" (not integrated), "lost" (not integrated; the robot lost track), "relocalizing"
-  // (searching its pose in the map) or "refused" (the server refused it as implausible).
+  // (searching its pose in the map), "refused" (the server refused it as implausible) or
+  // "own_frame" (--own-frame before the merge: registered in the robot's own frame, not
+  // integrated then; its pose in the trajectory files is moved into the map frame at the merge).
   std::string status = "ok";
   std::string problem;   // why the frame is unhealthy
   std::string surprise;  // a kinematic limit exceeded (FrameHealth::surprise; reported only)

@@ -114,6 +114,9 @@ struct OdomConfig {
   double relocalize_hint_radius = 30.0;
   int relocalize_stack_scans = 5;    // scans accumulated by odometry into one matched cloud
   int relocalize_confirm_scans = 2;  // consecutive scans a place must lead before it is accepted
+  // --own-frame: after relocalize_timeout (searches on every scan) the shared map is searched
+  // once per this much scan time [s]: each search costs the server a LOCALIZE.
+  double own_frame_search_period = 0.5;
 
   // Map service.
   int timeout_ms = 2000;  // per attempt

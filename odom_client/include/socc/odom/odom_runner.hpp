@@ -6,7 +6,9 @@
 // integrates nothing (the shared map is never fed a pose the robot does not trust) until it has
 // found itself in the map again: it relocalizes (relocalization.hpp) near its last good pose
 // first, anywhere after half of relocalize_timeout, and resumes there; a search that outlasts
-// relocalize_timeout ends the run LOST.
+// relocalize_timeout ends the run LOST. With --own-frame a robot without a pose maps in its own
+// frame (OwnFrameMap, odom_runner_own_frame.cpp), integrating nothing, until its search finds
+// the shared map; then its kept scans are integrated there and it goes on as any robot.
 // Stateless between frames apart from the odometry state: no map is kept beyond one chunk and
 // the voxels of the last frame.
 #include <Eigen/Geometry>
@@ -23,6 +25,7 @@
 #include "socc/odom/map_pipeline.hpp"
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/odometry.hpp"
+#include "socc/odom/own_frame_map.hpp"
 #include "socc/odom/relocalization.hpp"
 #include "socc/odom/relocalizer.hpp"
 #include "socc/odom/scan_source.hpp"
@@ -39,6 +42,9 @@ struct RunOptions {
   // (A robot that gets lost searches again in any case.)
   bool relocalize = false;
   std::optional<PoseHint> hint;
+  // --own-frame (without an initial pose): maps in its own frame from the first scan and keeps
+  // searching the shared map; merged into it when found (docs/relocalization.md "Own frame").
+  bool own_frame = false;
   bool progress = true;
   const std::atomic<bool>* stop = nullptr;  // set (e.g. by SIGINT) to end after the current frame
 };
@@ -50,6 +56,9 @@ class RelocalizationFailed : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+/// A frame's registration numbers and health into its row.
+void addHealth(const FrameEstimate& e, FrameStats& stats);
 
 class OdomRunner {
  public:
@@ -70,6 +79,9 @@ class OdomRunner {
   int relocalizations() const { return relocalizations_; }
   /// Map corrections applied (docs/consistency.md): the pose output jumps at each.
   int corrections() const { return corrections_; }
+  /// --own-frame: the run ended before the robot was merged into the shared map; trajectory()
+  /// then holds own-frame poses (identity at its first scan) and nothing was integrated.
+  bool endedInOwnFrame() const { return own_.has_value(); }
 
  private:
   /// One prepared scan through the pipeline; its stats.
@@ -99,6 +111,19 @@ class OdomRunner {
   /// returns it; the next submitted frame's row says how far the pose output jumped.
   std::optional<Eigen::Isometry3d> applyCorrection(Odometry& odometry);
   void reportTracking(TrackingState state, const FrameEstimate& frame);
+  // --own-frame (odom_runner_own_frame.cpp).
+  void startOwnFrame(Odometry& odometry, const PreparedScan& scan);
+  /// Registers a scan against the own-frame map, keeps it, searches the shared map when due.
+  void ownFrameScan(Odometry& odometry, const PreparedScan& scan,
+                    std::chrono::steady_clock::time_point start);
+  /// Adds a registered own-frame frame to the trajectory and, when healthy, to the own map.
+  bool keepOwnFrame(const FrameEstimate& frame, FrameStats& stats);
+  bool ownSearchDue(std::int64_t utime) const;
+  /// One rate-limited search of the shared map; merges on a confirmed place. Its verdict.
+  std::string searchShared(Odometry& odometry, const FrameEstimate& newest);
+  void mergeOwnFrame(Odometry& odometry, const FrameEstimate& newest,
+                     const Eigen::Isometry3d& verified);
+  void integrateKept(const OwnKeyframe& keyframe);
   void sendStatus(std::int8_t wire, const std::string& reason, std::int64_t seq,
                   std::int64_t utime);
 
@@ -120,6 +145,12 @@ class OdomRunner {
   int relocalizations_ = 0;
   int corrections_ = 0;
   std::string jump_;  // the last correction, for the next frame's row
+  // --own-frame, until the merge.
+  std::optional<OwnFrameMap> own_;
+  std::size_t own_rows_begin_ = 0;        // first trajectory row in the own frame
+  std::int64_t own_since_utime_ = -1;     // scan time it began mapping in its own frame
+  std::int64_t own_searched_utime_ = -1;  // scan time of the last search
+  Eigen::Isometry3d own_searched_pose_ = Eigen::Isometry3d::Identity();  // own pose then
 };
 
 }  // namespace socc::odom

@@ -21,6 +21,13 @@ class Relocalizer {
   /// One scan of the search. pose, when set: map_T_sensor of this scan at its reference time.
   Relocalization add(const PreparedScan& scan, MapAccess& map, const std::optional<PoseHint>& hint);
 
+  /// One search of a robot whose own odometry stacked its scans already (OwnFrameMap): stacked
+  /// is that cloud in its newest scan's frame, motion the robot's motion since the previous
+  /// search (previous_T_newest), which moves the followed places. Same search, verification and
+  /// confirmation as add(); pose, when set: map_T_sensor of the newest stacked scan.
+  Relocalization addStacked(const PreparedScan& stacked, int scans, const Eigen::Isometry3d& motion,
+                            MapAccess& map, const std::optional<PoseHint>& hint);
+
  private:
   OdomConfig config_;
   ScanStack stack_;

@@ -5,11 +5,11 @@
 // distinctive (a street seen from one spot looks like many others; a few metres of it less so).
 #include <Eigen/Geometry>
 #include <cstddef>
-#include <deque>
 #include <optional>
 
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/odometry.hpp"
+#include "socc/odom/posed_frames.hpp"
 
 namespace socc::odom {
 
@@ -30,26 +30,16 @@ class ScanStack {
   PreparedScan cloud() const;
   /// Motion from the previous newest scan to the newest (newest_T_previous inverted:
   /// previous_T_newest); identity after a restart.
-  const Eigen::Isometry3d& lastMotion() const { return last_motion_; }
+  const Eigen::Isometry3d& lastMotion() const { return frames_.lastMotion(); }
   /// True when add() started the stack over (a restart drops the places matched so far).
   bool restarted() const { return restarted_; }
 
  private:
-  struct Frame {
-    LabeledCloud cloud;      // deskewed, sensor frame at the reference time
-    Eigen::Isometry3d pose;  // private frame
-    std::int64_t seq = 0;
-    std::int64_t utime = 0;
-  };
-  void push(FrameEstimate estimate);
   void restart();
-  LocalMap target() const;  // the stacked scans as a registration target (private frame)
 
   OdomConfig config_;
-  std::size_t max_scans_;
   std::optional<Odometry> odometry_;
-  std::deque<Frame> frames_;
-  Eigen::Isometry3d last_motion_ = Eigen::Isometry3d::Identity();
+  PosedFrames frames_;  // private frame
   bool restarted_ = false;
 };
 

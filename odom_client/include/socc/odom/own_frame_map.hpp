@@ -1,0 +1,78 @@
+#pragma once
+// What a robot that found no pose in the shared map keeps while it maps in its own frame
+// (odom_client --own-frame, docs/relocalization.md "Own frame"): its last scans as its
+// registration target and as the cloud it keeps matching against the shared map (PosedFrames),
+// and keyframes (one thinned scan every few metres) that are integrated into the shared map, in
+// order, once the robot is merged into it. Nothing of it reaches the server before the merge.
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "socc/odom/odom_config.hpp"
+#include "socc/odom/posed_frames.hpp"
+
+namespace socc::odom {
+
+/// A kept scan of the own-frame stretch.
+struct OwnKeyframe {
+  std::int64_t seq = 0;
+  std::int64_t utime = 0;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // own_T_sensor (reference time)
+  LabeledCloud cloud;                                      // thinned, sensor frame (deskewed)
+};
+
+/// Bounds of the own-frame map.
+struct OwnFrameLimits {
+  std::size_t recent_scans = 10;    // the registration target: the last scans
+  double keyframe_distance = 2.0;   // [m] of travel between kept keyframes
+  double keyframe_angle = 0.35;     // [rad] of turn between kept keyframes (about 20 deg)
+  double keyframe_spacing = 0.2;    // [m] a keyframe's points are thinned to this
+  std::size_t max_keyframes = 500;  // beyond: the oldest are dropped (that stretch is not merged)
+};
+
+class OwnFrameMap {
+ public:
+  explicit OwnFrameMap(OwnFrameLimits limits = {});
+
+  /// Adds a healthy registered frame (pose in the own frame): to the target, and as a keyframe
+  /// when it is the first or far enough from the last one.
+  void add(const FrameEstimate& frame);
+
+  /// The registration target of the next frame (own frame); empty before the first frame.
+  LocalMap target() const { return recent_.target(); }
+  /// The newest count frames stacked in the newest one's frame (for the shared-map search).
+  PreparedScan stacked(std::size_t count, double reference_time) const {
+    return recent_.stacked(count, reference_time);
+  }
+  std::size_t frames() const { return recent_.size(); }
+  Eigen::Isometry3d newestPose() const { return recent_.newestPose(); }
+  const std::vector<OwnKeyframe>& keyframes() const { return keyframes_; }
+  /// Keyframes dropped by max_keyframes.
+  std::size_t droppedKeyframes() const { return dropped_; }
+  /// Memory of the keyframes [bytes] (what grows with the path; the target is bounded).
+  std::size_t keyframeBytes() const;
+  /// Memory of the last scans of the target [bytes].
+  std::size_t recentBytes() const { return recent_.bytes(); }
+
+ private:
+  bool isKeyframe(const Eigen::Isometry3d& pose) const;
+
+  OwnFrameLimits limits_;
+  PosedFrames recent_;
+  std::vector<OwnKeyframe> keyframes_;
+  std::size_t dropped_ = 0;
+};
+
+/// The shared map's frame from the own one: the verified pose of a scan in the shared map times
+/// the inverse of its own-frame pose (shared_T_own).
+Eigen::Isometry3d sharedFromOwn(const Eigen::Isometry3d& verified, const Eigen::Isometry3d& own);
+
+/// The keyframes as they are integrated at the merge: in order, at shared_T_own * pose; the
+/// newest frame (newest, already registered) is appended when it is not the last keyframe, so the
+/// server's last pose of the robot is the one its odometry goes on from.
+std::vector<OwnKeyframe> mergedKeyframes(const std::vector<OwnKeyframe>& keyframes,
+                                         const OwnKeyframe& newest,
+                                         const Eigen::Isometry3d& shared_T_own);
+
+}  // namespace socc::odom

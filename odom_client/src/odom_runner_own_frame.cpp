@@ -1,0 +1,145 @@
+// OdomRunner with --own-frame: a robot that finds no pose in the shared map maps in its own frame
+// and is merged into the shared one when its search finds the map (docs/relocalization.md "Own
+// frame"). Nothing of it reaches the server before the merge.
+#include <algorithm>
+#include <iostream>
+#include <sstream>
+#include <utility>
+
+#include "socc/odom/odom_runner.hpp"
+#include "socc/odom/service_map_access.hpp"
+#include "socc/pose_conversion.hpp"
+
+namespace socc::odom {
+namespace {
+
+std::string mergeText(const Eigen::Isometry3d& shared_T_own, std::size_t keyframes,
+                      const OwnFrameMap& own) {
+  constexpr double kMiB = 1024.0 * 1024.0;
+  std::ostringstream out;
+  out.precision(2);
+  out << std::fixed << "merged into the shared map (own frame moved "
+      << shared_T_own.translation().norm() << " m, "
+      << Eigen::AngleAxisd(shared_T_own.linear()).angle() * 180.0 / M_PI << " deg; " << keyframes
+      << " kept scans integrated; kept " << own.keyframeBytes() / kMiB << " MiB of keyframes and "
+      << own.recentBytes() / kMiB << " MiB of recent scans)";
+  return out.str();
+}
+
+}  // namespace
+
+void OdomRunner::startOwnFrame(Odometry& odometry, const PreparedScan& scan) {
+  // Identity at this scan; no free-space check against the shared map (not in its frame yet).
+  odometry = Odometry(config_, Eigen::Isometry3d::Identity(), false);
+  own_.emplace();
+  own_rows_begin_ = trajectory_.poses.size();
+  own_since_utime_ = scan.utime;
+  search_.emplace(config_);
+  std::cerr << "odom_client: mapping in its own frame while searching the shared map\n";
+  // The server knows no pose of this robot yet (NOT_FOUND): the report is for SOCC/STATUS.
+  sendStatus(robot_status_request_t::RELOCALIZING, "mapping in its own frame", scan.seq,
+             scan.utime);
+}
+
+void OdomRunner::ownFrameScan(Odometry& odometry, const PreparedScan& scan,
+                              std::chrono::steady_clock::time_point start) {
+  FrameStats stats;
+  stats.frame = scan.seq;
+  stats.preprocess_ms = msSince(start);
+  const LocalMap map = own_->target();
+  stats.chunk_voxels = static_cast<std::int64_t>(map.size());
+  const auto register_start = std::chrono::steady_clock::now();
+  FrameEstimate estimate = odometry.registerFrame(scan, map);
+  stats.register_ms = msSince(register_start);
+  if (std::optional<FrameEstimate> first = odometry.takeReleasedFrame()) {
+    FrameStats first_stats;
+    first_stats.frame = first->seq;
+    keepOwnFrame(*first, first_stats);
+    log_->add(first_stats);
+  }
+  if (estimate.held) return;
+  const bool kept = keepOwnFrame(estimate, stats);
+  if (kept && ownSearchDue(estimate.utime)) stats.problem = searchShared(odometry, estimate);
+  stats.total_ms = msSince(start);
+  log_->add(stats);
+}
+
+bool OdomRunner::keepOwnFrame(const FrameEstimate& frame, FrameStats& stats) {
+  addHealth(frame, stats);
+  stats.status = "own_frame";
+  if (!frame.health.healthy()) stats.problem = "unhealthy: " + frame.health.problem;
+  trajectory_.seqs.push_back(frame.seq);
+  trajectory_.stamps.push_back(frame.utime * 1e-6);
+  trajectory_.poses.push_back(frame.pose);
+  if (!frame.health.healthy()) return false;  // not kept: the own map holds trusted scans only
+  own_->add(frame);
+  return true;
+}
+
+bool OdomRunner::ownSearchDue(std::int64_t utime) const {
+  if (own_searched_utime_ < 0) return true;
+  if ((utime - own_since_utime_) * 1e-6 <= config_.relocalize_timeout) return true;
+  // Then rate-limited: each search costs the server a LOCALIZE (1e-3: scan stamps in us).
+  return (utime - own_searched_utime_) * 1e-6 >= config_.own_frame_search_period - 1e-3;
+}
+
+std::string OdomRunner::searchShared(Odometry& odometry, const FrameEstimate& newest) {
+  // The places followed since the last search move by the own-frame odometry in between.
+  const Eigen::Isometry3d motion = own_searched_pose_.inverse() * newest.pose;
+  own_searched_pose_ = newest.pose;
+  own_searched_utime_ = newest.utime;
+  const std::size_t count = static_cast<std::size_t>(config_.relocalize_stack_scans);
+  ServiceMapAccess map(client_, config_);
+  const Relocalization found =
+      search_->addStacked(own_->stacked(count, config_.deskew_reference_time),
+                          static_cast<int>(std::min(count, own_->frames())), motion, map, hint_);
+  if (!found.pose) return "searching the shared map: " + found.problem;
+  std::cerr << "odom_client: found the shared map at frame " << newest.seq << " (confirmed on "
+            << found.confirmed << " searches; explains " << static_cast<int>(found.fitness * 100)
+            << " % of the last " << found.stacked << " scans, "
+            << static_cast<int>(found.free * 100) << " % in free space; next place "
+            << static_cast<int>(found.runner_up * 100) << " % net)\n";
+  mergeOwnFrame(odometry, newest, *found.pose);
+  return std::exchange(jump_, {});  // this frame's row says it (not the next frame's)
+}
+
+void OdomRunner::mergeOwnFrame(Odometry& odometry, const FrameEstimate& newest,
+                               const Eigen::Isometry3d& verified) {
+  const Eigen::Isometry3d shared_T_own = sharedFromOwn(verified, newest.pose);
+  const OwnKeyframe last{newest.seq, newest.utime, newest.pose, newest.cloud};
+  const std::vector<OwnKeyframe> kept = mergedKeyframes(own_->keyframes(), last, shared_T_own);
+  // The own-frame stretch reaches the shared map in order, before the robot's next frame: the
+  // server sees a robot's first integration and then plausible steps.
+  for (const OwnKeyframe& k : kept) integrateKept(k);
+  for (std::size_t i = own_rows_begin_; i < trajectory_.poses.size(); ++i)
+    trajectory_.poses[i] = shared_T_own * trajectory_.poses[i];
+  odometry.correct(shared_T_own);  // as a map correction: the motion model goes on
+  watch(odometry);
+  jump_ = mergeText(shared_T_own, kept.size(), *own_);
+  std::cerr << "odom_client: " << jump_ << "\n";
+  if (own_->droppedKeyframes() > 0)
+    std::cerr << "odom_client: " << own_->droppedKeyframes()
+              << " older kept scans were dropped (max_keyframes): not merged\n";
+  tracking_ = TrackingMonitor(config_.max_unhealthy_frames);
+  last_good_ = shared_T_own * newest.pose;
+  sendStatus(robot_status_request_t::TRACKING, "merged into the shared map", newest.seq,
+             newest.utime);
+  own_.reset();
+  search_.reset();
+  localized_ = true;
+  ++relocalizations_;
+}
+
+void OdomRunner::integrateKept(const OwnKeyframe& keyframe) {
+  const auto reply = client_.integrate(
+      rpc::makeIntegrateRequest(keyframe.seq, keyframe.utime, keyframe.pose, keyframe.cloud));
+  if (reply.ok()) return;
+  if (reply.error.status == reply_header_t::FAILED_PRECONDITION) {  // judged implausible
+    std::cerr << "odom_client: warning: the server refused kept scan " << keyframe.seq << ": "
+              << reply.error.message << "\n";
+    return;
+  }
+  throw std::runtime_error(callError("INTEGRATE", reply.error, reply.attempts));
+}
+
+}  // namespace socc::odom
