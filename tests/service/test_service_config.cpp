@@ -48,6 +48,7 @@ TEST(ServerConfig, ShippedFileStatesTheConsistencyDefaults) {
   EXPECT_EQ(read.scan_to_scan_edges, defaults.scan_to_scan_edges);
   EXPECT_EQ(read.snap_min_t, defaults.snap_min_t);
   EXPECT_EQ(read.snap_min_r, defaults.snap_min_r);
+  EXPECT_EQ(read.correction_window, defaults.correction_window);
 }
 
 TEST(ServerConfig, ShippedFileStatesTheLocalizationBudget) {

@@ -17,6 +17,9 @@ struct ConsistencyParams {
   double rebuild_voxel = 0.1;      // [m]
   double rebuild_min_shift = 0.1;  // [m]
   double rebuild_lever = 20.0;     // [m]
+  // The correction a robot is told fits its keyframes within this much of its path before the
+  // last (correction_fit.hpp): the grid it registers against next.
+  double correction_window = 30.0;  // [m]
 
   // Keyframes: a robot's integration becomes one when it moved or turned this much since its
   // last keyframe.

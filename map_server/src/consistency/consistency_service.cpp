@@ -4,6 +4,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "correction_fit.hpp"
 #include "socc/odom/relocalization.hpp"
 
 namespace socc::consistency {
@@ -247,12 +248,8 @@ void ConsistencyService::rebuild(double max_shift) {
     for (const Pending& p : queue_)
       if (p.cloud) tail_.push_back({p.robot, p.keyframe.odom_pose, p.cloud});
     rebuilding_ = true;
-    for (const auto& [name, track] : robots_) {
-      if (track.keyframe_ids.empty()) continue;
-      const Keyframe& last = keyframes_[static_cast<std::size_t>(track.keyframe_ids.back())];
-      grid->corrections[name] =
-          estimates_[static_cast<std::size_t>(last.id)] * last.odom_pose.inverse();
-    }
+    for (const auto& [name, track] : robots_)
+      if (!track.keyframe_ids.empty()) grid->corrections[name] = robotCorrection(track);
   }
   for (Keyframe& k : keyframes_) {
     const Eigen::Isometry3d& pose = estimates_[static_cast<std::size_t>(k.id)];
@@ -281,6 +278,18 @@ void ConsistencyService::rebuild(double max_shift) {
   stats_.max_rebuild_s = std::max(stats_.max_rebuild_s, grid->seconds);
   stats_.rebuild_keyframes = grid->keyframes;
   ready_ = std::move(grid);
+}
+
+Eigen::Isometry3d ConsistencyService::robotCorrection(const RobotTrack& track) const {
+  std::vector<CorrectionSample> samples;
+  const double until = keyframes_[static_cast<std::size_t>(track.keyframe_ids.back())].travelled -
+                       params_.correction_window;
+  for (auto id = track.keyframe_ids.rbegin(); id != track.keyframe_ids.rend(); ++id) {
+    const Keyframe& k = keyframes_[static_cast<std::size_t>(*id)];
+    if (!samples.empty() && k.travelled < until) break;
+    samples.push_back({k.odom_pose, estimates_[static_cast<std::size_t>(k.id)]});
+  }
+  return fitCorrection(samples);
 }
 
 void ConsistencyService::integrateTail(RebuiltGrid& grid, const std::vector<TailScan>& tail) const {

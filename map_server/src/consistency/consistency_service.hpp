@@ -138,6 +138,9 @@ class ConsistencyService {
   /// After a correcting closure: rebuilds the grid when a keyframe moved far enough.
   void maybeRebuild();
   void rebuild(double max_shift);
+  /// The correction a rebuild tells the robot: fitted to its last correction_window metres of
+  /// keyframes (correction_fit.hpp). Worker thread.
+  Eigen::Isometry3d robotCorrection(const RobotTrack& track) const;
   struct TailScan {
     std::string robot;
     Eigen::Isometry3d raw_pose = Eigen::Isometry3d::Identity();
