@@ -95,6 +95,12 @@ printf 'localization:\n  max_draws: 10000\n' >"$work/server.yaml"
 fail() { echo "FAIL: $*"; exit 1; }
 new_url() { url=$(random_lcm_url 50000); }
 cli() { "$cli_bin" --lcm-url "$url" --client-id multirobot_test "$@"; }
+run_client() {  # run_client NAME [odom_client options]: robot NAME's odom_client, exit code in $rc
+  local name=$1; shift
+  rc=0
+  "$client_bin" --lcm-url "$url" --robot-id "$name" --quiet --out-dir "$work/$name" "$@" \
+    >"$work/$name.log" 2>&1 || rc=$?
+}
 server_pid=""
 start_server() {  # start_server NAME [map_server options]: a fresh map_server on a new URL
   new_url
@@ -485,12 +491,6 @@ relocalize() {
   "${sim[@]}" --out "$work/elsewhere" --scene indoor --seed 8 >/dev/null || fail "socc-sim failed"
   printf 'relocalize_timeout: 1.0\n' >"$work/quick.yaml"  # the unmapped robot gives up after 10 scans
   map_digest() { cli chunk --sphere 0 0 0 200 --fields features stats free index --digest | sed -n 's/^digest=//p'; }
-  run_client() {  # run_client NAME [odom_client options]: exit code in $rc
-    local name=$1; shift
-    rc=0
-    "$client_bin" --lcm-url "$url" --robot-id "$name" --quiet --out-dir "$work/$name" "$@" \
-      >"$work/$name.log" 2>&1 || rc=$?
-  }
 
   start_server shared
   run_client mapper --kitti "$work/here" --last-frame 39
@@ -552,12 +552,6 @@ own_frame() {
   # second of scans.
   printf 'relocalize_timeout: 0.1\nown_frame_search_period: 1.0\n' >"$work/own.yaml"
   map_digest() { cli chunk --sphere 0 0 0 300 --fields features stats free index --digest | sed -n 's/^digest=//p'; }
-  run_client() {  # run_client NAME [odom_client options]: exit code in $rc
-    local name=$1; shift
-    rc=0
-    "$client_bin" --lcm-url "$url" --robot-id "$name" --quiet --out-dir "$work/$name" "$@" \
-      >"$work/$name.log" 2>&1 || rc=$?
-  }
   start_server shared
   run_client mapper --kitti "$work/here" --first-frame 30 --last-frame 80 \
     --initial-pose "$(gt_pose "$work/here/poses.txt" 30)"
