@@ -124,11 +124,12 @@ void ConsistencyService::run() {
     Pending next;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+      wake_.wait(lock, [this] { return stopping_ || (!held_ && !queue_.empty()); });
       if (stopping_) return;
       next = std::move(queue_.front());
       queue_.pop_front();
       if (next.cloud) --pending_scans_;
+      in_flight_ = next;  // waiting (for a checkpoint) until its keyframe record is written
       busy_ = true;
     }
     try {
@@ -138,10 +139,19 @@ void ConsistencyService::run() {
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);
+      in_flight_.reset();
       busy_ = false;
     }
     idle_.notify_all();
   }
+}
+
+void ConsistencyService::hold(bool on) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    held_ = on;
+  }
+  wake_.notify_all();
 }
 
 void ConsistencyService::process(Pending pending) {
@@ -177,6 +187,10 @@ void ConsistencyService::process(Pending pending) {
     next_attempt = track.next_attempt_travel;
   }
   storeKeyframe(pending.robot, first_edge, first_prior);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    in_flight_.reset();  // durable: a checkpoint need not write it
+  }
   // Only this thread changes keyframes_ and estimates_: reading them unlocked is safe here.
   if (!matchable || travelled < next_attempt) return;
   const std::vector<Candidate> candidates = findCandidates(keyframes_, query, estimates_, params_);

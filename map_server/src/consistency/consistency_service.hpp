@@ -88,8 +88,14 @@ class ConsistencyService {
   std::unique_ptr<RebuiltGrid> takeRebuild();
 
   /// Records in the store that the map's snapshot at (journal_sequence, map_version) holds
-  /// every keyframe observed so far and the last grid taken (call before writing it).
+  /// every keyframe observed so far and the last grid taken (call before writing it). The
+  /// keyframes the worker has not stored yet are written first, as observed: once the snapshot
+  /// cuts the journal they are nowhere else.
   void checkpoint(std::int64_t journal_sequence, std::int64_t map_version);
+
+  /// Holds the worker before its next keyframe (on) or lets it go on (tests: a kill while
+  /// keyframes wait for it).
+  void hold(bool on);
 
   ConsistencyStats stats() const;
   std::vector<Closure> closures() const;
@@ -113,6 +119,7 @@ class ConsistencyService {
     std::shared_ptr<const LabeledCloud> cloud;  // null: pose only (max_pending_scans)
     std::string robot;
     std::chrono::steady_clock::time_point arrived;
+    bool stored = false;  // written to the store as waiting (checkpoint)
   };
   struct RobotTrack {
     int index = 0;
@@ -153,6 +160,9 @@ class ConsistencyService {
   void restoreKeyframe(const StoredKeyframe& stored);
   void restoreClosure(const StoredClosure& stored);
   void restoreGridPoses(const StoreContents& contents, int grid_serial);
+  void restoreWaiting(const StoredWaiting& stored);
+  /// Writes the keyframes observed but not yet stored by the worker (checkpoint).
+  void storeWaiting();
 
   ConsistencyParams params_;
   map::MapConfig map_config_;
@@ -162,6 +172,8 @@ class ConsistencyService {
   std::condition_variable wake_;
   std::condition_variable idle_;
   std::deque<Pending> queue_;
+  std::optional<Pending> in_flight_;  // taken by the worker, not yet in the store
+  bool held_ = false;
   int pending_scans_ = 0;  // entries of queue_ with their scan
   bool busy_ = false;
   bool stopping_ = false;
