@@ -167,6 +167,9 @@ void ConsistencyService::restoreKeyframe(const StoredKeyframe& stored) {
   track.keyframe_ids.push_back(id);
   track.keyframe_seqs.push_back(kf.seq);
   track.restored_seq = kf.seq;
+  // Its record's edges are the odometry edge from the robot's previous keyframe (if any).
+  track.last_motion.reset();
+  if (!stored.edges.empty()) track.last_motion = stored.edges.front().relative;
   keyframes_.push_back(std::move(kf));
   stats_.keyframe_bytes += keyframes_.back().bytes();
   stats_.scan_bytes += keyframes_.back().scan.bytes();

@@ -325,22 +325,19 @@ std::unique_ptr<RebuiltGrid> ConsistencyService::takeRebuild() {
 
 std::optional<PoseEdge> ConsistencyService::measureOdometry(const Keyframe& kf,
                                                             const std::string& robot) {
-  int previous_id = -1, before_id = -1;
+  int previous_id = -1;
+  // The edge into previous as the graph measures it: the robot's motion before, a guess without
+  // the jump when this edge holds one.
+  std::optional<Eigen::Isometry3d> motion;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    const std::vector<int>& ids = robots_.at(robot).keyframe_ids;
-    if (!ids.empty()) previous_id = ids.back();
-    if (ids.size() > 1) before_id = ids[ids.size() - 2];
+    const RobotTrack& track = robots_.at(robot);
+    if (!track.keyframe_ids.empty()) previous_id = track.keyframe_ids.back();
+    motion = track.last_motion;
   }
   if (previous_id < 0) return std::nullopt;
   // Only this thread changes keyframes_: reading them unlocked is safe here.
   const Keyframe& previous = keyframes_[static_cast<std::size_t>(previous_id)];
-  // The edge into previous as the graph measures it: the robot's motion before, a guess without
-  // the jump when this edge holds one. Odometry edges are among the last few added.
-  std::optional<Eigen::Isometry3d> motion;
-  const std::vector<PoseEdge>& edges = graph_.edges();
-  for (auto e = edges.rbegin(); e != edges.rend() && before_id >= 0 && !motion; ++e)
-    if (e->from == before_id && e->to == previous_id) motion = e->relative;
   OdometryEdgeCheck check;
   const PoseEdge edge = odometryEdge(previous, kf, kf.travelled - previous.travelled, motion,
                                      params_, map_config_, odom_config_, &check);
@@ -350,7 +347,7 @@ std::optional<PoseEdge> ConsistencyService::measureOdometry(const Keyframe& kf,
   return edge;
 }
 
-void ConsistencyService::addToGraph(const Keyframe& kf, const RobotTrack& track,
+void ConsistencyService::addToGraph(const Keyframe& kf, RobotTrack& track,
                                     const std::optional<PoseEdge>& odometry) {
   // The new node continues from its predecessor's optimized pose (the correction so far) by the
   // integrated relative pose: its estimate stays where the client's map puts it (the closure
@@ -362,6 +359,8 @@ void ConsistencyService::addToGraph(const Keyframe& kf, const RobotTrack& track,
                (previous.odom_pose.inverse() * kf.odom_pose);
     graph_.addEdge(*odometry);
   }
+  track.last_motion.reset();
+  if (!track.keyframe_ids.empty() && odometry) track.last_motion = odometry->relative;
   graph_.addNode(estimate);
   estimates_.push_back(estimate);
   if (track.keyframe_ids.empty()) {

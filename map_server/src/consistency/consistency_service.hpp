@@ -130,6 +130,9 @@ class ConsistencyService {
     double next_attempt_travel = 0.0;  // closure_spacing after the last closure
     std::vector<int> keyframe_ids;     // filled by the worker
     std::vector<std::int64_t> keyframe_seqs;
+    // The relative pose of the odometry edge into the last keyframe, as the graph measures it
+    // (none before the second keyframe): the motion the next edge's check continues.
+    std::optional<Eigen::Isometry3d> last_motion;
     // Restored from the store: integrations up to this seq are in it (a journal replay shows
     // them again).
     std::int64_t restored_seq = std::numeric_limits<std::int64_t>::min();
@@ -138,7 +141,7 @@ class ConsistencyService {
   void run();
   void process(Pending pending);
   /// odometry: the edge from the robot's previous keyframe (none for its first).
-  void addToGraph(const Keyframe& keyframe, const RobotTrack& track,
+  void addToGraph(const Keyframe& keyframe, RobotTrack& track,
                   const std::optional<PoseEdge>& odometry);
   /// The odometry edge from the robot's previous keyframe to kf (scan to scan where it snapped).
   std::optional<PoseEdge> measureOdometry(const Keyframe& kf, const std::string& robot);
