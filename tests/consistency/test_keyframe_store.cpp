@@ -3,6 +3,7 @@
 // error, and a service started from the store holds the same keyframes and graph.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
 
@@ -249,7 +250,13 @@ TEST(KeyframeStore, KeyframesWaitingForTheWorkerAtACheckpointSurviveAKill) {
     killed.flush();
     killed.hold(true);
     observeAll(killed, 3, 8);  // b3, b5, b7: waiting
+    const std::uint64_t bytes = std::filesystem::file_size(file);
+    const auto start = std::chrono::steady_clock::now();
     killed.checkpoint(8, 3);
+    std::cerr << "checkpoint with 3 waiting keyframes: " << std::filesystem::file_size(file) - bytes
+              << " B in "
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
+              << " s\n";
     killed.checkpoint(8, 4);  // a second mark writes none of them again
     EXPECT_EQ(killed.stats().pending, 3);
   }  // "kill -9": destroyed without processing what waits
