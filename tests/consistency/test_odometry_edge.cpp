@@ -157,8 +157,8 @@ TEST(OdometryEdge, ASnapAtTheRevisitIsSpreadOverTheLoopInsteadOfKept) {
   std::cerr << "keyframe ATE " << kept_before << " m: integrated edges -> " << kept_after
             << " m, scan-to-scan where snapped -> " << spread_after << " m; "
             << spread.odometry_edges.snaps << " snaps in " << spread.odometry_edges.checked
-            << " edges, " << spread.odometry_edges.seconds / spread.odometry_edges.checked
-            << " s per edge\n";
+            << " edges (" << spread.odometry_edges.registered << " registered), "
+            << spread.odometry_edges.seconds / spread.odometry_edges.checked << " s per edge\n";
 }
 
 }  // namespace
