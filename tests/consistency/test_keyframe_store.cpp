@@ -3,6 +3,7 @@
 // error, and a service started from the store holds the same keyframes and graph.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
 
@@ -224,6 +225,67 @@ TEST(KeyframeStore, ARestoredServiceHoldsTheSameKeyframesAndGraph) {
   EXPECT_EQ(grown.keyframes.size(), before.size() + 1);
   ASSERT_EQ(grown.keyframes.back().edges.size(), 1u);
   EXPECT_EQ(grown.keyframes.back().edges[0].from, static_cast<int>(before.size()) - 1);
+}
+
+TEST(KeyframeStore, KeyframesWaitingForTheWorkerAtACheckpointSurviveAKill) {
+  // Three keyframes wait for a held worker when the map checkpoints (its snapshot cuts the
+  // journal that holds their integrations); the process dies before the worker stored them.
+  StoreDir dir;
+  const auto file = dir.path / "store";
+  ConsistencyParams store_params;
+  store_params.keyframe_distance = 3.0;
+  const auto observeAll = [](ConsistencyService& service, int from, int to) {
+    for (int seq = from; seq < to; ++seq)
+      service.observe(seq < 3 ? "a" : "b", seq, seq, poseAt(2.0 * seq, 0.02 * seq),
+                      streetScan(seq));
+  };
+  ConsistencyService never_killed(store_params, map::MapConfig{});
+  observeAll(never_killed, 0, 8);
+  never_killed.flush();
+  const auto expected = never_killed.keyframePoses();
+  {
+    ConsistencyService killed(store_params, map::MapConfig{}, {},
+                              KeyframeStore::create(file, false, true));
+    observeAll(killed, 0, 3);  // keyframes a0, a2: stored by the worker
+    killed.flush();
+    killed.hold(true);
+    observeAll(killed, 3, 8);  // b3, b5, b7: waiting
+    const std::uint64_t bytes = std::filesystem::file_size(file);
+    const auto start = std::chrono::steady_clock::now();
+    killed.checkpoint(8, 3);
+    std::cerr << "checkpoint with 3 waiting keyframes: " << std::filesystem::file_size(file) - bytes
+              << " B in "
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
+              << " s\n";
+    killed.checkpoint(8, 4);  // a second mark writes none of them again
+    EXPECT_EQ(killed.stats().pending, 3);
+  }  // "kill -9": destroyed without processing what waits
+  const StoreContents contents = KeyframeStore::read(file);
+  ASSERT_EQ(contents.keyframes.size(), 2u);
+  ASSERT_EQ(contents.waiting.size(), 3u);
+  EXPECT_EQ(waitingKeyframes(contents).size(), 3u);
+  std::string why;
+  const StoredCheckpoint* mark = coveringMark(contents, 8, 4, why);
+  ASSERT_NE(mark, nullptr) << why;
+  EXPECT_EQ(mark->observed, 5);
+  ConsistencyService restored(store_params, map::MapConfig{}, {},
+                              KeyframeStore::resume(file, contents, true), &contents,
+                              mark->grid_serial);
+  observeAll(restored, 3, 8);  // the journal replay after the snapshot: nothing new
+  restored.flush();
+  const auto after = restored.keyframePoses();
+  ASSERT_EQ(after.size(), expected.size());
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    EXPECT_EQ(after[i].robot, expected[i].robot);
+    EXPECT_EQ(after[i].seq, expected[i].seq);
+    EXPECT_TRUE(after[i].optimized.isApprox(expected[i].optimized, 1e-9)) << i;
+  }
+  // Processed now, they are keyframe records; a second restart has each once.
+  const StoreContents again = KeyframeStore::read(file);
+  EXPECT_EQ(again.keyframes.size(), expected.size());
+  EXPECT_TRUE(waitingKeyframes(again).empty());
+  ASSERT_EQ(again.keyframes.back().edges.size(), 1u);
+  EXPECT_EQ(again.keyframes.back().edges[0].from, static_cast<int>(expected.size()) - 2);
 }
 
 }  // namespace

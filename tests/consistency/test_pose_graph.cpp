@@ -88,6 +88,37 @@ TEST(PoseGraph, WrongLoopEdgeIsRefused) {
   EXPECT_DOUBLE_EQ(maxError(g, c), right);  // left as it was
 }
 
+TEST(PoseGraph, AClosureAfterAChainedNodeGetsTheSameResultFromTheReusedOptimum) {
+  // After an accepted closure the poses are the optimum; a node continued by its exact
+  // odometry keeps them so (addConsistentEdge does not optimize the graph without the next
+  // closure again). The result is the one a fresh optimization gives.
+  const Circle c = circle(40);
+  PoseGraph g = odometryGraph(c);
+  ASSERT_TRUE(g.addConsistentEdge(
+      {0, 40, Eigen::Isometry3d::Identity(), isotropicInformation(0.05, 0.005)}, 30.0));
+  const Eigen::Isometry3d step = c.odometry[39].inverse() * c.odometry[40];
+  g.addNode(g.pose(40) * step);
+  g.addEdge({40, 41, step, isotropicInformation(0.05, 0.02)});
+  const PoseEdge closure{0, 41, step, isotropicInformation(0.05, 0.005)};
+  PoseGraph without = g, trial = g;
+  without.optimize();
+  trial.addEdge(closure);
+  trial.optimize();
+  const double fresh = trial.chi2() - std::min(g.chi2(), without.chi2());
+  double increase = 0.0;
+  ASSERT_TRUE(g.addConsistentEdge(closure, 30.0, &increase));
+  EXPECT_NEAR(increase, fresh, 1e-6 * std::max(1.0, fresh));
+  for (int i = 0; i < static_cast<int>(g.size()); ++i)
+    EXPECT_TRUE(g.pose(i).isApprox(trial.pose(i), 1e-12)) << i;
+  // A wrong closure is refused all the same, twice (the second from the kept optimum).
+  EXPECT_FALSE(g.addConsistentEdge(
+      {0, 20, planar(1.0, 0.0, 0.0), isotropicInformation(0.05, 0.005)}, 30.0, &increase));
+  EXPECT_GT(increase, 30.0);
+  EXPECT_FALSE(g.addConsistentEdge(
+      {0, 20, planar(1.0, 0.0, 0.0), isotropicInformation(0.05, 0.005)}, 30.0, &increase));
+  EXPECT_GT(increase, 30.0);
+}
+
 TEST(PoseGraph, BadNodeThrows) {
   PoseGraph g;
   g.addNode(Eigen::Isometry3d::Identity());

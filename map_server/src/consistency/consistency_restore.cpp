@@ -5,11 +5,26 @@
 #include "consistency_restore.hpp"
 
 #include <algorithm>
+#include <map>
 #include <stdexcept>
 
 #include "consistency_service.hpp"
 
 namespace socc::consistency {
+
+std::vector<const StoredWaiting*> waitingKeyframes(const StoreContents& contents) {
+  std::map<std::string, int> next;  // robot: its keyframes held so far
+  for (const StoredKeyframe& k : contents.keyframes)
+    next[k.robot] = std::max(next[k.robot], k.keyframe.robot_kf + 1);
+  std::vector<const StoredWaiting*> out;
+  for (const StoredWaiting& w : contents.waiting) {
+    int& held = next[w.robot];
+    if (w.keyframe.robot_kf < held) continue;  // processed since, or written at two marks
+    held = w.keyframe.robot_kf + 1;
+    out.push_back(&w);
+  }
+  return out;
+}
 
 const StoredCheckpoint* coveringMark(const StoreContents& contents, std::int64_t journal_sequence,
                                      std::int64_t map_version, std::string& problem) {
@@ -22,9 +37,10 @@ const StoredCheckpoint* coveringMark(const StoreContents& contents, std::int64_t
               std::to_string(journal_sequence) + ", map version " + std::to_string(map_version);
     return nullptr;
   }
-  if (static_cast<std::int64_t>(contents.keyframes.size()) < mark->observed) {
-    problem = "it holds " + std::to_string(contents.keyframes.size()) + " of the " +
-              std::to_string(mark->observed) + " keyframes in the snapshot";
+  const std::size_t held = contents.keyframes.size() + waitingKeyframes(contents).size();
+  if (static_cast<std::int64_t>(held) < mark->observed) {
+    problem = "it holds " + std::to_string(held) + " of the " + std::to_string(mark->observed) +
+              " keyframes in the snapshot";
     return nullptr;
   }
   const bool rebuilt =
@@ -39,6 +55,7 @@ const StoredCheckpoint* coveringMark(const StoreContents& contents, std::int64_t
 
 void ConsistencyService::checkpoint(std::int64_t journal_sequence, std::int64_t map_version) {
   if (!store_) return;
+  storeWaiting();  // before the mark: a mark's keyframes are all in the store
   StoredCheckpoint mark;
   mark.journal_sequence = journal_sequence;
   mark.map_version = map_version;
@@ -48,6 +65,32 @@ void ConsistencyService::checkpoint(std::int64_t journal_sequence, std::int64_t 
     mark.grid_serial = grid_serial_;
   }
   store_->add(RecordType::kCheckpoint, encodeCheckpoint(mark));
+}
+
+void ConsistencyService::storeWaiting() {
+  // The map's thread (as observe): no keyframe is observed meanwhile. The worker may store the
+  // one it is processing at the same time; a restart keeps the first of the two.
+  std::vector<Pending> waiting;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (in_flight_ && !in_flight_->stored) waiting.push_back(*in_flight_);
+    if (in_flight_) in_flight_->stored = true;
+    for (Pending& p : queue_) {
+      if (!p.stored) waiting.push_back(p);
+      p.stored = true;
+    }
+  }
+  for (const Pending& p : waiting) {
+    StoredWaiting record;
+    record.robot = p.robot;
+    record.keyframe = p.keyframe;
+    record.has_cloud = p.cloud != nullptr;
+    if (p.cloud) {
+      record.cloud.points = p.cloud->points;
+      record.cloud.labels = p.cloud->labels;
+    }
+    store_->add(RecordType::kWaiting, encodeWaiting(record));
+  }
 }
 
 void ConsistencyService::storeKeyframe(const std::string& robot, std::size_t first_edge,
@@ -87,6 +130,9 @@ void ConsistencyService::restore(const StoreContents& contents, int grid_serial)
   if (!closures_.empty()) graph_.optimize();
   for (std::size_t i = 0; i < graph_.size(); ++i) estimates_[i] = graph_.pose(static_cast<int>(i));
   restoreGridPoses(contents, grid_serial);
+  // Observed before the snapshot but not processed: queued again, the worker makes them as it
+  // would have (their grid poses as integrated at their robots' last correction).
+  for (const StoredWaiting* w : waitingKeyframes(contents)) restoreWaiting(*w);
   stats_.recognition.verified = static_cast<int>(closures_.size());
   resume_rebuild_ = params_.correct_grid && !closures_.empty();
   busy_ = resume_rebuild_;
@@ -121,6 +167,9 @@ void ConsistencyService::restoreKeyframe(const StoredKeyframe& stored) {
   track.keyframe_ids.push_back(id);
   track.keyframe_seqs.push_back(kf.seq);
   track.restored_seq = kf.seq;
+  // Its record's edges are the odometry edge from the robot's previous keyframe (if any).
+  track.last_motion.reset();
+  if (!stored.edges.empty()) track.last_motion = stored.edges.front().relative;
   keyframes_.push_back(std::move(kf));
   stats_.keyframe_bytes += keyframes_.back().bytes();
   stats_.scan_bytes += keyframes_.back().scan.bytes();
@@ -161,6 +210,39 @@ void ConsistencyService::restoreGridPoses(const StoreContents& contents, int gri
     else
       k.grid_pose = applied == applied_.end() ? k.odom_pose : applied->second * k.odom_pose;
   }
+}
+
+void ConsistencyService::restoreWaiting(const StoredWaiting& stored) {
+  auto [it, added] = robots_.try_emplace(stored.robot);
+  RobotTrack& track = it->second;
+  if (added) {
+    track.index = static_cast<int>(robot_names_.size());
+    robot_names_.push_back(stored.robot);
+  }
+  const Keyframe& kf = stored.keyframe;
+  if (kf.robot != track.index || kf.robot_kf != track.keyframes)
+    throw std::runtime_error("waiting keyframe " + std::to_string(kf.robot_kf) + " of " +
+                             stored.robot + " is out of order");
+  track.last_keyframe_pose = kf.odom_pose;
+  track.last_pose = kf.odom_pose;
+  track.travelled = kf.travelled;
+  track.keyframes = kf.robot_kf + 1;
+  track.restored_seq = kf.seq;
+  Pending pending;
+  pending.keyframe.robot = kf.robot;
+  pending.keyframe.robot_kf = kf.robot_kf;
+  pending.keyframe.seq = kf.seq;
+  pending.keyframe.utime = kf.utime;
+  pending.keyframe.odom_pose = kf.odom_pose;
+  pending.keyframe.travelled = kf.travelled;
+  if (stored.has_cloud) {
+    pending.cloud = std::make_shared<const LabeledCloud>(stored.cloud);
+    ++pending_scans_;
+  }
+  pending.robot = stored.robot;
+  pending.arrived = std::chrono::steady_clock::now();
+  pending.stored = true;  // already in the store
+  queue_.push_back(std::move(pending));
 }
 
 }  // namespace socc::consistency

@@ -125,11 +125,12 @@ void ConsistencyService::run() {
     Pending next;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+      wake_.wait(lock, [this] { return stopping_ || (!held_ && !queue_.empty()); });
       if (stopping_) return;
       next = std::move(queue_.front());
       queue_.pop_front();
       if (next.cloud) --pending_scans_;
+      in_flight_ = next;  // waiting (for a checkpoint) until its keyframe record is written
       busy_ = true;
     }
     try {
@@ -139,10 +140,19 @@ void ConsistencyService::run() {
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);
+      in_flight_.reset();
       busy_ = false;
     }
     idle_.notify_all();
   }
+}
+
+void ConsistencyService::hold(bool on) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    held_ = on;
+  }
+  wake_.notify_all();
 }
 
 void ConsistencyService::process(Pending pending) {
@@ -178,6 +188,10 @@ void ConsistencyService::process(Pending pending) {
     next_attempt = track.next_attempt_travel;
   }
   storeKeyframe(pending.robot, first_edge, first_prior);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    in_flight_.reset();  // durable: a checkpoint need not write it
+  }
   // Only this thread changes keyframes_ and estimates_: reading them unlocked is safe here.
   if (!matchable || travelled < next_attempt) return;
   const std::vector<Candidate> candidates = findCandidates(keyframes_, query, estimates_, params_);
@@ -320,22 +334,19 @@ std::unique_ptr<RebuiltGrid> ConsistencyService::takeRebuild() {
 
 std::optional<PoseEdge> ConsistencyService::measureOdometry(const Keyframe& kf,
                                                             const std::string& robot) {
-  int previous_id = -1, before_id = -1;
+  int previous_id = -1;
+  // The edge into previous as the graph measures it: the robot's motion before, a guess without
+  // the jump when this edge holds one.
+  std::optional<Eigen::Isometry3d> motion;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    const std::vector<int>& ids = robots_.at(robot).keyframe_ids;
-    if (!ids.empty()) previous_id = ids.back();
-    if (ids.size() > 1) before_id = ids[ids.size() - 2];
+    const RobotTrack& track = robots_.at(robot);
+    if (!track.keyframe_ids.empty()) previous_id = track.keyframe_ids.back();
+    motion = track.last_motion;
   }
   if (previous_id < 0) return std::nullopt;
   // Only this thread changes keyframes_: reading them unlocked is safe here.
   const Keyframe& previous = keyframes_[static_cast<std::size_t>(previous_id)];
-  // The edge into previous as the graph measures it: the robot's motion before, a guess without
-  // the jump when this edge holds one. Odometry edges are among the last few added.
-  std::optional<Eigen::Isometry3d> motion;
-  const std::vector<PoseEdge>& edges = graph_.edges();
-  for (auto e = edges.rbegin(); e != edges.rend() && before_id >= 0 && !motion; ++e)
-    if (e->from == before_id && e->to == previous_id) motion = e->relative;
   OdometryEdgeCheck check;
   const PoseEdge edge = odometryEdge(previous, kf, kf.travelled - previous.travelled, motion,
                                      params_, map_config_, odom_config_, &check);
@@ -345,7 +356,7 @@ std::optional<PoseEdge> ConsistencyService::measureOdometry(const Keyframe& kf,
   return edge;
 }
 
-void ConsistencyService::addToGraph(const Keyframe& kf, const RobotTrack& track,
+void ConsistencyService::addToGraph(const Keyframe& kf, RobotTrack& track,
                                     const std::optional<PoseEdge>& odometry) {
   // The new node continues from its predecessor's optimized pose (the correction so far) by the
   // integrated relative pose: its estimate stays where the client's map puts it (the closure
@@ -357,6 +368,8 @@ void ConsistencyService::addToGraph(const Keyframe& kf, const RobotTrack& track,
                (previous.odom_pose.inverse() * kf.odom_pose);
     graph_.addEdge(*odometry);
   }
+  track.last_motion.reset();
+  if (!track.keyframe_ids.empty() && odometry) track.last_motion = odometry->relative;
   graph_.addNode(estimate);
   estimates_.push_back(estimate);
   if (track.keyframe_ids.empty()) {

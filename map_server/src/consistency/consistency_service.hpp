@@ -88,8 +88,14 @@ class ConsistencyService {
   std::unique_ptr<RebuiltGrid> takeRebuild();
 
   /// Records in the store that the map's snapshot at (journal_sequence, map_version) holds
-  /// every keyframe observed so far and the last grid taken (call before writing it).
+  /// every keyframe observed so far and the last grid taken (call before writing it). The
+  /// keyframes the worker has not stored yet are written first, as observed: once the snapshot
+  /// cuts the journal they are nowhere else.
   void checkpoint(std::int64_t journal_sequence, std::int64_t map_version);
+
+  /// Holds the worker before its next keyframe (on) or lets it go on (tests: a kill while
+  /// keyframes wait for it).
+  void hold(bool on);
 
   ConsistencyStats stats() const;
   std::vector<Closure> closures() const;
@@ -113,6 +119,7 @@ class ConsistencyService {
     std::shared_ptr<const LabeledCloud> cloud;  // null: pose only (max_pending_scans)
     std::string robot;
     std::chrono::steady_clock::time_point arrived;
+    bool stored = false;  // written to the store as waiting (checkpoint)
   };
   struct RobotTrack {
     int index = 0;
@@ -123,6 +130,9 @@ class ConsistencyService {
     double next_attempt_travel = 0.0;  // closure_spacing after the last closure
     std::vector<int> keyframe_ids;     // filled by the worker
     std::vector<std::int64_t> keyframe_seqs;
+    // The relative pose of the odometry edge into the last keyframe, as the graph measures it
+    // (none before the second keyframe): the motion the next edge's check continues.
+    std::optional<Eigen::Isometry3d> last_motion;
     // Restored from the store: integrations up to this seq are in it (a journal replay shows
     // them again).
     std::int64_t restored_seq = std::numeric_limits<std::int64_t>::min();
@@ -131,7 +141,7 @@ class ConsistencyService {
   void run();
   void process(Pending pending);
   /// odometry: the edge from the robot's previous keyframe (none for its first).
-  void addToGraph(const Keyframe& keyframe, const RobotTrack& track,
+  void addToGraph(const Keyframe& keyframe, RobotTrack& track,
                   const std::optional<PoseEdge>& odometry);
   /// The odometry edge from the robot's previous keyframe to kf (scan to scan where it snapped).
   std::optional<PoseEdge> measureOdometry(const Keyframe& kf, const std::string& robot);
@@ -156,6 +166,9 @@ class ConsistencyService {
   void restoreKeyframe(const StoredKeyframe& stored);
   void restoreClosure(const StoredClosure& stored);
   void restoreGridPoses(const StoreContents& contents, int grid_serial);
+  void restoreWaiting(const StoredWaiting& stored);
+  /// Writes the keyframes observed but not yet stored by the worker (checkpoint).
+  void storeWaiting();
 
   ConsistencyParams params_;
   map::MapConfig map_config_;
@@ -165,6 +178,8 @@ class ConsistencyService {
   std::condition_variable wake_;
   std::condition_variable idle_;
   std::deque<Pending> queue_;
+  std::optional<Pending> in_flight_;  // taken by the worker, not yet in the store
+  bool held_ = false;
   int pending_scans_ = 0;  // entries of queue_ with their scan
   bool busy_ = false;
   bool stopping_ = false;

@@ -83,6 +83,9 @@ void addRecord(RecordType type, const std::string& payload, StoreContents& out) 
     case RecordType::kCheckpoint:
       out.checkpoints.push_back(decodeCheckpoint(payload));
       return;
+    case RecordType::kWaiting:
+      out.waiting.push_back(decodeWaiting(payload));
+      return;
   }
   throw std::runtime_error("unknown record type " + std::to_string(static_cast<int>(type)));
 }

@@ -2,10 +2,12 @@
 // The consistency store: an append-only file beside the map's snapshot (docs/consistency.md,
 // "Durability") of what the consistency service cannot recompute from the snapshot and the
 // journal: its keyframes (with their matching points and rebuild scans), accepted closures,
-// rebuilt grids' poses and checkpoint marks. Each record is written once, by the service's
-// worker (the marks by the map's thread), flushed to the OS before the call returns (kill -9
-// loses nothing written) and, with sync, to stable storage. A keyframe's scan is never
-// rewritten: a checkpoint of the map adds a mark of a few bytes.
+// rebuilt grids' poses and checkpoint marks, each mark preceded by the keyframes still waiting
+// for the worker then (as observed). Each record is written once, by the service's worker (the
+// marks and waiting keyframes by the map's thread), flushed to the OS before the call returns (kill
+// -9 loses nothing written) and, with sync, to stable storage. A processed keyframe's scan is never
+// rewritten: a checkpoint of the map adds a mark of a few bytes and the clouds of the keyframes
+// waiting then (once each; the worker stores them again when it processed them).
 //
 // Layout: the header "SOCC-CONSISTENCY-STORE", a format version (uint32) and the base (uint8:
 // 1 = the store began on a grid it did not see built); then records {uint32 marker, uint8
@@ -29,8 +31,9 @@ struct StoreContents {
   std::vector<StoredClosure> closures;
   std::vector<StoredRebuild> rebuilds;
   std::vector<StoredCheckpoint> checkpoints;
-  std::uint64_t valid_bytes = 0;  // the file's length up to the last whole record
-  std::string problem;            // what was dropped from the end ("" when nothing)
+  std::vector<StoredWaiting> waiting;  // in the order written (may repeat a stored keyframe)
+  std::uint64_t valid_bytes = 0;       // the file's length up to the last whole record
+  std::string problem;                 // what was dropped from the end ("" when nothing)
 };
 
 class KeyframeStore {

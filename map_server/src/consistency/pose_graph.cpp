@@ -90,31 +90,54 @@ double PoseGraph::edgeError(const PoseEdge& edge) const {
   return r.squaredNorm();
 }
 
+double PoseGraph::priorError(const PosePrior& prior) const {
+  const AbsolutePoseError error(prior.pose, sqrtInformation(prior.information));
+  const Eigen::Vector3d t = pose(prior.node).translation();
+  const Eigen::Quaterniond q(pose(prior.node).linear());
+  Eigen::Matrix<double, 6, 1> r;
+  error(t.data(), q.coeffs().data(), r.data());
+  return r.squaredNorm();
+}
+
 double PoseGraph::chi2() const {
   double sum = 0.0;
   for (const PoseEdge& e : edges_) sum += edgeError(e);
-  for (const PosePrior& p : priors_) {
-    if (p.fixed) continue;
-    const AbsolutePoseError error(p.pose, sqrtInformation(p.information));
-    const Eigen::Vector3d t = pose(p.node).translation();
-    const Eigen::Quaterniond q(pose(p.node).linear());
-    Eigen::Matrix<double, 6, 1> r;
-    error(t.data(), q.coeffs().data(), r.data());
-    sum += r.squaredNorm();
-  }
+  for (const PosePrior& p : priors_)
+    if (!p.fixed) sum += priorError(p);
   return sum;
+}
+
+double PoseGraph::optimumCost() {
+  const double current = chi2();
+  if (current <= 0.0) return current;
+  const std::size_t nodes = poses_.size(), edges = edges_.size(), priors = priors_.size();
+  if (optimum_ && optimum_->nodes == nodes && optimum_->edges == edges &&
+      optimum_->priors == priors)
+    return std::min(current, optimum_->chi2);  // unchanged since: the same optimization
+  // The current poses were the optimum and all that was added since holds exactly at them
+  // (a new keyframe continued by its integrated odometry): they still are (its gradient is 0).
+  constexpr double kHolds = 1e-12;  // squared Mahalanobis error: rounding only
+  const bool still_optimal =
+      optimum_ && optimum_->at_poses && optimum_->edges <= edges && optimum_->priors <= priors &&
+      std::all_of(edges_.begin() + static_cast<std::ptrdiff_t>(optimum_->edges), edges_.end(),
+                  [&](const PoseEdge& e) { return edgeError(e) <= kHolds; }) &&
+      std::all_of(priors_.begin() + static_cast<std::ptrdiff_t>(optimum_->priors), priors_.end(),
+                  [&](const PosePrior& p) { return priorError(p) <= kHolds; });
+  if (still_optimal) {
+    optimum_ = Optimum{nodes, edges, priors, current, true};
+    return current;
+  }
+  PoseGraph without = *this;
+  without.optimize();
+  optimum_ = Optimum{nodes, edges, priors, without.chi2(), false};
+  return std::min(current, optimum_->chi2);
 }
 
 bool PoseGraph::addConsistentEdge(const PoseEdge& edge, double max_chi2, double* chi2_increase,
                                   OptimizationSummary* summary) {
   // Without it, optimized: the current poses need not be the optimum (a new odometry edge that
   // measures a snap the integrated poses contain), and that residual is no closure's merit.
-  double before = chi2();
-  if (before > 0.0) {
-    PoseGraph without = *this;
-    without.optimize();
-    before = std::min(before, without.chi2());
-  }
+  const double before = optimumCost();
   PoseGraph trial = *this;
   trial.addEdge(edge);
   const OptimizationSummary s = trial.optimize();
@@ -181,6 +204,7 @@ OptimizationSummary PoseGraph::optimize(int max_iterations) {
     pose.translation() = t[i];
     poses_[i] = pose;
   }
+  optimum_ = Optimum{poses_.size(), edges_.size(), priors_.size(), chi2(), true};
   OptimizationSummary out;
   out.converged = summary.termination_type == ceres::CONVERGENCE;
   out.iterations = static_cast<int>(summary.iterations.size());

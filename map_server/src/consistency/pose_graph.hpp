@@ -9,6 +9,7 @@
 // robot's first keyframe has a prior at its integrated pose: the first robot's holds the map
 // frame, the others' are weak (they joined at a relocalized pose, an estimate like any other).
 #include <Eigen/Geometry>
+#include <optional>
 #include <vector>
 
 namespace socc::consistency {
@@ -57,6 +58,7 @@ class PoseGraph {
   }
   void setPose(int node, const Eigen::Isometry3d& pose) {
     poses_.at(static_cast<std::size_t>(node)) = pose;
+    optimum_.reset();
   }
   const std::vector<PoseEdge>& edges() const { return edges_; }
   const std::vector<PosePrior>& priors() const { return priors_; }
@@ -73,8 +75,26 @@ class PoseGraph {
 
   /// Squared Mahalanobis error of an edge at the current poses (for reporting outliers).
   double edgeError(const PoseEdge& edge) const;
+  /// Squared Mahalanobis error of a prior at the current poses (a fixed one's too).
+  double priorError(const PosePrior& prior) const;
 
  private:
+  /// The cost of this graph optimized from its current poses (addConsistentEdge's baseline):
+  /// the last optimization's when nothing changed since, or nothing that moves the optimum.
+  double optimumCost();
+
+  // The last optimization's result (addConsistentEdge reuses it): the graph of the first
+  // nodes/edges/priors elements optimized from the current poses costs chi2; at_poses: the
+  // current poses are that optimum (this graph was optimized, not a copy).
+  struct Optimum {
+    std::size_t nodes = 0;
+    std::size_t edges = 0;
+    std::size_t priors = 0;
+    double chi2 = 0.0;
+    bool at_poses = false;
+  };
+  std::optional<Optimum> optimum_;
+
   std::vector<Eigen::Isometry3d> poses_;
   std::vector<PoseEdge> edges_;
   std::vector<PosePrior> priors_;

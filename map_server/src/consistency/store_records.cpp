@@ -237,4 +237,32 @@ StoredCheckpoint decodeCheckpoint(const std::string& payload) {
   return out;
 }
 
+std::string encodeWaiting(const StoredWaiting& record) {
+  ByteWriter w;
+  w.putBytes(record.robot);
+  putKeyframeFields(w, record.keyframe);
+  w.put<std::uint8_t>(record.has_cloud ? 1 : 0);
+  w.put<std::uint64_t>(record.cloud.points.size());
+  for (const Eigen::Vector3f& p : record.cloud.points)
+    for (int i = 0; i < 3; ++i) w.put<float>(p[i]);
+  putArray(w, record.cloud.labels);
+  return w.bytes();
+}
+
+StoredWaiting decodeWaiting(const std::string& payload) {
+  ByteReader r(payload.data(), payload.size());
+  StoredWaiting out;
+  out.robot = r.getBytes();
+  out.keyframe = getKeyframeFields(r);
+  out.has_cloud = r.get<std::uint8_t>() != 0;
+  out.cloud.points.resize(getCount(r, 3 * sizeof(float)));
+  for (Eigen::Vector3f& p : out.cloud.points)
+    for (int i = 0; i < 3; ++i) p[i] = r.get<float>();
+  out.cloud.labels = getArray<std::uint8_t>(r);
+  if (!out.cloud.consistent())
+    throw std::runtime_error("waiting keyframe: labels and points differ");
+  expectEnd(r);
+  return out;
+}
+
 }  // namespace socc::consistency

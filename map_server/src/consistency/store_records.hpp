@@ -17,7 +17,13 @@
 
 namespace socc::consistency {
 
-enum class RecordType : std::uint8_t { kKeyframe = 1, kClosure = 2, kRebuild = 3, kCheckpoint = 4 };
+enum class RecordType : std::uint8_t {
+  kKeyframe = 1,
+  kClosure = 2,
+  kRebuild = 3,
+  kCheckpoint = 4,
+  kWaiting = 5,
+};
 
 struct StoredKeyframe {
   std::string robot;
@@ -25,6 +31,15 @@ struct StoredKeyframe {
   Eigen::Isometry3d estimate = Eigen::Isometry3d::Identity();  // the node's pose when added
   std::vector<PoseEdge> edges;    // the graph's edges added with the node
   std::vector<PosePrior> priors;  // and its priors
+};
+
+/// A keyframe observed but not yet processed (written with a checkpoint mark, before the
+/// snapshot cuts the journal that holds its integration).
+struct StoredWaiting {
+  std::string robot;
+  Keyframe keyframe;       // robot, robot_kf, seq, utime, odom_pose, travelled (no points yet)
+  bool has_cloud = false;  // false: kept as a pose only (max_pending_scans)
+  LabeledCloud cloud;      // points and labels as observed (no times)
 };
 
 struct StoredClosure {
@@ -51,11 +66,13 @@ std::string encodeKeyframe(const StoredKeyframe& record);
 std::string encodeClosure(const StoredClosure& record);
 std::string encodeRebuild(const StoredRebuild& record);
 std::string encodeCheckpoint(const StoredCheckpoint& record);
+std::string encodeWaiting(const StoredWaiting& record);
 
 /// Each throws std::runtime_error when payload is not exactly one such record.
 StoredKeyframe decodeKeyframe(const std::string& payload);
 StoredClosure decodeClosure(const std::string& payload);
 StoredRebuild decodeRebuild(const std::string& payload);
 StoredCheckpoint decodeCheckpoint(const std::string& payload);
+StoredWaiting decodeWaiting(const std::string& payload);
 
 }  // namespace socc::consistency

@@ -46,8 +46,9 @@ void MapService::resumeConsistency() {
                                              durability_.journal_sync != JournalSync::kNone),
           &contents, mark->grid_serial);
       std::cerr << "map_server: consistency state restored: " << contents.keyframes.size()
-                << " keyframes, " << contents.closures.size() << " closures (" << file->string()
-                << ")\n";
+                << " keyframes (and " << consistency::waitingKeyframes(contents).size()
+                << " waiting for the worker), " << contents.closures.size() << " closures ("
+                << file->string() << ")\n";
       return;
     }
   } catch (const std::exception& e) {
