@@ -272,7 +272,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "map_server: the shared semantic occupancy grid, served over LCM.\n"
       "Services on SOCC/<SERVICE>/REQ (INTEGRATE, GET_CHUNK, GET_STATS, GET_ROBOT_POSE,\n"
-      "MAP_COMMAND, RENDER), replies on SOCC/<SERVICE>/REP/<client_id>, status on SOCC/STATUS."};
+      "MAP_COMMAND, RENDER, ROBOT_STATUS, LOCALIZE, GET_KEYFRAMES), replies on SOCC/<SERVICE>/REP/<client_id>, status on SOCC/STATUS."};
   app.set_version_flag("--version", socc::versionLine("map_server"));
   Options options;
   app.add_option("--lcm-url", options.lcm_url,
@@ -305,7 +305,8 @@ int main(int argc, char** argv) {
                  "shared key (mode 0600, docs/security.md): INTEGRATE and MAP_COMMAND must then "
                  "be signed (overrides key_file of --config)");
   app.add_flag("--auth-queries", options.auth_queries,
-               "with a key, also require signed GET_CHUNK, GET_STATS, GET_ROBOT_POSE and RENDER");
+               "with a key, also require signed GET_CHUNK, GET_STATS, GET_ROBOT_POSE, RENDER, "
+               "LOCALIZE and GET_KEYFRAMES");
   app.add_option("--status-period", options.status_period,
                  "seconds between map_stats_t on SOCC/STATUS (0 = off)")
       ->capture_default_str()

@@ -14,6 +14,7 @@
 #include "socc/lcm_url.hpp"
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/odom_runner.hpp"
+#include "socc/odom/revised_trajectory.hpp"
 #include "socc/pose_conversion.hpp"
 #include "socc/sensors/sensor_config.hpp"
 #include "socc/version.hpp"
@@ -37,7 +38,8 @@ struct Args {
   std::string scan_lcm_url;               // --live: where scans arrive; empty = lcm_url
   std::vector<std::string> config_files;  // --config, layered in order
   bool live = false, no_semantics = false, resume = false, quiet = false, relocalize = false,
-       own_frame = false;
+       own_frame = false, no_revised = false;
+  double revised_wait_s = 30.0;  // --revised-wait
   double hint_radius = 0.0, hint_yaw_tolerance_deg = 180.0;
   double frame_period = 0.0;  // --frame-period; 0: the config's frame_period
   std::int64_t first = 0, last = -1;
@@ -107,7 +109,17 @@ void addOptions(CLI::App& app, Args& a) {
                  "config/kitti.yaml for the sensor, then config/baseline.yaml for the method)")
       ->allow_extra_args(false);
   app.add_option("--out-dir", a.out_dir,
-                 "write poses_kitti.txt, poses_tum.txt and frames.csv here");
+                 "write poses_kitti.txt, poses_tum.txt and frames.csv here, and at the end "
+                 "poses_revised_kitti.txt / poses_revised_tum.txt when the server runs the "
+                 "consistency service: the poses revised by its pose graph (GET_KEYFRAMES, "
+                 "docs/consistency.md \"The revised trajectory\")");
+  app.add_flag("--no-revised", a.no_revised,
+               "do not ask the server for the revised trajectory at the end of the run");
+  app.add_option("--revised-wait", a.revised_wait_s,
+                 "seconds to wait at the end for the server's consistency service to place its "
+                 "last keyframes into its graph before the revised trajectory is written")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--initial-pose", a.initial_pose,
                  "pose of the first scan in the map frame: \"x y z roll pitch yaw\" [m, rad]; "
                  "taken as exact unless refine_initial_pose is set in --config");
@@ -271,6 +283,13 @@ void writeOutputs(const fs::path& out_dir, const Trajectory& t, bool own_frame) 
   socc::writeTumPoses(out_dir / (prefix + "tum.txt"), t.poses, t.stamps);
 }
 
+void removeRevised(const fs::path& out_dir) {
+  if (out_dir.empty()) return;
+  std::error_code ec;
+  for (const char* name : {"poses_revised_kitti.txt", "poses_revised_tum.txt"})
+    fs::remove(out_dir / name, ec);
+}
+
 // Registers every scan of the source; the outputs are written even when a frame fails.
 // Returns the exit code: 0, 1 (error), 3 (the run ended LOST), 4 (--relocalize found no pose) or
 // 5 (--own-frame: the input ended before the robot was merged into the shared map).
@@ -291,6 +310,14 @@ int runOdometry(const Args& a, const OdomConfig& config, socc::rpc::MapClient& c
     rc = 1;
   }
   writeOutputs(a.out_dir, runner.trajectory(), runner.endedInOwnFrame());
+  removeRevised(a.out_dir);  // an earlier run's must not pass for this one's
+  if (!a.out_dir.empty() && !a.no_revised && rc != 1 && !runner.endedInOwnFrame())
+    std::cerr << "odom_client: "
+              << writeRevisedTrajectory(
+                     client, a.robot_id, runner.trajectory(), runner.appliedCorrections(),
+                     a.out_dir,
+                     std::chrono::milliseconds(std::llround(a.revised_wait_s * 1000.0)))
+              << "\n";
   std::cout << log.summary(runner.wallSeconds());
   if (rc == 0 && runner.trackingState() == TrackingState::kLost) {
     std::cerr << "odom_client: error: the run ended LOST: frames after the robot lost track "

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -252,6 +253,10 @@ std::optional<Eigen::Isometry3d> OdomRunner::applyCorrection(Odometry& odometry)
   odometry.correct(*correction);
   if (last_good_) last_good_ = *correction * *last_good_;
   ++corrections_;
+  // Every row added from now on is in the corrected frame; every row before it is not.
+  applied_.push_back({trajectory_.seqs.empty() ? std::numeric_limits<std::int64_t>::min()
+                                               : trajectory_.seqs.back() + 1,
+                      *correction});
   std::ostringstream out;
   out.precision(2);
   out << std::fixed << "map correction: pose moved " << correction->translation().norm() << " m, "

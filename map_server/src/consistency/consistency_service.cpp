@@ -422,8 +422,35 @@ std::vector<ConsistencyService::KeyframePose> ConsistencyService::keyframePoses(
   std::vector<KeyframePose> out;
   for (const Keyframe& k : keyframes_)
     out.push_back({robot_names_[static_cast<std::size_t>(k.robot)], k.seq, k.odom_pose,
-                   estimates_[static_cast<std::size_t>(k.id)]});
+                   estimates_[static_cast<std::size_t>(k.id)], k.utime});
   return out;
+}
+
+std::vector<ConsistencyService::KeyframePose> ConsistencyService::robotKeyframes(
+    const std::string& robot, std::int64_t from_seq, std::size_t max, bool* truncated) const {
+  std::lock_guard<std::mutex> lock(mutex_);  // the worker updates estimates_ under it
+  std::vector<KeyframePose> out;
+  if (truncated != nullptr) *truncated = false;
+  const auto it = robots_.find(robot);
+  if (it == robots_.end()) return out;
+  const std::vector<std::int64_t>& seqs = it->second.keyframe_seqs;
+  for (auto i = static_cast<std::size_t>(std::lower_bound(seqs.begin(), seqs.end(), from_seq) -
+                                         seqs.begin());
+       i < seqs.size(); ++i) {
+    if (out.size() == max) {
+      if (truncated != nullptr) *truncated = true;
+      break;
+    }
+    const Keyframe& k = keyframes_[static_cast<std::size_t>(it->second.keyframe_ids[i])];
+    out.push_back({robot, k.seq, k.odom_pose, estimates_[static_cast<std::size_t>(k.id)], k.utime});
+  }
+  return out;
+}
+
+std::string ConsistencyService::anchorRobot() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return keyframes_.empty() ? std::string{}
+                            : robot_names_[static_cast<std::size_t>(keyframes_.front().robot)];
 }
 
 void ConsistencyService::write(const std::filesystem::path& dir) const {

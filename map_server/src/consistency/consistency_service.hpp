@@ -105,8 +105,16 @@ class ConsistencyService {
     std::int64_t seq = 0;
     Eigen::Isometry3d odom_pose = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d optimized = Eigen::Isometry3d::Identity();
+    std::int64_t utime = 0;
   };
   std::vector<KeyframePose> keyframePoses() const;
+  /// robot's keyframes in the graph with seq >= from_seq, in seq order, at most max of them
+  /// (truncated: more follow); empty for an unknown robot. optimized is in the graph's frame:
+  /// the frame the first robot's first keyframe holds, in which the grid is rebuilt.
+  std::vector<KeyframePose> robotKeyframes(const std::string& robot, std::int64_t from_seq,
+                                           std::size_t max, bool* truncated) const;
+  /// The robot whose first keyframe is fixed in the graph (empty before the first keyframe).
+  std::string anchorRobot() const;
 
   /// Writes keyframes.txt (robot seq odom[12] optimized[12]), closures.txt (robot seq robot seq
   /// relative[12] fitness free), odometry_edges.txt (robot seq registered snap jump_t jump_r

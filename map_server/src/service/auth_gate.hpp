@@ -13,7 +13,8 @@ namespace socc::service {
 
 class AuthGate final : public RequestGate {
  public:
-  /// auth_queries: also require a MAC on GET_CHUNK, GET_STATS, GET_ROBOT_POSE and RENDER.
+  /// auth_queries: also require a MAC on GET_CHUNK, GET_STATS, GET_ROBOT_POSE, RENDER,
+  /// LOCALIZE and GET_KEYFRAMES (every request that changes nothing).
   AuthGate(auth::SharedKey key, bool auth_queries);
 
   std::string admit(std::string_view service, bool state_changing, const request_header_t& header,

@@ -110,6 +110,7 @@ void MapService::restartConsistency() {
   consistency::ConsistencyParams params = config_.consistency;
   const bool foreign = map_.stats().num_voxels != 0;
   params.correct_grid = params.correct_grid && !foreign;
+  consistency_foreign_ = foreign;
   consistency_.reset();  // its worker stops writing before the store is replaced
   consistency_ = std::make_unique<consistency::ConsistencyService>(
       params, config_.map, odom::OdomConfig{}, newConsistencyStore(foreign));

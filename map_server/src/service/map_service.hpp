@@ -25,6 +25,8 @@
 #include "socc/chunk_request_t.hpp"
 #include "socc/integrate_reply_t.hpp"
 #include "socc/integrate_request_t.hpp"
+#include "socc/keyframes_reply_t.hpp"
+#include "socc/keyframes_request_t.hpp"
 #include "socc/localize_reply_t.hpp"
 #include "socc/localize_request_t.hpp"
 #include "socc/map/semantic_occupancy_map.hpp"
@@ -72,6 +74,9 @@ class MapService {
   chunk_reply_t getChunk(const chunk_request_t& request) const;
   stats_reply_t getStats(const stats_request_t& request, const RequestCounters& counters) const;
   robot_pose_reply_t getRobotPose(const robot_pose_request_t& request) const;
+  /// GET_KEYFRAMES: the robot's keyframes with their optimized poses in the map frame
+  /// (map_service_keyframes.cpp); FAILED_PRECONDITION without the consistency service.
+  keyframes_reply_t getKeyframes(const keyframes_request_t& request) const;
   map_command_reply_t command(const map_command_request_t& request);
   render_reply_t render(const render_request_t& request) const;
   /// ROBOT_STATUS: stores the tracking state the robot (client_id) reports.
@@ -157,6 +162,8 @@ class MapService {
   /// covers the snapshot; else restartConsistency() with the reason on stderr.
   void resumeConsistency();
   std::unique_ptr<consistency::KeyframeStore> newConsistencyStore(bool foreign_base) const;
+  /// Maps the consistency service's graph frame into the map frame (map_service_keyframes.cpp).
+  Eigen::Isometry3d graphToMap() const;
   std::optional<std::filesystem::path> consistencyStoreFile() const;
 
   ServerConfig config_;
@@ -170,6 +177,7 @@ class MapService {
   std::unique_ptr<Journal> journal_;
   auth::ReplayGuard* replay_guard_ = nullptr;  // not owned (the AuthGate's); null without a key
   localization::GlobalLocalizer localizer_;
+  bool consistency_foreign_ = false;  // the service began on a grid it did not see built
   std::unique_ptr<consistency::ConsistencyService>
       consistency_;  // last: its thread reads nothing else
 };

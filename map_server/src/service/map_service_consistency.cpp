@@ -39,6 +39,7 @@ void MapService::resumeConsistency() {
             consistency::coveringMark(contents, integrations_, map_.version(), why)) {
       consistency::ConsistencyParams params = config_.consistency;
       params.correct_grid = params.correct_grid && !contents.foreign_base;
+      consistency_foreign_ = contents.foreign_base;
       consistency_.reset();
       consistency_ = std::make_unique<consistency::ConsistencyService>(
           params, config_.map, odom::OdomConfig{},

@@ -223,6 +223,10 @@ void RequestRouter::dispatch(std::string_view service, const lcm::ReceiveBuffer&
     serve<robot_status_request_t>(rbuf, service, true, [this](const robot_status_request_t& r) {
       return service_.robotStatus(r);
     });
+  else if (service == channels::kGetKeyframes)
+    serve<keyframes_request_t>(rbuf, service, false, [this](const keyframes_request_t& r) {
+      return service_.getKeyframes(r);
+    });
   else if (service == channels::kLocalize)
     serve<localize_request_t>(rbuf, service, false,
                               [this](const localize_request_t& r) { return startLocalize(r); });

@@ -56,6 +56,11 @@ std::optional<Eigen::Isometry3d> RobotCorrections::toldWith(const std::string& r
   return it->second.told;
 }
 
+Eigen::Isometry3d RobotCorrections::frame(const std::string& robot) const {
+  const auto it = robots_.find(robot);
+  return it == robots_.end() ? Eigen::Isometry3d::Identity() : it->second.frame;
+}
+
 void RobotCorrections::offer(const std::string& robot, const Eigen::Isometry3d& raw_to_map) {
   robots_[robot].offered = raw_to_map;
 }

@@ -29,6 +29,8 @@ class RobotCorrections {
   std::optional<Eigen::Isometry3d> toldWith(const std::string& robot, std::int64_t seq) const;
   /// A new grid: robot's raw poses now belong at correction * raw. Told with its next request.
   void offer(const std::string& robot, const Eigen::Isometry3d& raw_to_map);
+  /// raw -> the robot's current poses (identity for a robot never corrected).
+  Eigen::Isometry3d frame(const std::string& robot) const;
   /// Robots that were offered a correction and have not integrated since.
   int waiting() const;
   void clear() { robots_.clear(); }

@@ -19,10 +19,12 @@ inline constexpr std::string_view kMapCommand = "MAP_COMMAND";
 inline constexpr std::string_view kRender = "RENDER";
 inline constexpr std::string_view kRobotStatus = "ROBOT_STATUS";
 inline constexpr std::string_view kLocalize = "LOCALIZE";
+inline constexpr std::string_view kGetKeyframes = "GET_KEYFRAMES";
 
 /// Every service: the server subscribes to each request channel, a client to each reply channel.
-inline constexpr std::array<std::string_view, 8> kServices = {
-    kIntegrate, kGetChunk, kGetStats, kGetRobotPose, kMapCommand, kRender, kRobotStatus, kLocalize};
+inline constexpr std::array<std::string_view, 9> kServices = {
+    kIntegrate, kGetChunk,    kGetStats, kGetRobotPose, kMapCommand,
+    kRender,    kRobotStatus, kLocalize, kGetKeyframes};
 
 inline constexpr std::string_view kStatus = "SOCC/STATUS";
 inline constexpr std::string_view kMapDelta = "SOCC/MAP_DELTA";

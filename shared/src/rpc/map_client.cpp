@@ -14,6 +14,7 @@
 #include "socc/channels.hpp"
 #include "socc/lcm_url.hpp"
 #include "socc/pose_conversion.hpp"
+#include "socc/keyframes_request_t.hpp"
 #include "socc/robot_pose_request_t.hpp"
 #include "socc/rpc/client_id.hpp"
 #include "socc/rpc/part_transport.hpp"
@@ -259,6 +260,15 @@ Result<robot_pose_reply_t> MapClient::getRobotPose(const std::string& robot_id,
   request.max_history = max_history;
   request.history_from_seq = history_from_seq;
   return impl_->call<robot_pose_reply_t>(channels::kGetRobotPose, request);
+}
+Result<keyframes_reply_t> MapClient::getKeyframes(const std::string& robot_id,
+                                                 std::int64_t from_seq,
+                                                 std::int32_t max_keyframes) {
+  keyframes_request_t request{};
+  request.robot_id = robot_id;
+  request.from_seq = from_seq;
+  request.max_keyframes = max_keyframes;
+  return impl_->call<keyframes_reply_t>(channels::kGetKeyframes, request);
 }
 Result<map_command_reply_t> MapClient::command(map_command_request_t request) {
   return impl_->call<map_command_reply_t>(channels::kMapCommand, request);

@@ -31,6 +31,7 @@
 #include "socc/odom/scan_source.hpp"
 #include "socc/odom/tracking_state.hpp"
 #include "socc/rpc/map_client.hpp"
+#include "socc/trajectory_revision.hpp"
 
 namespace socc::odom {
 
@@ -79,6 +80,8 @@ class OdomRunner {
   int relocalizations() const { return relocalizations_; }
   /// Map corrections applied (docs/consistency.md): the pose output jumps at each.
   int corrections() const { return corrections_; }
+  /// Those corrections, each with the first trajectory() seq it moved (reviseTrajectory).
+  const std::vector<FrameCorrection>& appliedCorrections() const { return applied_; }
   /// --own-frame: the run ended before the robot was merged into the shared map; trajectory()
   /// then holds own-frame poses (identity at its first scan) and nothing was integrated.
   bool endedInOwnFrame() const { return own_.has_value(); }
@@ -144,6 +147,7 @@ class OdomRunner {
   std::optional<Eigen::Isometry3d> last_good_;  // pose of the last integrated frame
   int relocalizations_ = 0;
   int corrections_ = 0;
+  std::vector<FrameCorrection> applied_;
   std::string jump_;  // the last correction, for the next frame's row
   // --own-frame, until the merge.
   std::optional<OwnFrameMap> own_;

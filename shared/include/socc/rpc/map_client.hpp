@@ -15,6 +15,7 @@
 #include "socc/chunk_request_t.hpp"
 #include "socc/integrate_reply_t.hpp"
 #include "socc/integrate_request_t.hpp"
+#include "socc/keyframes_reply_t.hpp"
 #include "socc/localize_reply_t.hpp"
 #include "socc/localize_request_t.hpp"
 #include "socc/map_command_reply_t.hpp"
@@ -74,6 +75,12 @@ class MapClient {
   /// (the server sends at most 10000 per reply and sets history_truncated when more follow).
   Result<robot_pose_reply_t> getRobotPose(const std::string& robot_id, std::int32_t max_history = 0,
                                           std::int64_t history_from_seq = 0);
+  /// GET_KEYFRAMES: robot_id's keyframes with seq >= from_seq and their optimized map-frame
+  /// poses (map_server --consistency, docs/consistency.md); at most max_keyframes (the server
+  /// sends at most 10000 per reply and sets truncated when more follow). FAILED_PRECONDITION
+  /// from a server without the consistency service, NOT_FOUND when it holds no such keyframe.
+  Result<keyframes_reply_t> getKeyframes(const std::string& robot_id, std::int64_t from_seq = 0,
+                                         std::int32_t max_keyframes = 10000);
   Result<map_command_reply_t> command(map_command_request_t request);
   Result<render_reply_t> render(render_request_t request);
   /// ROBOT_STATUS: reports this client's (= robot's) tracking state (robot_status_request_t
