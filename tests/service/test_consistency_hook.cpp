@@ -39,6 +39,49 @@ TEST(ConsistencyHook, AppliedIntegratesMakeKeyframes) {
   EXPECT_TRUE(service.consistency()->corrected("robot1", 6, pose).isApprox(pose));
 }
 
+keyframes_request_t keyframesOf(const std::string& robot, std::int64_t from_seq = 0,
+                                std::int32_t max = 100) {
+  keyframes_request_t request{};
+  request.robot_id = robot;
+  request.from_seq = from_seq;
+  request.max_keyframes = max;
+  return request;
+}
+
+TEST(ConsistencyHook, GetKeyframesGivesTheOptimizedPosesOfOneRobot) {
+  test::TempDir dir;
+  MapService service(withConsistency(dir.path()));
+  for (int seq = 1; seq <= 10; ++seq) service.integrate(scan("robot1", seq, seq - 1.0));
+  for (int seq = 1; seq <= 4; ++seq) service.integrate(scan("robot2", seq, seq + 20.0));
+  service.consistency()->flush();
+  const keyframes_reply_t all = service.getKeyframes(keyframesOf("robot1"));
+  ASSERT_EQ(all.header.status, +reply_header_t::OK) << all.header.message;
+  EXPECT_EQ(all.keyframes.robot_id, "robot1");
+  EXPECT_EQ(all.keyframes.seq, (std::vector<std::int64_t>{1, 4, 7, 10}));
+  ASSERT_EQ(all.keyframes.translation.size(), 3u);
+  EXPECT_NEAR(all.keyframes.translation[0][3], 9.0, 1e-9);  // no closure: as integrated
+  EXPECT_EQ(all.pending, 0);
+  EXPECT_FALSE(all.truncated);
+  const keyframes_reply_t page = service.getKeyframes(keyframesOf("robot1", 5, 1));
+  EXPECT_EQ(page.keyframes.seq, (std::vector<std::int64_t>{7}));
+  EXPECT_TRUE(page.truncated);
+  EXPECT_EQ(service.getKeyframes(keyframesOf("robot2")).keyframes.seq,
+            (std::vector<std::int64_t>{1, 4}));
+  EXPECT_EQ(service.getKeyframes(keyframesOf("ghost")).header.status, +reply_header_t::NOT_FOUND);
+  EXPECT_EQ(service.getKeyframes(keyframesOf("robot1", 11)).header.status,
+            +reply_header_t::NOT_FOUND);
+  EXPECT_EQ(service.getKeyframes(keyframesOf("robot1", 0, 0)).header.status,
+            +reply_header_t::INVALID_ARGUMENT);
+}
+
+TEST(ConsistencyHook, GetKeyframesWithoutTheServiceSaysSo) {
+  MapService service(test::smallConfig());
+  service.integrate(scan("robot1", 1));
+  const keyframes_reply_t reply = service.getKeyframes(keyframesOf("robot1"));
+  EXPECT_EQ(reply.header.status, +reply_header_t::FAILED_PRECONDITION);
+  EXPECT_NE(reply.header.message.find("--consistency"), std::string::npos);
+}
+
 TEST(ConsistencyHook, JournalReplayRebuildsTheKeyframes) {
   test::TempDir dir;
   const Durability durability{dir.path() / "map.snap", dir.path() / "journal.lcmlog"};

@@ -162,6 +162,51 @@ TEST(MapClient, AllServicesOverUdp) {
   EXPECT_EQ(image.reply->width, 20);
 }
 
+TEST(MapClient, GetKeyframesOverUdp) {
+  const std::string url = randomUrl();
+  ServerConfig config = test::smallConfig();
+  config.consistency.enabled = true;
+  config.consistency.keyframe_distance = 3.0;
+  InProcessServer server(url, std::make_unique<AllowAllGate>(), config);
+  ASSERT_TRUE(server.good()) << "cannot open " << url;
+  rpc::MapClient client(clientOptions(url, "robot1"));
+  for (int seq = 1; seq <= 7; ++seq)  // one metre apart: keyframes at seq 1, 4, 7
+    ASSERT_TRUE(client.integrate(test::scan("robot1", seq, seq - 1.0)).ok());
+  rpc::Result<keyframes_reply_t> reply;
+  for (int i = 0; i < 100; ++i) {  // the service's worker places them into its graph
+    reply = client.getKeyframes("robot1");
+    if (reply.ok() && reply.reply->keyframes.num_poses == 3) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_TRUE(reply.ok()) << reply.error.message;
+  const pose_history_t& k = reply.reply->keyframes;
+  ASSERT_EQ(k.num_poses, 3);
+  EXPECT_EQ(k.seq, (std::vector<std::int64_t>{1, 4, 7}));
+  EXPECT_NEAR(k.translation[0][2], 6.0, 1e-9);  // no closure: where it was integrated
+  EXPECT_NEAR(k.quaternion[0][2], 1.0, 1e-9);
+  EXPECT_FALSE(reply.reply->truncated);
+  // Paging: from seq 2, one at a time.
+  const auto page = client.getKeyframes("robot1", 2, 1);
+  ASSERT_TRUE(page.ok());
+  EXPECT_EQ(page.reply->keyframes.seq, (std::vector<std::int64_t>{4}));
+  EXPECT_TRUE(page.reply->truncated);
+  const auto ghost = client.getKeyframes("ghost");
+  EXPECT_FALSE(ghost.error.timed_out);
+  EXPECT_EQ(ghost.error.status, +reply_header_t::NOT_FOUND);
+}
+
+TEST(MapClient, GetKeyframesWithoutTheConsistencyServiceIsRefused) {
+  const std::string url = randomUrl();
+  InProcessServer server(url);
+  ASSERT_TRUE(server.good()) << "cannot open " << url;
+  rpc::MapClient client(clientOptions(url, "robot1"));
+  ASSERT_TRUE(client.integrate(test::scan("robot1", 1)).ok());
+  const auto reply = client.getKeyframes("robot1");
+  EXPECT_FALSE(reply.error.timed_out);
+  EXPECT_EQ(reply.error.status, +reply_header_t::FAILED_PRECONDITION);
+  EXPECT_NE(reply.error.message.find("--consistency"), std::string::npos) << reply.error.message;
+}
+
 TEST(MapClient, ReportTrackingOverUdp) {
   const std::string url = randomUrl();
   InProcessServer server(url);
