@@ -169,10 +169,13 @@ int main(int argc, char** argv) {
   app.add_option("--doubled-m", doubled_m,
                  "a revisit whose relative pose errs by more than this maps its surfaces twice [m]")
       ->capture_default_str();
-  std::string client_tum, alone_tum, times_file;
+  std::string client_tum, alone_tum, revised_tum, times_file;
   app.add_option("--client-tum", client_tum,
                  "the client's poses_tum.txt with the consistency service (map correction on)");
   app.add_option("--alone-tum", alone_tum, "the client's poses_tum.txt without it");
+  app.add_option("--revised-tum", revised_tum,
+                 "the client's poses_revised_tum.txt (its output revised by the pose graph at "
+                 "the end of the run, docs/consistency.md \"The revised trajectory\")");
   app.add_option("--times", times_file, "the sequence's times.txt (stamps of the frames)");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -298,6 +301,13 @@ int main(int argc, char** argv) {
                              .c_str()
                        : "not run",
           with.ate, with.max, with.frames);
+      if (!revised_tum.empty()) {
+        const ClientScore revised = scoreClient(revised_tum, times, gt);
+        std::printf(
+            "| client output revised by the graph: map-frame ATE RMSE / max (frames of %zu) | "
+            "| %.3f / %.3f m (%zu) | |\n",
+            gt.size(), revised.ate, revised.max, revised.frames);
+      }
     }
     // With both client runs scored, the target is on what the client output (map correction).
     const double judged = client_gain > 0.0 ? client_gain : gain;

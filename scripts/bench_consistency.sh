@@ -8,7 +8,8 @@
 # loop and the keyframes' memory per km. With map correction the client's own output follows
 # the corrected grid: a first run without the service (odometry alone) and the run with it are
 # both scored on every pose the client output (map-frame ATE, no alignment); --no-alone skips
-# the first run. Prints ONE markdown table whose last line sums it up; exit 1 when a target is
+# the first run. The output as the pose graph revised it at the end of the run
+# (poses_revised_tum.txt, docs/consistency.md "The revised trajectory") gets a row too. Prints ONE markdown table whose last line sums it up; exit 1 when a target is
 # missed (wrong closures > 0, ATE not >= --min-gain (5) times lower: the client output's when
 # both runs are there, else the keyframes', any revisit still mapped twice), 0 with
 # --no-targets.
@@ -28,7 +29,7 @@
 #                                     [--no-alone] [--client-config FILE] [--robots 1|2]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,29p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 [ $# -ge 1 ] || usage 2
 case "$1" in -h|--help) usage 0 ;; esac
@@ -90,6 +91,10 @@ run_two() {
   grep -h "found the shared map\|merged into\|input ended" "$to/robot2/client.log" >&2 || true
   { cat "$to/robot1/poses_tum.txt"; cat "$to/robot2/poses_tum.txt" 2>/dev/null || true; } |
     sort -n >"$to/poses_tum.txt"
+  if [ -f "$to/robot1/poses_revised_tum.txt" ]; then
+    { cat "$to/robot1/poses_revised_tum.txt"; cat "$to/robot2/poses_revised_tum.txt" 2>/dev/null ||
+      true; } | sort -n >"$to/poses_revised_tum.txt"
+  fi
 }
 # run NAME [server args...]: one map_server + the odom_client(s) into $out/NAME.
 run() {
@@ -126,6 +131,10 @@ trap - EXIT
 [ -f "$out/consistency/stats.txt" ] || { echo "bench_consistency: no consistency output" >&2; exit 1; }
 [ -f "$dir/times.txt" ] &&
   eval_args+=(--client-tum "$out/with/poses_tum.txt" --times "$dir/times.txt")
+# The client's output revised by the pose graph at the end of its run (odom_client asks the
+# server for its keyframes; nothing is written when it has none).
+[ -f "$dir/times.txt" ] && [ -f "$out/with/poses_revised_tum.txt" ] &&
+  eval_args+=(--revised-tum "$out/with/poses_revised_tum.txt")
 
 rc=0
 "$build/bench/bench_consistency_eval" --dir "$out/consistency" --gt "$dir/poses.txt" \

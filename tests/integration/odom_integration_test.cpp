@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
@@ -337,6 +338,43 @@ TEST_F(OdomOnSimulatedDrive, StepsAndEndDriftMatchExactGroundTruth) {
   ASSERT_EQ(est.size(), gt.size());
   expectStepsMatchGroundTruth(gt, est, 0);
   expectEndDriftBelow1Percent(gt, est.back(), 0, gt.size() - 1);
+  // A server without the consistency service: no revised trajectory, and the client says why.
+  EXPECT_FALSE(fs::exists(out / "poses_revised_kitti.txt"));
+  EXPECT_NE(readFile(out.string() + ".log").find("map_server --consistency"), std::string::npos)
+      << readFile(out.string() + ".log");
+}
+
+double rmsError(const socc::Poses& run, const socc::Poses& gt) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < run.size(); ++i)
+    sum += (run[i].translation() - gt[i].translation()).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(run.size()));
+}
+
+// Against a server with the consistency service the client writes its output as the pose graph
+// revised it (docs/consistency.md "The revised trajectory"). 36 m close no loop
+// (min_loop_travel 50 m): the graph keeps every keyframe where it was integrated, so the revised
+// poses are the output poses (the revision at every keyframe is the identity).
+TEST_F(OdomOnSimulatedDrive, AConsistencyServerGivesTheRevisedTrajectory) {
+  server_.reset();
+  server_ = std::make_unique<socc::testing::ChildProcess>(
+      std::vector<std::string>{SOCC_MAP_SERVER_BIN, "--lcm-url", url_, "--quiet", "--status-period",
+                               "0", "--consistency"},
+      work_ / "server_consistency.log");
+  ASSERT_TRUE(client_->getStats().ok()) << readFile(work_ / "server_consistency.log");
+  const fs::path out = work_ / "run";
+  ASSERT_EQ(runClient("sim", out, {}, seq()), 0);
+  const std::string log = readFile(out.string() + ".log");
+  EXPECT_NE(log.find("trajectory revised by the server's pose graph"), std::string::npos) << log;
+  const socc::Poses raw = socc::readKittiPoses(out / "poses_kitti.txt");
+  const socc::Poses revised = socc::readKittiPoses(out / "poses_revised_kitti.txt");
+  std::vector<double> stamps;
+  EXPECT_EQ(socc::readTumPoses(out / "poses_revised_tum.txt", &stamps).size(), raw.size());
+  ASSERT_EQ(revised.size(), raw.size());
+  for (std::size_t i = 0; i < raw.size(); ++i)
+    EXPECT_LT((revised[i].translation() - raw[i].translation()).norm(), 1e-3) << "frame " << i;
+  const socc::Poses gt = groundTruth();
+  EXPECT_LE(rmsError(revised, gt), rmsError(raw, gt) + 1e-3);
 }
 
 // --resume continues after the server's last seq from the pose the server holds: the restart
