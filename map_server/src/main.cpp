@@ -116,8 +116,8 @@ std::optional<socc::service::ServerConfig> serverConfig(const Options& options) 
   if (!options.file_dir.empty()) config.file_dir = options.file_dir;
   if (!options.key_file.empty()) config.key_file = options.key_file;
   config.auth_queries = config.auth_queries || options.auth_queries;
-  config.consistency.enabled = config.consistency.enabled || options.consistency ||
-                               !options.consistency_dir.empty();
+  config.consistency.enabled =
+      config.consistency.enabled || options.consistency || !options.consistency_dir.empty();
   const auto auth = socc::lcmAuthFor(config.key_file.string());
   if (const std::string why = socc::checkLcmUrl(options.lcm_url, auth); !why.empty()) {
     std::cerr << "map_server: " << why << '\n';
@@ -272,7 +272,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "map_server: the shared semantic occupancy grid, served over LCM.\n"
       "Services on SOCC/<SERVICE>/REQ (INTEGRATE, GET_CHUNK, GET_STATS, GET_ROBOT_POSE,\n"
-      "MAP_COMMAND, RENDER, ROBOT_STATUS, LOCALIZE, GET_KEYFRAMES), replies on SOCC/<SERVICE>/REP/<client_id>, status on SOCC/STATUS."};
+      "MAP_COMMAND, RENDER, ROBOT_STATUS, LOCALIZE, GET_KEYFRAMES), replies on "
+      "SOCC/<SERVICE>/REP/<client_id>, status on SOCC/STATUS."};
   app.set_version_flag("--version", socc::versionLine("map_server"));
   Options options;
   app.add_option("--lcm-url", options.lcm_url,

@@ -315,8 +315,7 @@ int runOdometry(const Args& a, const OdomConfig& config, socc::rpc::MapClient& c
     std::cerr << "odom_client: "
               << writeRevisedTrajectory(
                      client, a.robot_id, runner.trajectory(), runner.appliedCorrections(),
-                     a.out_dir,
-                     std::chrono::milliseconds(std::llround(a.revised_wait_s * 1000.0)))
+                     a.out_dir, std::chrono::milliseconds(std::llround(a.revised_wait_s * 1000.0)))
               << "\n";
   std::cout << log.summary(runner.wallSeconds());
   if (rc == 0 && runner.trackingState() == TrackingState::kLost) {

@@ -67,10 +67,9 @@ std::string writeRevisedTrajectory(rpc::MapClient& client, const std::string& ro
   writeTumPoses(out_dir / "poses_revised_tum.txt", revised.poses, trajectory.stamps);
   std::ostringstream line;
   line.precision(3);
-  line << std::fixed << "trajectory revised by the server's pose graph ("
-       << revised.keyframes << " keyframes, " << fetch.optimizations
-       << " optimizations; poses moved up to " << revised.max_shift
-       << " m) -> poses_revised_kitti.txt, poses_revised_tum.txt";
+  line << std::fixed << "trajectory revised by the server's pose graph (" << revised.keyframes
+       << " keyframes, " << fetch.optimizations << " optimizations; poses moved up to "
+       << revised.max_shift << " m) -> poses_revised_kitti.txt, poses_revised_tum.txt";
   if (fetch.pending > 0)
     line << "; the service still had " << fetch.pending
          << " keyframes to process (frames after the last returned keyframe keep its revision)";

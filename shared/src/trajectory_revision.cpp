@@ -18,8 +18,7 @@ Eigen::Isometry3d outputFrame(const std::vector<FrameCorrection>& sorted, std::i
 }
 
 // a at s = 0, b at s = 1: translation linearly, rotation by slerp.
-Eigen::Isometry3d blendRevision(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
-                                double s) {
+Eigen::Isometry3d blendRevision(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double s) {
   const Eigen::Quaterniond qa(a.linear());
   const Eigen::Quaterniond qb(b.linear());
   Eigen::Isometry3d out = Eigen::Isometry3d::Identity();

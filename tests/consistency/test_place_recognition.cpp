@@ -14,6 +14,7 @@
 #include "socc/sim/lidar_model.hpp"
 #include "socc/sim/scan_simulator.hpp"
 #include "socc/sim/scene.hpp"
+#include "socc/trajectory_revision.hpp"
 
 namespace socc::consistency {
 namespace {
@@ -207,6 +208,64 @@ TEST(MapCorrection, AClosureRebuildsTheGridFromTheKeyframeScansAtTheOptimizedPos
             << " % (drifted) -> " << after * 100 << " % (rebuilt)\n";
 }
 
+// GET_KEYFRAMES after the correction: the keyframes' optimized poses in the map frame (the
+// graph's, not moved again by the robot's correction), and the robot's output (seq 0..last-1 in
+// its first frame, last-1 registered against the old grid, last in the corrected frame) revised
+// by them (socc/trajectory_revision.hpp): every pose near the truth.
+void expectTheRevisedTrajectoryFollowsTheGraph(const service::MapService& server, const Drive& d,
+                                               std::int64_t last,
+                                               const Eigen::Isometry3d& correction) {
+  keyframes_request_t request{};
+  request.robot_id = "car";
+  request.max_keyframes = 1000;
+  const keyframes_reply_t reply = server.getKeyframes(request);
+  ASSERT_EQ(reply.header.status, +reply_header_t::OK) << reply.header.message;
+  EXPECT_GE(reply.optimizations, 1);
+  const pose_history_t& h = reply.keyframes;
+  ASSERT_EQ(h.num_poses, static_cast<int>(d.scans.size()));  // every scan 7.2 m on: a keyframe
+  std::vector<KeyframeEstimate> keyframes;
+  std::vector<double> odometry_error, keyframe_error;
+  for (std::size_t i = 0; i < h.seq.size(); ++i) {
+    const Eigen::Vector3d at(h.translation[0][i], h.translation[1][i], h.translation[2][i]);
+    const Eigen::Quaterniond q(h.quaternion[0][i], h.quaternion[1][i], h.quaternion[2][i],
+                               h.quaternion[3][i]);
+    Eigen::Isometry3d pose(q.normalized());
+    pose.translation() = at;
+    keyframes.push_back({h.seq[i], pose});
+    const std::size_t k = static_cast<std::size_t>(h.seq[i]);
+    odometry_error.push_back((d.odometry[k].translation() - d.truth[k].translation()).norm());
+    keyframe_error.push_back((at - d.truth[k].translation()).norm());
+  }
+  EXPECT_LT(rms(keyframe_error), rms(odometry_error) / 3.0)
+      << rms(odometry_error) << " -> " << rms(keyframe_error);
+  std::vector<std::int64_t> seqs;
+  Poses output;
+  for (std::int64_t s = 0; s < last; ++s) {
+    seqs.push_back(s);
+    output.push_back(d.odometry[static_cast<std::size_t>(s)]);
+  }
+  seqs.push_back(last);
+  output.push_back(d.odometry.back());  // registered against the old grid
+  seqs.push_back(last + 1);
+  output.push_back(correction * d.odometry.back());  // in the corrected frame
+  const RevisedTrajectory revised =
+      reviseTrajectory(seqs, output, keyframes, {{last + 1, correction}});
+  std::vector<double> raw_error, revised_error;
+  for (std::size_t i = 0; i < output.size(); ++i) {
+    const Eigen::Vector3d truth = d.truth[std::min(i, d.truth.size() - 1)].translation();
+    raw_error.push_back((output[i].translation() - truth).norm());
+    revised_error.push_back((revised.poses[i].translation() - truth).norm());
+  }
+  EXPECT_LT(rms(revised_error), rms(raw_error) / 3.0)
+      << rms(raw_error) << " -> " << rms(revised_error);
+  // The last two frames are the same place in two frames: revised to the same pose.
+  EXPECT_LT(
+      (revised.poses.back().translation() - revised.poses[output.size() - 2].translation()).norm(),
+      1e-6);
+  std::cerr << "revised output: ATE " << rms(raw_error) << " -> " << rms(revised_error)
+            << " m (keyframes " << rms(odometry_error) << " -> " << rms(keyframe_error) << ")\n";
+}
+
 TEST(MapCorrection, TheServiceSwapsTheGridInAndTellsTheRobotItsCorrectionOnce) {
   const Drive d = correctionDrive();
   service::ServerConfig config;
@@ -246,6 +305,7 @@ TEST(MapCorrection, TheServiceSwapsTheGridInAndTellsTheRobotItsCorrectionOnce) {
   ASSERT_EQ(after.header.status, +reply_header_t::OK) << after.header.message;
   EXPECT_FALSE(after.corrected);
   EXPECT_TRUE(fromLcm(server.robots().find("car")->last_pose).isApprox(correction * next, 1e-6));
+  expectTheRevisedTrajectoryFollowsTheGraph(server, d, seq, correction);
 }
 
 TEST(MapCorrection, AServiceRestartedFromItsStoreRebuildsWithTheKeyframesFromBeforeTheRestart) {

@@ -34,8 +34,8 @@ void expectNear(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double t
 
 TEST(TrajectoryRevision, KeyframesAtTheirOutputPosesChangeNothing) {
   const Drive d(12);
-  const std::vector<KeyframeEstimate> keyframes = {{10, d.poses[0]}, {15, d.poses[5]},
-                                                   {21, d.poses[11]}};
+  const std::vector<KeyframeEstimate> keyframes = {
+      {10, d.poses[0]}, {15, d.poses[5]}, {21, d.poses[11]}};
   const RevisedTrajectory r = reviseTrajectory(d.seqs, d.poses, keyframes);
   EXPECT_EQ(r.keyframes, 3);
   ASSERT_EQ(r.poses.size(), d.poses.size());
@@ -77,8 +77,7 @@ TEST(TrajectoryRevision, KeyframesOfOtherSeqsAreSkipped) {
   const Drive d(5);
   const Eigen::Isometry3d offset = pose(0.5, 0.0, 0.0);
   // seq 3 (before this run's output, e.g. --resume): only seq 12 is an output pose.
-  const std::vector<KeyframeEstimate> keyframes = {{3, pose(9, 9, 1)},
-                                                   {12, offset * d.poses[2]}};
+  const std::vector<KeyframeEstimate> keyframes = {{3, pose(9, 9, 1)}, {12, offset * d.poses[2]}};
   const RevisedTrajectory r = reviseTrajectory(d.seqs, d.poses, keyframes);
   EXPECT_EQ(r.keyframes, 1);
   for (std::size_t i = 0; i < d.poses.size(); ++i) expectNear(r.poses[i], offset * d.poses[i]);

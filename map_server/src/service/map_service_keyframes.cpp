@@ -35,9 +35,9 @@ keyframes_reply_t MapService::getKeyframes(const keyframes_request_t& request) c
   keyframes_reply_t reply{};
   reply.keyframes.robot_id = request.robot_id.substr(0, 64);
   if (!consistency_)
-    return setStatus(reply, Status::failedPrecondition(
-                                "the map server runs without the consistency service "
-                                "(map_server --consistency): no keyframes"));
+    return setStatus(
+        reply, Status::failedPrecondition("the map server runs without the consistency service "
+                                          "(map_server --consistency): no keyframes"));
   if (request.max_keyframes <= 0)
     return setStatus(reply, Status::invalid("max_keyframes must be > 0"));
   // 10000 keyframes (~0.6 MB) per reply: 30 km at a keyframe per 3 m.
@@ -55,7 +55,8 @@ keyframes_reply_t MapService::getKeyframes(const keyframes_request_t& request) c
                                              "' with seq >= " + std::to_string(request.from_seq) +
                                              " in the consistency service"));
   const Eigen::Isometry3d to_map = graphToMap();
-  for (const auto& k : keyframes) appendKeyframe(reply.keyframes, k.seq, k.utime, to_map * k.optimized);
+  for (const auto& k : keyframes)
+    appendKeyframe(reply.keyframes, k.seq, k.utime, to_map * k.optimized);
   reply.truncated = truncated;
   return reply;
 }

@@ -30,8 +30,8 @@ struct FrameCorrection {
 };
 
 struct RevisedTrajectory {
-  Poses poses;          // one per output pose, in its order
-  int keyframes = 0;    // keyframes matched to an output pose (the others are skipped)
+  Poses poses;             // one per output pose, in its order
+  int keyframes = 0;       // keyframes matched to an output pose (the others are skipped)
   double max_shift = 0.0;  // [m] the largest translation any pose moved
 };
 

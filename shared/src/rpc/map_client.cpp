@@ -12,9 +12,9 @@
 
 #include "socc/auth/message_auth.hpp"
 #include "socc/channels.hpp"
+#include "socc/keyframes_request_t.hpp"
 #include "socc/lcm_url.hpp"
 #include "socc/pose_conversion.hpp"
-#include "socc/keyframes_request_t.hpp"
 #include "socc/robot_pose_request_t.hpp"
 #include "socc/rpc/client_id.hpp"
 #include "socc/rpc/part_transport.hpp"
@@ -262,8 +262,8 @@ Result<robot_pose_reply_t> MapClient::getRobotPose(const std::string& robot_id,
   return impl_->call<robot_pose_reply_t>(channels::kGetRobotPose, request);
 }
 Result<keyframes_reply_t> MapClient::getKeyframes(const std::string& robot_id,
-                                                 std::int64_t from_seq,
-                                                 std::int32_t max_keyframes) {
+                                                  std::int64_t from_seq,
+                                                  std::int32_t max_keyframes) {
   keyframes_request_t request{};
   request.robot_id = robot_id;
   request.from_seq = from_seq;
