@@ -116,8 +116,8 @@ std::optional<socc::service::ServerConfig> serverConfig(const Options& options) 
   if (!options.file_dir.empty()) config.file_dir = options.file_dir;
   if (!options.key_file.empty()) config.key_file = options.key_file;
   config.auth_queries = config.auth_queries || options.auth_queries;
-  config.consistency.enabled =
-      config.consistency.enabled || options.consistency || !options.consistency_dir.empty();
+  config.consistency.enabled = config.consistency.enabled || options.consistency ||
+                               !options.consistency_dir.empty();
   const auto auth = socc::lcmAuthFor(config.key_file.string());
   if (const std::string why = socc::checkLcmUrl(options.lcm_url, auth); !why.empty()) {
     std::cerr << "map_server: " << why << '\n';
