@@ -310,6 +310,54 @@ struct PoseCommand {
   }
 };
 
+// socc-cli keyframes ROBOT: GET_KEYFRAMES, the robot's keyframes as the server's consistency
+// service holds them now (optimized, map frame; docs/consistency.md "The revised trajectory").
+struct KeyframesCommand {
+  CLI::App* command = nullptr;
+  std::string robot, kitti, tum;
+
+  void add(CLI::App& app) {
+    command = app.add_subcommand(
+        "keyframes",
+        "print how many keyframes of a robot the consistency service (map_server --consistency) "
+        "holds, optionally write their optimized map-frame poses");
+    command->add_option("robot", robot, "robot id")->required();
+    command->add_option("--kitti", kitti, "write the poses here as KITTI (3x4 per line)");
+    command->add_option("--tum", tum,
+                        "write them here as TUM (scan time [s] tx ty tz qx qy qz qw)");
+  }
+
+  bool run(MapClient& client) const {
+    socc::Poses poses;
+    std::vector<double> stamps;
+    std::int64_t from_seq = 0, first = 0, last = 0;
+    for (;;) {
+      const auto r = client.getKeyframes(robot, from_seq);
+      if (!report(r, "keyframes")) return false;
+      const socc::pose_history_t& h = r.reply->keyframes;
+      for (std::int32_t i = 0; i < h.num_poses; ++i) {
+        socc::pose3d_t p{};
+        for (int c = 0; c < 3; ++c) p.translation[c] = h.translation[c][i];
+        for (int c = 0; c < 4; ++c) p.quaternion[c] = h.quaternion[c][i];
+        poses.push_back(socc::fromLcm(p));
+        stamps.push_back(static_cast<double>(h.scan_utime[i]) * 1e-6);
+      }
+      if (h.num_poses > 0 && from_seq == 0) first = h.seq.front();
+      if (h.num_poses > 0) last = h.seq.back();
+      if (!r.reply->truncated || h.num_poses == 0) {
+        std::cout << robot << ": " << poses.size() << " keyframes (seq " << first << " to " << last
+                  << "), " << r.reply->optimizations << " optimizations, " << r.reply->pending
+                  << " keyframes waiting for the service\n";
+        break;
+      }
+      from_seq = h.seq.back() + 1;
+    }
+    if (!kitti.empty()) socc::writeKittiPoses(kitti, poses);
+    if (!tum.empty()) socc::writeTumPoses(tum, poses, stamps);
+    return true;
+  }
+};
+
 // socc-cli save|load|export|clear: MAP_COMMAND (paths are on the server).
 struct MapCommand {
   CLI::App *save = nullptr, *load = nullptr, *exp = nullptr, *clear = nullptr;
@@ -460,6 +508,7 @@ struct IntegrateCommand {
 struct Commands {
   StatsCommand stats;
   PoseCommand pose;
+  KeyframesCommand keyframes;
   MapCommand map;
   RenderCommand render;
   ChunkCommand chunk;
@@ -469,6 +518,7 @@ struct Commands {
   void add(CLI::App& app) {
     stats.add(app);
     pose.add(app);
+    keyframes.add(app);
     map.add(app);
     render.add(app);
     chunk.add(app);
@@ -481,6 +531,7 @@ struct Commands {
     const auto code = [](bool ok) { return ok ? 0 : 1; };
     if (stats.command->parsed()) return code(stats.run(client));
     if (pose.command->parsed()) return code(pose.run(client));
+    if (keyframes.command->parsed()) return code(keyframes.run(client));
     if (map.parsed()) return code(map.run(client));
     if (render.command->parsed()) return code(render.run(client));
     if (chunk.command->parsed()) return chunk.run(client);
