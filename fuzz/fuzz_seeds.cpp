@@ -13,6 +13,7 @@
 #include "socc/auth/message_auth.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/integrate_request_t.hpp"
+#include "socc/keyframes_request_t.hpp"
 #include "socc/localize_request_t.hpp"
 #include "socc/map_command_request_t.hpp"
 #include "socc/part_t.hpp"
@@ -106,7 +107,7 @@ void chunkSeeds(SeedWriter& w) {
   w.message("fuzz_chunk_request", "box_all_fields", chunk);
 }
 
-// GET_STATS, GET_ROBOT_POSE and ROBOT_STATUS (every tracking state).
+// GET_STATS, GET_ROBOT_POSE, GET_KEYFRAMES and ROBOT_STATUS (every tracking state).
 void robotSeeds(SeedWriter& w, std::int64_t utime) {
   socc::stats_request_t stats{};
   stats.header = header("GET_STATS");
@@ -119,6 +120,15 @@ void robotSeeds(SeedWriter& w, std::int64_t utime) {
   pose.max_history = 100;
   pose.history_from_seq = 2;
   w.message("fuzz_robot_pose_request", "history", pose);
+
+  socc::keyframes_request_t keyframes{};
+  keyframes.header = header("GET_KEYFRAMES");
+  keyframes.robot_id = "seed";
+  keyframes.max_keyframes = 100;
+  w.message("fuzz_keyframes_request", "all", keyframes);
+  keyframes.from_seq = 2;
+  keyframes.max_keyframes = 1;
+  w.message("fuzz_keyframes_request", "page", keyframes);
 
   socc::robot_status_request_t status{};
   status.header = header("ROBOT_STATUS");

@@ -447,6 +447,11 @@ std::vector<ConsistencyService::KeyframePose> ConsistencyService::robotKeyframes
   return out;
 }
 
+int ConsistencyService::unprocessed() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return static_cast<int>(queue_.size()) + (busy_ ? 1 : 0);
+}
+
 std::string ConsistencyService::anchorRobot() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return keyframes_.empty() ? std::string{}

@@ -113,6 +113,9 @@ class ConsistencyService {
   /// the frame the first robot's first keyframe holds, in which the grid is rebuilt.
   std::vector<KeyframePose> robotKeyframes(const std::string& robot, std::int64_t from_seq,
                                            std::size_t max, bool* truncated) const;
+  /// Keyframes of any robot observed but not yet processed: queued, or the one the worker is on
+  /// (its search, optimization and rebuild).
+  int unprocessed() const;
   /// The robot whose first keyframe is fixed in the graph (empty before the first keyframe).
   std::string anchorRobot() const;
 

@@ -44,9 +44,8 @@ keyframes_reply_t MapService::getKeyframes(const keyframes_request_t& request) c
   constexpr std::size_t kMaxKeyframesPerReply = 10000;
   const std::size_t max =
       std::min(static_cast<std::size_t>(request.max_keyframes), kMaxKeyframesPerReply);
-  const consistency::ConsistencyStats stats = consistency_->stats();
-  reply.optimizations = stats.optimizations;
-  reply.pending = stats.pending;
+  reply.optimizations = consistency_->stats().optimizations;
+  reply.pending = consistency_->unprocessed();
   bool truncated = false;
   const auto keyframes =
       consistency_->robotKeyframes(request.robot_id, request.from_seq, max, &truncated);
