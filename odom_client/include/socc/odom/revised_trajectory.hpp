@@ -27,7 +27,8 @@ KeyframeFetch fetchKeyframes(rpc::MapClient& client, const std::string& robot_id
 /// Fetches the keyframes (waiting up to wait while the service still has keyframes to
 /// process), revises trajectory and writes poses_revised_kitti.txt / poses_revised_tum.txt into
 /// out_dir. Returns the line for stderr: what was written, or why nothing was (a server without
-/// the consistency service, no keyframe of this robot): never throws for those.
+/// the consistency service, no keyframe of this robot, a file that cannot be written): never
+/// throws.
 std::string writeRevisedTrajectory(rpc::MapClient& client, const std::string& robot_id,
                                    const Trajectory& trajectory,
                                    const std::vector<FrameCorrection>& corrections,
