@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # Integration test of map_server + socc-cli as real processes over UDP multicast on loopback.
 # usage: service_test.sh basic|crash|auth|guard|consistency <map_server> <socc-cli>
-#   basic: integrate, duplicate, chunk, stats, pose, save/load, exports, render, clear
+#   basic: integrate, duplicate, chunk, stats, pose, keyframes (refused: no consistency service),
+#          save/load, exports, render, clear
 #   crash: kill -9 (idle and mid-run), restart with snapshot + journal -> byte-equal chunks;
 #          corrupt snapshot refused unless --ignore-corrupt-snapshot
 #   auth:  server with --key-file: signed CLI served, unsigned/wrong key UNAUTHENTICATED and
 #          nothing changed, --auth-queries, key file readable by others refused (exit 2)
 #   consistency: --consistency with snapshot + journal, kill -9, restart: the consistency
-#          service resumes its stored keyframes (none twice) and ends with the keyframes of a
-#          server that never crashed
+#          service resumes its stored keyframes (none twice; GET_KEYFRAMES returns them) and ends
+#          with the keyframes of a server that never crashed
 #   guard: a robot whose poses jump (a diverged trajectory) is refused FAILED_PRECONDITION and
 #          leaves the map unchanged, another robot is served; LOST refuses until TRACKING
 set -euo pipefail
@@ -63,6 +64,9 @@ basic() {
   expect "seq=1 applied" integrate robot2 1
   expect "integrations=4 .* robots=2" cli stats
   expect "^robot1 seq=3 integrations=3" cli pose robot1
+  local out; out=$(cli keyframes robot1 2>&1) && fail "GET_KEYFRAMES without --consistency: $out"
+  grep -q "FAILED_PRECONDITION.*--consistency" <<<"$out" || fail "keyframes printed '$out'"
+  echo "ok: cli keyframes robot1 (no --consistency) -> $(head -1 <<<"$out")"
   if cli pose ghost >/dev/null 2>&1; then fail "pose of an unknown robot succeeded"; fi
   expect "voxels=[1-9][0-9]* .*bytes=[1-9]" cli chunk --sphere 0 0 0 30 --fields features stats index
   expect "voxels=[1-9]" cli chunk --box -10 -10 -3 10 10 3
@@ -245,6 +249,9 @@ consistency() {
     fail "the consistency state was not restored"
   echo "ok: $(grep -o 'consistency state restored: [0-9]* keyframes' "$work/server.log") after kill -9"
   for s in $(seq 17 24); do integrate robot1 "$s" >/dev/null; done
+  # GET_KEYFRAMES: the optimized keyframes, those from before the kill among them.
+  expect "^robot1: [1-9][0-9]* keyframes \(seq 1 to" cli keyframes robot1 --kitti "$work/kf.txt"
+  [[ -s $work/kf.txt ]] || fail "socc-cli keyframes --kitti wrote nothing"
   stop_server
   [[ -z $(keyframe_seqs "$work/crashed" | sort | uniq -d) ]] || fail "a keyframe stored twice"
   start_server --consistency --consistency-dir "$work/clean" --quiet
