@@ -117,9 +117,10 @@ void addOptions(CLI::App& app, Args& a) {
                "do not ask the server for the revised trajectory at the end of the run");
   app.add_option("--revised-wait", a.revised_wait_s,
                  "seconds to wait at the end for the server's consistency service to place its "
-                 "last keyframes into its graph before the revised trajectory is written")
+                 "last keyframes into its graph before the revised trajectory is written (not "
+                 "after Ctrl-C)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0.0, 86400.0));
   app.add_option("--initial-pose", a.initial_pose,
                  "pose of the first scan in the map frame: \"x y z roll pitch yaw\" [m, rad]; "
                  "taken as exact unless refine_initial_pose is set in --config");
@@ -311,12 +312,15 @@ int runOdometry(const Args& a, const OdomConfig& config, socc::rpc::MapClient& c
   }
   writeOutputs(a.out_dir, runner.trajectory(), runner.endedInOwnFrame());
   removeRevised(a.out_dir);  // an earlier run's must not pass for this one's
-  if (!a.out_dir.empty() && !a.no_revised && rc != 1 && !runner.endedInOwnFrame())
+  if (!a.out_dir.empty() && !a.no_revised && rc != 1 && !runner.endedInOwnFrame()) {
+    // Stopped by a signal: the keyframes the service holds now, without waiting for more.
+    const double wait_s = g_stop ? 0.0 : a.revised_wait_s;
     std::cerr << "odom_client: "
-              << writeRevisedTrajectory(
-                     client, a.robot_id, runner.trajectory(), runner.appliedCorrections(),
-                     a.out_dir, std::chrono::milliseconds(std::llround(a.revised_wait_s * 1000.0)))
+              << writeRevisedTrajectory(client, a.robot_id, runner.trajectory(),
+                                        runner.appliedCorrections(), a.out_dir,
+                                        std::chrono::milliseconds(std::llround(wait_s * 1000.0)))
               << "\n";
+  }
   std::cout << log.summary(runner.wallSeconds());
   if (rc == 0 && runner.trackingState() == TrackingState::kLost) {
     std::cerr << "odom_client: error: the run ended LOST: frames after the robot lost track "
