@@ -29,6 +29,7 @@
 #include "consistency_params.hpp"
 #include "grid_rebuild.hpp"
 #include "keyframe.hpp"
+#include "keyframe_reduction.hpp"
 #include "keyframe_store.hpp"
 #include "odometry_edge.hpp"
 #include "place_recognition.hpp"
@@ -42,8 +43,11 @@ namespace socc::consistency {
 struct ConsistencyStats {
   int robots = 0;
   int keyframes = 0;
-  int pending = 0;        // keyframes waiting for the worker
-  int scans_dropped = 0;  // keyframes kept as poses only: the worker was max_pending_scans behind
+  int pending = 0;         // keyframes waiting for the worker
+  int pending_clouds = 0;  // of them, with their full cloud (at most max_pending_scans)
+  // Keyframes whose cloud the map's thread reduced on arrival (keyframe_reduction.hpp): the
+  // worker was max_pending_scans behind.
+  int scans_reduced_on_arrival = 0;
   RecognitionTally recognition;
   OdometryEdgeTally odometry_edges;  // scan-to-scan checks of the odometry edges
   int optimizations = 0;
@@ -116,7 +120,11 @@ class ConsistencyService {
  private:
   struct Pending {
     Keyframe keyframe;
-    std::shared_ptr<const LabeledCloud> cloud;  // null: pose only (max_pending_scans)
+    // What the worker makes the keyframe's points and scan from: its full cloud or, when
+    // max_pending_scans clouds waited on arrival, the cloud reduced then. Neither: a pose only
+    // (a waiting keyframe of a store written before reduction on arrival).
+    std::shared_ptr<const LabeledCloud> cloud;
+    std::shared_ptr<const ReducedScan> reduced;
     std::string robot;
     std::chrono::steady_clock::time_point arrived;
     bool stored = false;  // written to the store as waiting (checkpoint)
@@ -138,6 +146,10 @@ class ConsistencyService {
     std::int64_t restored_seq = std::numeric_limits<std::int64_t>::min();
   };
 
+  /// Whether robot's integration at (seq, pose) is a keyframe (its fields but the scan's into
+  /// keyframe); counts its path either way. Under the lock.
+  bool isKeyframe(const std::string& robot, std::int64_t seq, const Eigen::Isometry3d& pose,
+                  Keyframe& keyframe);
   void run();
   void process(Pending pending);
   /// odometry: the edge from the robot's previous keyframe (none for its first).
@@ -154,9 +166,12 @@ class ConsistencyService {
   struct TailScan {
     std::string robot;
     Eigen::Isometry3d raw_pose = Eigen::Isometry3d::Identity();
-    std::shared_ptr<const LabeledCloud> cloud;
+    std::shared_ptr<const LabeledCloud> cloud;   // compacted as the keyframe's scan is
+    std::shared_ptr<const ReducedScan> reduced;  // or its scan already
   };
-  /// tail's scans into grid at their robots' corrections (compacted as keyframes are).
+  /// A waiting keyframe's scan for the rebuild's tail (none for a pose only).
+  static std::optional<TailScan> tailScan(const Pending& pending);
+  /// tail's scans into grid at their robots' corrections.
   void integrateTail(RebuiltGrid& grid, const std::vector<TailScan>& tail) const;
   // Durability (consistency_restore.cpp): writing the store, and starting from its contents.
   void storeKeyframe(const std::string& robot, std::size_t first_edge, std::size_t first_prior);
@@ -180,7 +195,7 @@ class ConsistencyService {
   std::deque<Pending> queue_;
   std::optional<Pending> in_flight_;  // taken by the worker, not yet in the store
   bool held_ = false;
-  int pending_scans_ = 0;  // entries of queue_ with their scan
+  int pending_clouds_ = 0;  // entries of queue_ with their full cloud
   bool busy_ = false;
   bool stopping_ = false;
   std::map<std::string, RobotTrack> robots_;
