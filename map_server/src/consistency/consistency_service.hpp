@@ -3,7 +3,8 @@
 // integrations, place recognition between them (revisits and encounters, each verified), and a
 // pose graph over all keyframes optimized after each verified closure. It runs beside the map
 // on its own thread: observe() only decides whether an integration is a keyframe and copies its
-// points; downsampling, descriptors, verification and optimization happen in the background.
+// points (or, while the worker is max_pending_scans behind, reduces them to what the worker
+// keeps); downsampling, descriptors, verification and optimization happen in the background.
 //
 // It corrects the estimate of every keyframe (and, through them, of every integration:
 // corrected()) and, after a closure that moves keyframes, rebuilds the grid from the keyframe
@@ -75,6 +76,7 @@ class ConsistencyService {
   ConsistencyService& operator=(const ConsistencyService&) = delete;
 
   /// An applied integration of robot: a keyframe when it moved far enough since its last one.
+  /// One thread observes (the map's; also checkpoint() and takeRebuild()).
   void observe(const std::string& robot, std::int64_t seq, std::int64_t utime,
                const Eigen::Isometry3d& pose, const LabeledCloud& cloud);
 
