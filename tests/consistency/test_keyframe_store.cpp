@@ -153,6 +153,31 @@ TEST(KeyframeStore, AWaitingRecordKeepsItsFormAndTheOldFormsReadAsBefore) {
   EXPECT_THROW(decodeWaiting(mixed), std::runtime_error);
 }
 
+TEST(KeyframeStore, AnOldStoresPoseOnlyWaitingKeyframeIsRestoredAsAPose) {
+  // Written before reduction on arrival: a keyframe that waited without its scan (form 0).
+  StoreDir dir;
+  const auto file = dir.path / "store";
+  {
+    auto store = KeyframeStore::create(file, false, true);
+    StoredWaiting old;
+    old.robot = "car";
+    old.keyframe.seq = 4;
+    old.keyframe.odom_pose = poseAt(1.0, 0.0);
+    store->add(RecordType::kWaiting, encodeWaiting(old));
+    store->add(RecordType::kCheckpoint, encodeCheckpoint({5, 2, 1, 0}));
+  }
+  const StoreContents contents = KeyframeStore::read(file);
+  ASSERT_EQ(contents.waiting.size(), 1u);
+  EXPECT_EQ(contents.waiting[0].form, WaitingForm::kPoseOnly);
+  std::string why;
+  ASSERT_NE(coveringMark(contents, 5, 2, why), nullptr) << why;
+  ConsistencyService restored(ConsistencyParams{}, map::MapConfig{}, {}, nullptr, &contents, 0);
+  restored.flush();
+  ASSERT_EQ(restored.keyframePoses().size(), 1u);
+  EXPECT_EQ(restored.keyframePoses()[0].seq, 4);
+  EXPECT_EQ(restored.stats().scan_bytes, sizeof(KeyframeScan));  // no scan
+}
+
 TEST(KeyframeStore, ATornOrCorruptTailIsDroppedWithAMessageAndCutOnResume) {
   StoreDir dir;
   const auto file = dir.path / "store";
