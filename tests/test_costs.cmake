@@ -19,10 +19,12 @@ foreach(_socc_cost
     "GlobalLocalizer.KittiReverseRevisitIsAmongTheCandidates=20"
     "Relocalize.KittiReverseRevisitWithoutAGuess=19"
     "Space/ClosedLoopDistortion.ConvergesAndStaysCloseToGroundTruth/street/straight/hdl64/20=19"
+    # Not yet measured in CI: 14.6 s wall alone in build-ci flags at load 2 (AClosureRebuilds
+    # there: 18.2 s for its 22), scaled.
+    "MapCorrection.AWorkerFarBehindKeepsEveryKeyframeScanButBoundsTheQueuedClouds=18"
     "MapCorrection.TheServiceSwapsTheGridInAndTellsTheRobotItsCorrectionOnce=16"
     "Space/ClosedLoopDistortion.ConvergesAndStaysCloseToGroundTruth/street/straight/vlp32/22=16"
     "MapCorrection.AServiceRestartedFromItsStoreRebuildsWithTheKeyframesFromBeforeTheRestart=15"
-    "PlaceRecognition.AWorkerFarBehindKeepsEveryKeyframePoseButBoundsTheQueuedScans=13"
     "Space/ClosedLoopDistortion.ConvergesAndStaysCloseToGroundTruth/street/straight/vlp32/14=13"
     "Space/ClosedLoopDistortion.ConvergesAndStaysCloseToGroundTruth/street/circle/vlp16/9=11"
     "Space/ClosedLoopDistortion.ConvergesAndStaysCloseToGroundTruth/indoor/auto/vlp32/0=10"
