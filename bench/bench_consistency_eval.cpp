@@ -277,6 +277,15 @@ int main(int argc, char** argv) {
                 km > 0.0 ? stats["scan_bytes"] / 1e6 / km : 0.0);
     std::printf("| grid rebuilds (longest) | | %.0f (%.2f s, %.0f scans) | |\n", stats["rebuilds"],
                 stats["max_rebuild_s"], stats["rebuild_keyframes"]);
+    // Runs before reduction on arrival wrote scans_dropped: those keyframes lost their scans.
+    if (stats.count("scans_reduced_on_arrival"))
+      std::printf(
+          "| keyframes reduced on arrival (worker max_pending_scans behind) | | %.0f of %.0f "
+          "| |\n",
+          stats["scans_reduced_on_arrival"], stats["keyframes"]);
+    else if (stats.count("scans_dropped"))
+      std::printf("| keyframes whose scans were dropped (worker behind) | | %.0f of %.0f | |\n",
+                  stats["scans_dropped"], stats["keyframes"]);
     if (stats.count("edge_checks"))
       std::printf(
           "| odometry edges scan to scan: registered / snaps of checked, s per keyframe (max) | "

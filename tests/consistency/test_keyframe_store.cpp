@@ -114,6 +114,70 @@ TEST(KeyframeStore, RecordsReadBackAsWritten) {
   EXPECT_EQ(c.checkpoints[0].grid_serial, 1);
 }
 
+TEST(KeyframeStore, AWaitingRecordKeepsItsFormAndTheOldFormsReadAsBefore) {
+  StoredWaiting cloud;
+  cloud.robot = "car";
+  cloud.keyframe = sampleKeyframe(1).keyframe;
+  cloud.keyframe.points.clear();
+  cloud.keyframe.scan = KeyframeScan();
+  StoredWaiting pose_only = cloud;
+  cloud.form = WaitingForm::kCloud;
+  cloud.cloud = streetScan(1);
+  StoredWaiting reduced = cloud;
+  reduced.form = WaitingForm::kReduced;
+  reduced.cloud = LabeledCloud();
+  reduced.keyframe = sampleKeyframe(1).keyframe;
+  // The form byte follows the keyframe's fields; then the cloud (count, 12 B a point, count,
+  // 1 B a label). 0 and 1 are what stores before reduction on arrival wrote (has_cloud).
+  const auto formByte = [](const std::string& payload, std::size_t points) {
+    return static_cast<int>(payload[payload.size() - 17 - 13 * points]);
+  };
+  EXPECT_EQ(formByte(encodeWaiting(pose_only), 0), 0);
+  EXPECT_EQ(formByte(encodeWaiting(cloud), cloud.cloud.size()), 1);
+  EXPECT_EQ(formByte(encodeWaiting(reduced), 0), 2);
+  EXPECT_EQ(decodeWaiting(encodeWaiting(pose_only)).form, WaitingForm::kPoseOnly);
+  const StoredWaiting cloud_back = decodeWaiting(encodeWaiting(cloud));
+  EXPECT_EQ(cloud_back.form, WaitingForm::kCloud);
+  EXPECT_EQ(cloud_back.cloud.points, cloud.cloud.points);
+  const StoredWaiting reduced_back = decodeWaiting(encodeWaiting(reduced));
+  EXPECT_EQ(reduced_back.form, WaitingForm::kReduced);
+  EXPECT_EQ(reduced_back.keyframe.points, reduced.keyframe.points);
+  EXPECT_EQ(reduced_back.keyframe.scan.xyz, reduced.keyframe.scan.xyz);
+  EXPECT_EQ(reduced_back.keyframe.scan.labels, reduced.keyframe.scan.labels);
+  // An unknown form, or a cloud in a reduced record: a clear error.
+  std::string bad = encodeWaiting(pose_only);
+  bad[bad.size() - 17] = 3;
+  EXPECT_THROW(decodeWaiting(bad), std::runtime_error);
+  std::string mixed = encodeWaiting(cloud);
+  mixed[mixed.size() - 17 - 13 * cloud.cloud.size()] = 2;
+  EXPECT_THROW(decodeWaiting(mixed), std::runtime_error);
+}
+
+TEST(KeyframeStore, AnOldStoresPoseOnlyWaitingKeyframeIsRestoredAsAPose) {
+  // Written before reduction on arrival: a keyframe that waited without its scan (form 0).
+  StoreDir dir;
+  const auto file = dir.path / "store";
+  {
+    auto store = KeyframeStore::create(file, false, true);
+    StoredWaiting old;
+    old.robot = "car";
+    old.keyframe.seq = 4;
+    old.keyframe.odom_pose = poseAt(1.0, 0.0);
+    store->add(RecordType::kWaiting, encodeWaiting(old));
+    store->add(RecordType::kCheckpoint, encodeCheckpoint({5, 2, 1, 0}));
+  }
+  const StoreContents contents = KeyframeStore::read(file);
+  ASSERT_EQ(contents.waiting.size(), 1u);
+  EXPECT_EQ(contents.waiting[0].form, WaitingForm::kPoseOnly);
+  std::string why;
+  ASSERT_NE(coveringMark(contents, 5, 2, why), nullptr) << why;
+  ConsistencyService restored(ConsistencyParams{}, map::MapConfig{}, {}, nullptr, &contents, 0);
+  restored.flush();
+  ASSERT_EQ(restored.keyframePoses().size(), 1u);
+  EXPECT_EQ(restored.keyframePoses()[0].seq, 4);
+  EXPECT_EQ(restored.stats().scan_bytes, sizeof(KeyframeScan));  // no scan
+}
+
 TEST(KeyframeStore, ATornOrCorruptTailIsDroppedWithAMessageAndCutOnResume) {
   StoreDir dir;
   const auto file = dir.path / "store";
@@ -227,6 +291,12 @@ TEST(KeyframeStore, ARestoredServiceHoldsTheSameKeyframesAndGraph) {
   EXPECT_EQ(grown.keyframes.back().edges[0].from, static_cast<int>(before.size()) - 1);
 }
 
+// Integrations from..to-1 of robots a (seq < 3) and b: keyframes a0, a2, b3, b5, b7.
+void observeAll(ConsistencyService& service, int from, int to) {
+  for (int seq = from; seq < to; ++seq)
+    service.observe(seq < 3 ? "a" : "b", seq, seq, poseAt(2.0 * seq, 0.02 * seq), streetScan(seq));
+}
+
 TEST(KeyframeStore, KeyframesWaitingForTheWorkerAtACheckpointSurviveAKill) {
   // Three keyframes wait for a held worker when the map checkpoints (its snapshot cuts the
   // journal that holds their integrations); the process dies before the worker stored them.
@@ -234,11 +304,6 @@ TEST(KeyframeStore, KeyframesWaitingForTheWorkerAtACheckpointSurviveAKill) {
   const auto file = dir.path / "store";
   ConsistencyParams store_params;
   store_params.keyframe_distance = 3.0;
-  const auto observeAll = [](ConsistencyService& service, int from, int to) {
-    for (int seq = from; seq < to; ++seq)
-      service.observe(seq < 3 ? "a" : "b", seq, seq, poseAt(2.0 * seq, 0.02 * seq),
-                      streetScan(seq));
-  };
   ConsistencyService never_killed(store_params, map::MapConfig{});
   observeAll(never_killed, 0, 8);
   never_killed.flush();
@@ -286,6 +351,68 @@ TEST(KeyframeStore, KeyframesWaitingForTheWorkerAtACheckpointSurviveAKill) {
   EXPECT_TRUE(waitingKeyframes(again).empty());
   ASSERT_EQ(again.keyframes.back().edges.size(), 1u);
   EXPECT_EQ(again.keyframes.back().edges[0].from, static_cast<int>(expected.size()) - 2);
+}
+
+TEST(KeyframeStore, KeyframesReducedOnArrivalSurviveACheckpointAndAKill) {
+  // As above with room for one queued cloud: b3 waits with its cloud, b5 and b7 were reduced on
+  // arrival. After the kill and restart the store holds the same keyframes, points and scans
+  // included, as one written by a worker that never fell behind.
+  StoreDir dir;
+  const auto file = dir.path / "store";
+  ConsistencyParams store_params;
+  store_params.keyframe_distance = 3.0;
+  {
+    ConsistencyService kept_up(store_params, map::MapConfig{}, {},
+                               KeyframeStore::create(dir.path / "kept_up", false, true));
+    observeAll(kept_up, 0, 8);
+    kept_up.flush();
+  }
+  const StoreContents expected = KeyframeStore::read(dir.path / "kept_up");
+  ASSERT_EQ(expected.keyframes.size(), 5u);
+  store_params.max_pending_scans = 1;
+  {
+    ConsistencyService killed(store_params, map::MapConfig{}, {},
+                              KeyframeStore::create(file, false, true));
+    observeAll(killed, 0, 3);
+    killed.flush();
+    const int reduced_before = killed.stats().scans_reduced_on_arrival;  // a2: maybe (timing)
+    killed.hold(true);
+    observeAll(killed, 3, 8);
+    EXPECT_EQ(killed.stats().pending_clouds, 1);
+    EXPECT_EQ(killed.stats().scans_reduced_on_arrival - reduced_before, 2);
+    const std::uint64_t bytes = std::filesystem::file_size(file);
+    killed.checkpoint(8, 3);
+    std::cerr << "checkpoint with 1 waiting cloud and 2 reduced keyframes: "
+              << std::filesystem::file_size(file) - bytes << " B\n";
+  }  // "kill -9"
+  const StoreContents contents = KeyframeStore::read(file);
+  ASSERT_EQ(contents.waiting.size(), 3u);
+  EXPECT_EQ(contents.waiting[0].form, WaitingForm::kCloud);
+  EXPECT_EQ(contents.waiting[1].form, WaitingForm::kReduced);
+  EXPECT_EQ(contents.waiting[2].form, WaitingForm::kReduced);
+  std::string why;
+  const StoredCheckpoint* mark = coveringMark(contents, 8, 3, why);
+  ASSERT_NE(mark, nullptr) << why;
+  {
+    ConsistencyService restored(store_params, map::MapConfig{}, {},
+                                KeyframeStore::resume(file, contents, true), &contents,
+                                mark->grid_serial);
+    observeAll(restored, 3, 8);  // the journal replay: nothing new
+    restored.flush();
+    EXPECT_EQ(restored.stats().keyframes, 5);
+  }
+  const StoreContents again = KeyframeStore::read(file);
+  ASSERT_EQ(again.keyframes.size(), expected.keyframes.size());
+  for (std::size_t i = 0; i < again.keyframes.size(); ++i) {
+    const Keyframe& got = again.keyframes[i].keyframe;
+    const Keyframe& want = expected.keyframes[i].keyframe;
+    EXPECT_EQ(got.seq, want.seq);
+    EXPECT_FALSE(got.points.empty()) << i;
+    EXPECT_EQ(got.points, want.points) << i;
+    EXPECT_EQ(got.scan.xyz, want.scan.xyz) << i;
+    EXPECT_EQ(got.scan.labels, want.scan.labels) << i;
+    EXPECT_TRUE(again.keyframes[i].estimate.isApprox(expected.keyframes[i].estimate, 1e-9)) << i;
+  }
 }
 
 }  // namespace

@@ -136,27 +136,6 @@ TEST(PlaceRecognition, TwoRobotsInTwoWorldsNeverMeet) {
             << service.stats().recognition.seconds << " s\n";
 }
 
-TEST(PlaceRecognition, AWorkerFarBehindKeepsEveryKeyframePoseButBoundsTheQueuedScans) {
-  // 40 keyframes at once with room for one queued scan: the ones that did not fit are kept as
-  // poses (the chain in the graph stays whole) and are never candidates.
-  const Drive a = drive(1, 160);
-  ConsistencyParams p = params();
-  p.max_pending_scans = 1;
-  ConsistencyService service(p, map::MapConfig{});
-  for (std::size_t i = 0; i < a.scans.size(); ++i)
-    service.observe("a", static_cast<std::int64_t>(i), 0, a.odometry[i], a.scans[i]);
-  service.flush();
-  const ConsistencyStats stats = service.stats();
-  EXPECT_EQ(stats.keyframes, static_cast<int>(a.scans.size()));
-  EXPECT_EQ(stats.pending, 0);
-  EXPECT_EQ(stats.recognition.verified, 0);  // 1/5 of a lap: nothing to close
-  const auto poses = service.keyframePoses();
-  ASSERT_EQ(poses.size(), a.scans.size());
-  for (std::size_t i = 0; i < poses.size(); ++i)
-    EXPECT_TRUE(poses[i].optimized.isApprox(a.odometry[i], 1e-6)) << "keyframe " << i;
-  std::cerr << stats.scans_dropped << " of " << a.scans.size() << " kept as poses only\n";
-}
-
 // Share of map's occupied voxels that truth saw as free space: surfaces where there are none
 // (a second copy of a wall beside the first).
 double misplaced(const map::SemanticOccupancyMap& map, const map::SemanticOccupancyMap& truth) {
@@ -173,6 +152,61 @@ double misplaced(const map::SemanticOccupancyMap& map, const map::SemanticOccupa
     wrong += p >= 0.0 && p < 0.5 ? 1 : 0;
   }
   return voxels.index[0].empty() ? 0.0 : static_cast<double>(wrong) / voxels.index[0].size();
+}
+
+// Occupied voxels of map within radius of centre.
+std::size_t occupiedNear(const map::SemanticOccupancyMap& map, const Eigen::Vector3d& centre,
+                         double radius) {
+  map::ChunkQuery query;
+  query.center = centre;
+  query.radius = radius;
+  query.fields = map::ChunkQuery::kIndex;
+  return map.queryChunk(query).index[0].size();
+}
+
+TEST(MapCorrection, AWorkerFarBehindKeepsEveryKeyframeScanButBoundsTheQueuedClouds) {
+  // The whole drive arrives while the worker is held, with room for one queued cloud: every
+  // later keyframe's cloud is reduced on arrival to what the worker keeps of it. Each is still
+  // matched (the loop closes between reduced keyframes) and in every rebuild.
+  const Drive d = correctionDrive();
+  const int n = static_cast<int>(d.scans.size());
+  ConsistencyParams p = correctionParams();
+  p.max_pending_scans = 1;
+  ConsistencyService service(p, map::MapConfig{});
+  service.hold(true);
+  for (std::size_t i = 0; i < d.scans.size(); ++i)
+    service.observe("car", static_cast<std::int64_t>(i) * kStep, 0, d.odometry[i], d.scans[i]);
+  ConsistencyStats stats = service.stats();
+  EXPECT_EQ(stats.pending, n);
+  EXPECT_EQ(stats.pending_clouds, 1);
+  EXPECT_EQ(stats.scans_reduced_on_arrival, n - 1);
+  service.hold(false);
+  service.flush();
+  stats = service.stats();
+  EXPECT_EQ(stats.keyframes, n);
+  EXPECT_GE(stats.recognition.verified, 1);
+  // Two more keyframes, far from the drive, while the rebuilt grid waits to be taken (its
+  // tail): a cloud and, behind it, one reduced on arrival. The swap integrates both.
+  const auto far = [&](double x) {
+    Eigen::Isometry3d pose = d.odometry.back();
+    pose.pretranslate(Eigen::Vector3d(x, 0.0, 0.0));
+    return pose;
+  };
+  service.hold(true);
+  service.observe("car", static_cast<std::int64_t>(n) * kStep, 0, far(300.0), d.scans[0]);
+  service.observe("car", static_cast<std::int64_t>(n + 1) * kStep, 0, far(600.0), d.scans[1]);
+  EXPECT_EQ(service.stats().pending_clouds, 1);
+  EXPECT_EQ(service.stats().scans_reduced_on_arrival, n);
+  const std::unique_ptr<RebuiltGrid> grid = service.takeRebuild();
+  ASSERT_TRUE(grid);
+  EXPECT_EQ(grid->keyframes, n);  // each with its scan (a pose only would not count)
+  const Eigen::Isometry3d& correction = grid->corrections.at("car");
+  EXPECT_GT(occupiedNear(grid->map, (correction * far(300.0)).translation(), 40.0), 0u);
+  EXPECT_GT(occupiedNear(grid->map, (correction * far(600.0)).translation(), 40.0), 0u);
+  service.hold(false);
+  service.flush();
+  std::cerr << n - 1 << " of " << n << " clouds reduced on arrival, " << stats.recognition.verified
+            << " closures, last rebuild " << grid->keyframes << " scans\n";
 }
 
 TEST(MapCorrection, AClosureRebuildsTheGridFromTheKeyframeScansAtTheOptimizedPoses) {

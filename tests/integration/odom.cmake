@@ -13,15 +13,15 @@ if(TARGET map_server AND TARGET odom_client)
   add_test(NAME integration.odom COMMAND test_odom_integration
            --gtest_filter=-OdomOnSimulatedDrive.*)
   # Every KITTI case skips (GTEST_SKIP) without the shared data: ctest must say skipped.
-  set_tests_properties(integration.odom PROPERTIES LABELS integration TIMEOUT 240
+  set_tests_properties(integration.odom PROPERTIES LABELS integration TIMEOUT 240 COST 18
                        SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]")
   # Accuracy against socc-sim's exact GT: needs no shared data, never skips.
   add_test(NAME integration.odom_sim COMMAND test_odom_integration
            --gtest_filter=OdomOnSimulatedDrive.*)
-  set_tests_properties(integration.odom_sim PROPERTIES LABELS integration TIMEOUT 600 COST 120)
+  set_tests_properties(integration.odom_sim PROPERTIES LABELS integration TIMEOUT 600 COST 86)
   # The benchmark script's report and its interleaved --repeat runs.
   add_test(NAME integration.bench_odometry_script
            COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/bench_script_test.sh ${PROJECT_SOURCE_DIR}
                    ${CMAKE_BINARY_DIR})
-  set_tests_properties(integration.bench_odometry_script PROPERTIES LABELS integration TIMEOUT 240)
+  set_tests_properties(integration.bench_odometry_script PROPERTIES LABELS integration TIMEOUT 240 COST 12)
 endif()

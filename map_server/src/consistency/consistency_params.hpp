@@ -28,9 +28,10 @@ struct ConsistencyParams {
   double keyframe_voxel = 0.4;     // [m] the keyframe's scan is downsampled to this grid
   double keyframe_range = 60.0;    // [m] farther points are not kept
   ScanContextParams descriptor;
-  // Keyframe scans waiting for the worker (a few MB each before downsampling). When the worker
-  // falls this far behind, a new keyframe keeps its pose, so the robot's chain in the graph
-  // stays whole, but not its scan: it is never matched (memory stays bounded).
+  // Full clouds waiting for the worker (1.6 MB for an HDL-64 scan). When the worker falls this
+  // far behind, a new keyframe's cloud is reduced on arrival, on the map's thread, to what the
+  // worker keeps of it (keyframe_reduction.hpp: 0.6 MB for HDL-64) and queued so: it keeps its
+  // scan and the queue's memory stays bounded per keyframe.
   int max_pending_scans = 64;
 
   // Candidates: a robot's own keyframe only after it travelled this far since (a loop, not the

@@ -84,10 +84,14 @@ void ConsistencyService::storeWaiting() {
     StoredWaiting record;
     record.robot = p.robot;
     record.keyframe = p.keyframe;
-    record.has_cloud = p.cloud != nullptr;
     if (p.cloud) {
+      record.form = WaitingForm::kCloud;
       record.cloud.points = p.cloud->points;
       record.cloud.labels = p.cloud->labels;
+    } else if (p.reduced) {
+      record.form = WaitingForm::kReduced;
+      record.keyframe.points = p.reduced->points;
+      record.keyframe.scan = p.reduced->scan;
     }
     store_->add(RecordType::kWaiting, encodeWaiting(record));
   }
@@ -235,9 +239,16 @@ void ConsistencyService::restoreWaiting(const StoredWaiting& stored) {
   pending.keyframe.utime = kf.utime;
   pending.keyframe.odom_pose = kf.odom_pose;
   pending.keyframe.travelled = kf.travelled;
-  if (stored.has_cloud) {
-    pending.cloud = std::make_shared<const LabeledCloud>(stored.cloud);
-    ++pending_scans_;
+  switch (stored.form) {
+    case WaitingForm::kCloud:
+      pending.cloud = std::make_shared<const LabeledCloud>(stored.cloud);
+      ++pending_clouds_;
+      break;
+    case WaitingForm::kReduced:
+      pending.reduced = std::make_shared<const ReducedScan>(ReducedScan{kf.points, kf.scan});
+      break;
+    case WaitingForm::kPoseOnly:
+      break;
   }
   pending.robot = stored.robot;
   pending.arrived = std::chrono::steady_clock::now();

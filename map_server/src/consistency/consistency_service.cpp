@@ -5,23 +5,12 @@
 #include <stdexcept>
 
 #include "correction_fit.hpp"
-#include "socc/odom/relocalization.hpp"
 
 namespace socc::consistency {
 namespace {
 
 double angleBetween(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
-}
-
-std::vector<Eigen::Vector3f> keyframePoints(const LabeledCloud& cloud,
-                                            const ConsistencyParams& params) {
-  LabeledCloud near;
-  const float max2 = static_cast<float>(params.keyframe_range * params.keyframe_range);
-  for (const Eigen::Vector3f& p : cloud.points)
-    if (p.squaredNorm() <= max2) near.points.push_back(p);
-  constexpr std::size_t kMaxPoints = 60'000;
-  return odom::localizationPoints(near, params.keyframe_voxel, kMaxPoints);
 }
 
 // Interpolates between two corrections (translation linear, rotation slerp).
@@ -65,14 +54,46 @@ ConsistencyService::~ConsistencyService() {
 
 void ConsistencyService::observe(const std::string& robot, std::int64_t seq, std::int64_t utime,
                                  const Eigen::Isometry3d& pose, const LabeledCloud& cloud) {
+  Pending pending;
+  bool full_cloud = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!isKeyframe(robot, seq, pose, pending.keyframe)) return;
+    // Its place in the queue is taken now; the cloud is copied or reduced off the lock (the
+    // worker goes on meanwhile; only this thread observes).
+    full_cloud = pending_clouds_ < params_.max_pending_scans;
+    if (full_cloud)
+      ++pending_clouds_;
+    else
+      ++stats_.scans_reduced_on_arrival;
+  }
+  pending.keyframe.utime = utime;
+  if (full_cloud) {
+    auto copy = std::make_shared<LabeledCloud>();
+    copy->points = cloud.points;
+    if (params_.correct_grid) copy->labels = cloud.labels;  // times play no part
+    pending.cloud = std::move(copy);
+  } else {
+    // The worker is max_pending_scans behind: what it would keep of the cloud, made here.
+    pending.reduced = std::make_shared<const ReducedScan>(reduceScan(cloud, params_));
+  }
+  pending.robot = robot;
+  pending.arrived = std::chrono::steady_clock::now();
   std::lock_guard<std::mutex> lock(mutex_);
+  if (rebuilding_) tail_.push_back(*tailScan(pending));
+  queue_.push_back(std::move(pending));
+  wake_.notify_one();
+}
+
+bool ConsistencyService::isKeyframe(const std::string& robot, std::int64_t seq,
+                                    const Eigen::Isometry3d& pose, Keyframe& keyframe) {
   auto [it, added] = robots_.try_emplace(robot);
   RobotTrack& track = it->second;
   if (added) {
     track.index = static_cast<int>(robot_names_.size());
     robot_names_.push_back(robot);
   }
-  if (seq <= track.restored_seq) return;  // a journal replay of what the store holds
+  if (seq <= track.restored_seq) return false;  // a journal replay of what the store holds
   if (track.last_pose)
     track.travelled += (pose.translation() - track.last_pose->translation()).norm();
   track.last_pose = pose;
@@ -80,29 +101,19 @@ void ConsistencyService::observe(const std::string& robot, std::int64_t seq, std
       (track.last_keyframe_pose->translation() - pose.translation()).norm() <
           params_.keyframe_distance &&
       angleBetween(*track.last_keyframe_pose, pose) < params_.keyframe_angle)
-    return;
+    return false;
   track.last_keyframe_pose = pose;
-  Pending pending;
-  pending.keyframe.robot = track.index;
-  pending.keyframe.robot_kf = track.keyframes++;
-  pending.keyframe.seq = seq;
-  pending.keyframe.utime = utime;
-  pending.keyframe.odom_pose = pose;
-  pending.keyframe.travelled = track.travelled;
-  if (pending_scans_ < params_.max_pending_scans) {
-    auto copy = std::make_shared<LabeledCloud>();
-    copy->points = cloud.points;
-    if (params_.correct_grid) copy->labels = cloud.labels;  // times play no part
-    pending.cloud = std::move(copy);
-    ++pending_scans_;
-    if (rebuilding_) tail_.push_back({robot, pose, pending.cloud});
-  } else {
-    ++stats_.scans_dropped;
-  }
-  pending.robot = robot;
-  pending.arrived = std::chrono::steady_clock::now();
-  queue_.push_back(std::move(pending));
-  wake_.notify_one();
+  keyframe.robot = track.index;
+  keyframe.robot_kf = track.keyframes++;
+  keyframe.seq = seq;
+  keyframe.odom_pose = pose;
+  keyframe.travelled = track.travelled;
+  return true;
+}
+
+std::optional<ConsistencyService::TailScan> ConsistencyService::tailScan(const Pending& pending) {
+  if (!pending.cloud && !pending.reduced) return std::nullopt;
+  return TailScan{pending.robot, pending.keyframe.odom_pose, pending.cloud, pending.reduced};
 }
 
 void ConsistencyService::flush() {
@@ -129,7 +140,7 @@ void ConsistencyService::run() {
       if (stopping_) return;
       next = std::move(queue_.front());
       queue_.pop_front();
-      if (next.cloud) --pending_scans_;
+      if (next.cloud) --pending_clouds_;
       in_flight_ = next;  // waiting (for a checkpoint) until its keyframe record is written
       busy_ = true;
     }
@@ -157,12 +168,15 @@ void ConsistencyService::hold(bool on) {
 
 void ConsistencyService::process(Pending pending) {
   Keyframe& kf = pending.keyframe;
-  if (pending.cloud) {
-    kf.points = keyframePoints(*pending.cloud, params_);
-    if (params_.correct_grid) kf.scan = compactScan(*pending.cloud, params_.rebuild_voxel);
-    pending.cloud.reset();
+  if (pending.cloud)
+    pending.reduced = std::make_shared<const ReducedScan>(reduceScan(*pending.cloud, params_));
+  pending.cloud.reset();
+  if (pending.reduced) {
+    kf.points = pending.reduced->points;
+    kf.scan = pending.reduced->scan;
   }
-  const bool matchable = !kf.points.empty();  // not a pose-only keyframe (max_pending_scans)
+  pending.reduced.reset();
+  const bool matchable = !kf.points.empty();  // not a pose only (an old store's waiting one)
   if (matchable) kf.descriptor = ScanContext(kf.points, params_.descriptor);
   kf.id = static_cast<int>(keyframes_.size());  // only this thread adds keyframes
   const std::optional<PoseEdge> odometry = measureOdometry(kf, pending.robot);
@@ -260,7 +274,7 @@ void ConsistencyService::rebuild(double max_shift) {
     tail_.clear();
     tail_done_ = 0;
     for (const Pending& p : queue_)
-      if (p.cloud) tail_.push_back({p.robot, p.keyframe.odom_pose, p.cloud});
+      if (std::optional<TailScan> t = tailScan(p)) tail_.push_back(std::move(*t));
     rebuilding_ = true;
     for (const auto& [name, track] : robots_)
       if (!track.keyframe_ids.empty()) grid->corrections[name] = robotCorrection(track);
@@ -311,7 +325,10 @@ void ConsistencyService::integrateTail(RebuiltGrid& grid, const std::vector<Tail
     const auto c = grid.corrections.find(t.robot);
     const Eigen::Isometry3d pose =
         c == grid.corrections.end() ? t.raw_pose : c->second * t.raw_pose;
-    integrateScan(grid.map, pose, compactScan(*t.cloud, params_.rebuild_voxel));
+    if (t.reduced)
+      integrateScan(grid.map, pose, t.reduced->scan);
+    else
+      integrateScan(grid.map, pose, compactScan(*t.cloud, params_.rebuild_voxel));
   }
 }
 
@@ -406,6 +423,7 @@ ConsistencyStats ConsistencyService::stats() const {
   ConsistencyStats out = stats_;
   out.keyframes = static_cast<int>(keyframes_.size());
   out.pending = static_cast<int>(queue_.size());
+  out.pending_clouds = pending_clouds_;
   out.robots = static_cast<int>(robots_.size());
   out.travelled = 0.0;
   for (const auto& [name, track] : robots_) out.travelled += track.travelled;
@@ -496,9 +514,9 @@ void ConsistencyService::write(const std::filesystem::path& dir) const {
      << s.recognition.inconsistent << "\noptimizations " << s.optimizations
      << "\nlast_optimization_s " << s.last_optimization_s << "\nmax_correction_s "
      << s.max_correction_s << "\nkeyframe_bytes " << s.keyframe_bytes << "\ntravelled_m "
-     << s.travelled << "\nscans_dropped " << s.scans_dropped << "\nscan_bytes " << s.scan_bytes
-     << "\nrebuilds " << s.rebuilds << "\nmax_rebuild_s " << s.max_rebuild_s
-     << "\nrebuild_keyframes " << s.rebuild_keyframes << "\nedge_checks "
+     << s.travelled << "\nscans_reduced_on_arrival " << s.scans_reduced_on_arrival
+     << "\nscan_bytes " << s.scan_bytes << "\nrebuilds " << s.rebuilds << "\nmax_rebuild_s "
+     << s.max_rebuild_s << "\nrebuild_keyframes " << s.rebuild_keyframes << "\nedge_checks "
      << s.odometry_edges.checked << "\nedge_registered " << s.odometry_edges.registered
      << "\nedge_snaps " << s.odometry_edges.snaps << "\nedge_s " << s.odometry_edges.seconds
      << "\nedge_max_s " << s.odometry_edges.max_seconds << '\n';

@@ -3,7 +3,8 @@
 // integrations, place recognition between them (revisits and encounters, each verified), and a
 // pose graph over all keyframes optimized after each verified closure. It runs beside the map
 // on its own thread: observe() only decides whether an integration is a keyframe and copies its
-// points; downsampling, descriptors, verification and optimization happen in the background.
+// points (or, while the worker is max_pending_scans behind, reduces them to what the worker
+// keeps); downsampling, descriptors, verification and optimization happen in the background.
 //
 // It corrects the estimate of every keyframe (and, through them, of every integration:
 // corrected()) and, after a closure that moves keyframes, rebuilds the grid from the keyframe
@@ -29,6 +30,7 @@
 #include "consistency_params.hpp"
 #include "grid_rebuild.hpp"
 #include "keyframe.hpp"
+#include "keyframe_reduction.hpp"
 #include "keyframe_store.hpp"
 #include "odometry_edge.hpp"
 #include "place_recognition.hpp"
@@ -42,8 +44,11 @@ namespace socc::consistency {
 struct ConsistencyStats {
   int robots = 0;
   int keyframes = 0;
-  int pending = 0;        // keyframes waiting for the worker
-  int scans_dropped = 0;  // keyframes kept as poses only: the worker was max_pending_scans behind
+  int pending = 0;         // keyframes waiting for the worker
+  int pending_clouds = 0;  // of them, with their full cloud (at most max_pending_scans)
+  // Keyframes whose cloud the map's thread reduced on arrival (keyframe_reduction.hpp): the
+  // worker was max_pending_scans behind.
+  int scans_reduced_on_arrival = 0;
   RecognitionTally recognition;
   OdometryEdgeTally odometry_edges;  // scan-to-scan checks of the odometry edges
   int optimizations = 0;
@@ -71,6 +76,7 @@ class ConsistencyService {
   ConsistencyService& operator=(const ConsistencyService&) = delete;
 
   /// An applied integration of robot: a keyframe when it moved far enough since its last one.
+  /// One thread observes (the map's; also checkpoint() and takeRebuild()).
   void observe(const std::string& robot, std::int64_t seq, std::int64_t utime,
                const Eigen::Isometry3d& pose, const LabeledCloud& cloud);
 
@@ -127,7 +133,11 @@ class ConsistencyService {
  private:
   struct Pending {
     Keyframe keyframe;
-    std::shared_ptr<const LabeledCloud> cloud;  // null: pose only (max_pending_scans)
+    // What the worker makes the keyframe's points and scan from: its full cloud or, when
+    // max_pending_scans clouds waited on arrival, the cloud reduced then. Neither: a pose only
+    // (a waiting keyframe of a store written before reduction on arrival).
+    std::shared_ptr<const LabeledCloud> cloud;
+    std::shared_ptr<const ReducedScan> reduced;
     std::string robot;
     std::chrono::steady_clock::time_point arrived;
     bool stored = false;  // written to the store as waiting (checkpoint)
@@ -149,6 +159,10 @@ class ConsistencyService {
     std::int64_t restored_seq = std::numeric_limits<std::int64_t>::min();
   };
 
+  /// Whether robot's integration at (seq, pose) is a keyframe (its fields but the scan's into
+  /// keyframe); counts its path either way. Under the lock.
+  bool isKeyframe(const std::string& robot, std::int64_t seq, const Eigen::Isometry3d& pose,
+                  Keyframe& keyframe);
   void run();
   void process(Pending pending);
   /// odometry: the edge from the robot's previous keyframe (none for its first).
@@ -165,9 +179,12 @@ class ConsistencyService {
   struct TailScan {
     std::string robot;
     Eigen::Isometry3d raw_pose = Eigen::Isometry3d::Identity();
-    std::shared_ptr<const LabeledCloud> cloud;
+    std::shared_ptr<const LabeledCloud> cloud;   // compacted as the keyframe's scan is
+    std::shared_ptr<const ReducedScan> reduced;  // or its scan already
   };
-  /// tail's scans into grid at their robots' corrections (compacted as keyframes are).
+  /// A waiting keyframe's scan for the rebuild's tail (none for a pose only).
+  static std::optional<TailScan> tailScan(const Pending& pending);
+  /// tail's scans into grid at their robots' corrections.
   void integrateTail(RebuiltGrid& grid, const std::vector<TailScan>& tail) const;
   // Durability (consistency_restore.cpp): writing the store, and starting from its contents.
   void storeKeyframe(const std::string& robot, std::size_t first_edge, std::size_t first_prior);
@@ -191,7 +208,7 @@ class ConsistencyService {
   std::deque<Pending> queue_;
   std::optional<Pending> in_flight_;  // taken by the worker, not yet in the store
   bool held_ = false;
-  int pending_scans_ = 0;  // entries of queue_ with their scan
+  int pending_clouds_ = 0;  // entries of queue_ with their full cloud
   bool busy_ = false;
   bool stopping_ = false;
   std::map<std::string, RobotTrack> robots_;

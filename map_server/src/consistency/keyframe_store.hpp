@@ -7,7 +7,8 @@
 // marks and waiting keyframes by the map's thread), flushed to the OS before the call returns (kill
 // -9 loses nothing written) and, with sync, to stable storage. A processed keyframe's scan is never
 // rewritten: a checkpoint of the map adds a mark of a few bytes and the clouds of the keyframes
-// waiting then (once each; the worker stores them again when it processed them).
+// waiting then, full or reduced on arrival (once each; the worker stores them again when it
+// processed them).
 //
 // Layout: the header "SOCC-CONSISTENCY-STORE", a format version (uint32) and the base (uint8:
 // 1 = the store began on a grid it did not see built); then records {uint32 marker, uint8

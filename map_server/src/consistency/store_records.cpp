@@ -241,7 +241,7 @@ std::string encodeWaiting(const StoredWaiting& record) {
   ByteWriter w;
   w.putBytes(record.robot);
   putKeyframeFields(w, record.keyframe);
-  w.put<std::uint8_t>(record.has_cloud ? 1 : 0);
+  w.put<std::uint8_t>(static_cast<std::uint8_t>(record.form));
   w.put<std::uint64_t>(record.cloud.points.size());
   for (const Eigen::Vector3f& p : record.cloud.points)
     for (int i = 0; i < 3; ++i) w.put<float>(p[i]);
@@ -254,13 +254,18 @@ StoredWaiting decodeWaiting(const std::string& payload) {
   StoredWaiting out;
   out.robot = r.getBytes();
   out.keyframe = getKeyframeFields(r);
-  out.has_cloud = r.get<std::uint8_t>() != 0;
+  const auto form = r.get<std::uint8_t>();
+  if (form > static_cast<std::uint8_t>(WaitingForm::kReduced))
+    throw std::runtime_error("waiting keyframe: unknown form " + std::to_string(form));
+  out.form = static_cast<WaitingForm>(form);
   out.cloud.points.resize(getCount(r, 3 * sizeof(float)));
   for (Eigen::Vector3f& p : out.cloud.points)
     for (int i = 0; i < 3; ++i) p[i] = r.get<float>();
   out.cloud.labels = getArray<std::uint8_t>(r);
   if (!out.cloud.consistent())
     throw std::runtime_error("waiting keyframe: labels and points differ");
+  if (out.form != WaitingForm::kCloud && !out.cloud.points.empty())
+    throw std::runtime_error("waiting keyframe: a cloud in a record without one");
   expectEnd(r);
   return out;
 }

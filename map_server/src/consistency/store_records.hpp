@@ -33,13 +33,22 @@ struct StoredKeyframe {
   std::vector<PosePrior> priors;  // and its priors
 };
 
+/// What a waiting keyframe's record holds of its scan (one byte; 0 and 1 are those of the
+/// stores written before reduction on arrival, which read as they did).
+enum class WaitingForm : std::uint8_t {
+  kPoseOnly = 0,  // no scan (stores before reduction on arrival: the worker was far behind)
+  kCloud = 1,     // the cloud as observed
+  kReduced = 2,   // reduced on arrival (keyframe_reduction.hpp): the keyframe's points and scan
+};
+
 /// A keyframe observed but not yet processed (written with a checkpoint mark, before the
 /// snapshot cuts the journal that holds its integration).
 struct StoredWaiting {
   std::string robot;
-  Keyframe keyframe;       // robot, robot_kf, seq, utime, odom_pose, travelled (no points yet)
-  bool has_cloud = false;  // false: kept as a pose only (max_pending_scans)
-  LabeledCloud cloud;      // points and labels as observed (no times)
+  // robot, robot_kf, seq, utime, odom_pose, travelled; points and scan when kReduced.
+  Keyframe keyframe;
+  WaitingForm form = WaitingForm::kPoseOnly;
+  LabeledCloud cloud;  // kCloud: points and labels as observed (no times)
 };
 
 struct StoredClosure {
