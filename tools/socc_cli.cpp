@@ -19,6 +19,7 @@
 #include "socc/kitti_io.hpp"
 #include "socc/labels.hpp"
 #include "socc/pose_conversion.hpp"
+#include "socc/pose_history.hpp"
 #include "socc/rgb_image.hpp"
 #include "socc/rpc/map_client.hpp"
 #include "socc/tools/map_picture.hpp"
@@ -99,10 +100,7 @@ bool fetchHistory(MapClient& client, const std::string& robot, socc::Poses& pose
     if (!report(r, "pose --history")) return false;
     const socc::pose_history_t& h = r.reply->history;
     for (std::int32_t i = 0; i < h.num_poses; ++i) {
-      socc::pose3d_t p{};
-      for (int c = 0; c < 3; ++c) p.translation[c] = h.translation[c][i];
-      for (int c = 0; c < 4; ++c) p.quaternion[c] = h.quaternion[c][i];
-      poses.push_back(socc::fromLcm(p));
+      poses.push_back(socc::fromLcm(socc::poseAt(h, static_cast<std::size_t>(i))));
       stamps.push_back(static_cast<double>(h.scan_utime[i]) * 1e-6);
     }
     if (!r.reply->history_truncated || h.num_poses == 0) return true;
@@ -336,10 +334,7 @@ struct KeyframesCommand {
       if (!report(r, "keyframes")) return false;
       const socc::pose_history_t& h = r.reply->keyframes;
       for (std::int32_t i = 0; i < h.num_poses; ++i) {
-        socc::pose3d_t p{};
-        for (int c = 0; c < 3; ++c) p.translation[c] = h.translation[c][i];
-        for (int c = 0; c < 4; ++c) p.quaternion[c] = h.quaternion[c][i];
-        poses.push_back(socc::fromLcm(p));
+        poses.push_back(socc::fromLcm(socc::poseAt(h, static_cast<std::size_t>(i))));
         stamps.push_back(static_cast<double>(h.scan_utime[i]) * 1e-6);
       }
       if (h.num_poses > 0 && from_seq == 0) first = h.seq.front();

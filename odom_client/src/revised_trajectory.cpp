@@ -4,19 +4,9 @@
 #include <thread>
 
 #include "socc/pose_conversion.hpp"
+#include "socc/pose_history.hpp"
 
 namespace socc::odom {
-namespace {
-
-Eigen::Isometry3d historyPose(const pose_history_t& h, std::size_t i) {
-  pose3d_t p{};
-  for (std::size_t c = 0; c < 3; ++c) p.translation[c] = h.translation[c][i];
-  for (std::size_t c = 0; c < 4; ++c) p.quaternion[c] = h.quaternion[c][i];
-  return fromLcm(p);
-}
-
-}  // namespace
-
 KeyframeFetch fetchKeyframes(rpc::MapClient& client, const std::string& robot_id,
                              std::int64_t from_seq) {
   KeyframeFetch out;
@@ -35,7 +25,7 @@ KeyframeFetch fetchKeyframes(rpc::MapClient& client, const std::string& robot_id
       return out;
     }
     for (std::size_t i = 0; i < h.seq.size(); ++i)
-      out.keyframes.push_back({h.seq[i], historyPose(h, i)});
+      out.keyframes.push_back({h.seq[i], fromLcm(poseAt(h, i))});
     out.optimizations = page.reply->optimizations;
     out.pending = page.reply->pending;
     if (!page.reply->truncated || h.seq.empty()) return out;

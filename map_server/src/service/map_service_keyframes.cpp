@@ -4,23 +4,9 @@
 
 #include "map_service.hpp"
 #include "socc/pose_conversion.hpp"
+#include "socc/pose_history.hpp"
 
 namespace socc::service {
-namespace {
-
-void appendKeyframe(pose_history_t& h, std::int64_t seq, std::int64_t utime,
-                    const Eigen::Isometry3d& pose) {
-  const pose3d_t p = toLcm(pose);
-  h.translation.resize(3);  // rows by component (docs/lcm.md "Array layout")
-  h.quaternion.resize(4);
-  h.seq.push_back(seq);
-  h.scan_utime.push_back(utime);
-  for (int i = 0; i < 3; ++i) h.translation[i].push_back(p.translation[i]);
-  for (int i = 0; i < 4; ++i) h.quaternion[i].push_back(p.quaternion[i]);
-  ++h.num_poses;
-}
-
-}  // namespace
 
 Eigen::Isometry3d MapService::graphToMap() const {
   // A service that saw its grid built rebuilds it at the graph's poses: the graph's frame is the
@@ -55,7 +41,7 @@ keyframes_reply_t MapService::getKeyframes(const keyframes_request_t& request) c
                                              " in the consistency service"));
   const Eigen::Isometry3d to_map = graphToMap();
   for (const auto& k : keyframes)
-    appendKeyframe(reply.keyframes, k.seq, k.utime, to_map * k.optimized);
+    appendPose(reply.keyframes, k.seq, k.utime, toLcm(to_map * k.optimized));
   reply.truncated = truncated;
   return reply;
 }

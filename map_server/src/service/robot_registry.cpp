@@ -5,20 +5,11 @@
 #include <type_traits>
 
 #include "plausibility.hpp"
+#include "socc/pose_history.hpp"
 #include "socc/wire_arrays.hpp"
 
 namespace socc::service {
 namespace {
-
-void append(pose_history_t& h, std::int64_t seq, std::int64_t scan_utime, const pose3d_t& pose) {
-  h.translation.resize(3);  // rows by component (docs/lcm.md "Array layout")
-  h.quaternion.resize(4);
-  h.seq.push_back(seq);
-  h.scan_utime.push_back(scan_utime);
-  for (int i = 0; i < 3; ++i) h.translation[i].push_back(pose.translation[i]);
-  for (int i = 0; i < 4; ++i) h.quaternion[i].push_back(pose.quaternion[i]);
-  ++h.num_poses;
-}
 
 pose_history_t emptyHistory(const std::string& robot_id) {
   pose_history_t h{};
@@ -54,7 +45,7 @@ void RobotRegistry::recordIntegration(const std::string& robot_id, std::int64_t 
   robot.state.last_pose = pose;
   ++robot.state.integrations;
   robot.anchored = true;
-  append(robot.history, seq, scan_utime, pose);
+  appendPose(robot.history, seq, scan_utime, pose);
 }
 
 void RobotRegistry::recordRefusal(const std::string& robot_id) {
