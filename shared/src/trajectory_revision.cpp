@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "socc/pose_interpolation.hpp"
+
 namespace socc {
 namespace {
 
@@ -15,16 +17,6 @@ Eigen::Isometry3d outputFrame(const std::vector<FrameCorrection>& sorted, std::i
     frame = c.correction * frame;
   }
   return frame;
-}
-
-// a at s = 0, b at s = 1: translation linearly, rotation by slerp.
-Eigen::Isometry3d blendRevision(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double s) {
-  const Eigen::Quaterniond qa(a.linear());
-  const Eigen::Quaterniond qb(b.linear());
-  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
-  out.linear() = qa.slerp(s, qb).normalized().toRotationMatrix();
-  out.translation() = (1.0 - s) * a.translation() + s * b.translation();
-  return out;
 }
 
 void checkInput(const std::vector<std::int64_t>& seqs, const Poses& poses) {
@@ -85,7 +77,7 @@ RevisedTrajectory reviseTrajectory(const std::vector<std::int64_t>& seqs, const 
       const Anchor& b = anchors[next];
       const double s = static_cast<double>(seqs[i] - seqs[a.index]) /
                        static_cast<double>(seqs[b.index] - seqs[a.index]);
-      revision = blendRevision(a.revision, b.revision, s);
+      revision = interpolatePose(a.revision, b.revision, s);
     }
     out.poses.push_back(revision * first_frame[i]);
     out.max_shift =

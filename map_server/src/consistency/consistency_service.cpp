@@ -5,23 +5,13 @@
 #include <stdexcept>
 
 #include "correction_fit.hpp"
+#include "socc/pose_interpolation.hpp"
 
 namespace socc::consistency {
 namespace {
 
 double angleBetween(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
-}
-
-// Interpolates between two corrections (translation linear, rotation slerp).
-Eigen::Isometry3d blend(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double s) {
-  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
-  out.translation() = (1.0 - s) * a.translation() + s * b.translation();
-  out.linear() = Eigen::Quaterniond(a.linear())
-                     .slerp(s, Eigen::Quaterniond(b.linear()))
-                     .normalized()
-                     .toRotationMatrix();
-  return out;
 }
 
 void writePose(std::ostream& out, const Eigen::Isometry3d& pose) {
@@ -415,7 +405,7 @@ Eigen::Isometry3d ConsistencyService::corrected(const std::string& robot, std::i
   const std::size_t i = static_cast<std::size_t>(after - seqs.begin()) - 1;
   if (after == seqs.end()) return correction(i) * pose;
   const double s = static_cast<double>(seq - seqs[i]) / static_cast<double>(*after - seqs[i]);
-  return blend(correction(i), correction(i + 1), s) * pose;
+  return interpolatePose(correction(i), correction(i + 1), s) * pose;
 }
 
 ConsistencyStats ConsistencyService::stats() const {
