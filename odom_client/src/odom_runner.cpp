@@ -252,7 +252,6 @@ std::optional<Eigen::Isometry3d> OdomRunner::applyCorrection(Odometry& odometry)
   if (!correction) return std::nullopt;
   odometry.correct(*correction);
   if (last_good_) last_good_ = *correction * *last_good_;
-  ++corrections_;
   // Every row added from now on is in the corrected frame; every row before it is not.
   applied_.push_back({trajectory_.seqs.empty() ? std::numeric_limits<std::int64_t>::min()
                                                : trajectory_.seqs.back() + 1,

@@ -79,7 +79,7 @@ class OdomRunner {
   /// Scans localized in the map by relocalization (the first, and each recovery).
   int relocalizations() const { return relocalizations_; }
   /// Map corrections applied (docs/consistency.md): the pose output jumps at each.
-  int corrections() const { return corrections_; }
+  int corrections() const { return static_cast<int>(applied_.size()); }
   /// Those corrections, each with the first trajectory() seq it moved (reviseTrajectory).
   const std::vector<FrameCorrection>& appliedCorrections() const { return applied_; }
   /// --own-frame: the run ended before the robot was merged into the shared map; trajectory()
@@ -146,7 +146,6 @@ class OdomRunner {
   std::optional<PoseHint> hint_;                // for the next search only
   std::optional<Eigen::Isometry3d> last_good_;  // pose of the last integrated frame
   int relocalizations_ = 0;
-  int corrections_ = 0;
   std::vector<FrameCorrection> applied_;
   std::string jump_;  // the last correction, for the next frame's row
   // --own-frame, until the merge.
