@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <fstream>
 #include <stdexcept>
+#include <utility>
 
 #include "correction_fit.hpp"
 #include "socc/pose_interpolation.hpp"
@@ -158,13 +159,15 @@ void ConsistencyService::hold(bool on) {
 
 void ConsistencyService::process(Pending pending) {
   Keyframe& kf = pending.keyframe;
-  if (pending.cloud)
-    pending.reduced = std::make_shared<const ReducedScan>(reduceScan(*pending.cloud, params_));
-  pending.cloud.reset();
-  if (pending.reduced) {
+  if (pending.cloud) {
+    ReducedScan reduced = reduceScan(*pending.cloud, params_);
+    kf.points = std::move(reduced.points);
+    kf.scan = std::move(reduced.scan);
+  } else if (pending.reduced) {  // reduced on arrival
     kf.points = pending.reduced->points;
     kf.scan = pending.reduced->scan;
   }
+  pending.cloud.reset();
   pending.reduced.reset();
   const bool matchable = !kf.points.empty();  // not a pose only (an old store's waiting one)
   if (matchable) kf.descriptor = ScanContext(kf.points, params_.descriptor);
