@@ -112,6 +112,24 @@ TiltFit fitTilt(const std::vector<Eigen::Vector3d>& truth, const std::vector<dou
   return out;
 }
 
+// RMSE of the positions after the rigid motion that best fits them to the truth (Eigen's
+// Umeyama, no scale): the error the map carries inside itself. A whole-map tilt or turn of the
+// start's heading, which no revisit can observe, is not in it.
+double alignedRmse(const std::vector<Eigen::Vector3d>& estimate,
+                   const std::vector<Eigen::Vector3d>& truth) {
+  if (estimate.size() < 3) return 0.0;
+  Eigen::Matrix3Xd from(3, static_cast<Eigen::Index>(estimate.size()));
+  Eigen::Matrix3Xd to(3, from.cols());
+  for (std::size_t i = 0; i < estimate.size(); ++i) {
+    from.col(static_cast<Eigen::Index>(i)) = estimate[i];
+    to.col(static_cast<Eigen::Index>(i)) = truth[i];
+  }
+  const Eigen::Matrix4d fit = Eigen::umeyama(from, to, false);
+  const Eigen::Matrix3Xd moved =
+      (fit.topLeftCorner<3, 3>() * from).colwise() + Eigen::Vector3d(fit.topRightCorner<3, 1>());
+  return std::sqrt((moved - to).colwise().squaredNorm().mean());
+}
+
 struct ClientScore {
   std::size_t frames = 0;  // poses output
   double ate = 0.0;        // RMSE [m]
@@ -191,7 +209,7 @@ int main(int argc, char** argv) {
     std::vector<double> before, after;
     // Vertical and horizontal parts of the error, before and after.
     std::vector<double> z_before, z_after, xy_before, xy_after;
-    std::vector<Eigen::Vector3d> truth_positions;
+    std::vector<Eigen::Vector3d> truth_positions, odom_positions, optimized_positions;
     std::vector<double> travelled(keyframes.size(), 0.0);
     for (std::size_t i = 0; i < keyframes.size(); ++i) {
       const KeyframeRow& k = keyframes[i];
@@ -204,6 +222,8 @@ int main(int argc, char** argv) {
       xy_before.push_back(e_before.head<2>().norm());
       xy_after.push_back(e_after.head<2>().norm());
       truth_positions.push_back(truth(k.seq).translation());
+      odom_positions.push_back(k.odom.translation());
+      optimized_positions.push_back(k.optimized.translation());
       if (i > 0 && keyframes[i - 1].robot == k.robot)
         travelled[i] =
             travelled[i - 1] +
@@ -256,9 +276,15 @@ int main(int argc, char** argv) {
     std::printf("| of it vertical / horizontal (RMSE) | %.3f / %.3f m | %.3f / %.3f m | |\n",
                 rmse(z_before), rmse(xy_before), rmse(z_after), rmse(xy_after));
     const TiltFit tilt = fitTilt(truth_positions, z_before);
+    const TiltFit tilt_after = fitTilt(truth_positions, z_after);
     std::printf(
-        "| vertical error as a tilted map: tilt, residual (RMSE) | %.2f deg, %.3f m | | |\n",
-        tilt.degrees, tilt.residual);
+        "| vertical error as a tilted map: tilt, residual (RMSE) | %.2f deg, %.3f m | %.2f deg, "
+        "%.3f m | |\n",
+        tilt.degrees, tilt.residual, tilt_after.degrees, tilt_after.residual);
+    std::printf(
+        "| ATE RMSE after a rigid fit to the truth (the map's inner error) | %.3f m | %.3f m | |\n",
+        alignedRmse(odom_positions, truth_positions),
+        alignedRmse(optimized_positions, truth_positions));
     std::printf(
         "| largest revisit relative pose error (what a closure can observe) | %.3f m | | |\n",
         revisit_max_before);
