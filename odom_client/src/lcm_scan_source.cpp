@@ -63,6 +63,7 @@ class LcmScanSource final : public ScanSource {
   }
 
   std::size_t remaining() const override { return 0; }
+  bool live() const override { return true; }
 
  private:
   void onScan(const lcm::ReceiveBuffer*, const std::string& channel, const scan_t* m) {

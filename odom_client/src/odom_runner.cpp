@@ -68,6 +68,7 @@ OdomRunner::OdomRunner(const OdomConfig& config, rpc::MapClient& client, RunOpti
 
 void OdomRunner::run(ScanSource& source, FrameLog& log) {
   log_ = &log;
+  live_input_ = source.live();
   pipeline_.emplace(client_, config_, log);
   Odometry odometry(config_, options_.initial_pose, options_.initial_pose_known);
   watch(odometry);
@@ -102,6 +103,7 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
       refused(scan, e.what());
     }
   }
+  if (own_search_) finishOwnSearch(odometry);
   pipeline_->close();
   if (recovering_ && !localized_ && !gave_up_)  // the input ended during the search
     sendStatus(robot_status_request_t::LOST, "the input ended before relocalization succeeded",

@@ -34,7 +34,7 @@ void OdomRunner::startOwnFrame(Odometry& odometry, const PreparedScan& scan) {
   own_.emplace();
   own_rows_begin_ = trajectory_.poses.size();
   own_since_utime_ = scan.utime;
-  search_.emplace(config_);
+  own_search_.emplace(config_, client_);
   std::cerr << "odom_client: mapping in its own frame while searching the shared map\n";
   // The server knows no pose of this robot yet (NOT_FOUND): the report is for SOCC/STATUS.
   sendStatus(robot_status_request_t::RELOCALIZING, "mapping in its own frame", scan.seq,
@@ -59,7 +59,8 @@ void OdomRunner::ownFrameScan(Odometry& odometry, const PreparedScan& scan,
   }
   if (estimate.held) return;
   const bool kept = keepOwnFrame(estimate, stats);
-  if (kept && ownSearchDue(estimate.utime)) stats.problem = searchShared(odometry, estimate);
+  if (std::string verdict = followSearch(odometry, estimate, kept); !verdict.empty())
+    stats.problem = std::move(verdict);
   stats.total_ms = msSince(start);
   log_->add(stats);
 }
@@ -83,31 +84,49 @@ bool OdomRunner::ownSearchDue(std::int64_t utime) const {
   return (utime - own_searched_utime_) * 1e-6 >= config_.own_frame_search_period - 1e-3;
 }
 
-std::string OdomRunner::searchShared(Odometry& odometry, const FrameEstimate& newest) {
+std::string OdomRunner::followSearch(Odometry& odometry, const FrameEstimate& newest, bool kept) {
+  // Only a trusted frame is where the odometry goes on in the shared map, and what is stacked.
+  if (!kept) return {};
+  std::optional<SearchOutcome> done = own_search_->poll();
+  if (!done && !own_search_->running() && ownSearchDue(newest.utime)) {
+    launchSearch(newest);
+    // File input is not paced by a sensor: waiting keeps its searches one per due scan.
+    if (!live_input_) done = own_search_->wait();
+  }
+  if (!done) return {};
+  if (!done->found.pose) return "searching the shared map: " + done->found.problem;
+  mergeOwnFrame(odometry, {newest.seq, newest.utime, newest.pose, newest.cloud}, *done);
+  return std::exchange(jump_, {});  // this frame's row says it (not the next frame's)
+}
+
+void OdomRunner::launchSearch(const FrameEstimate& newest) {
   // The places followed since the last search move by the own-frame odometry in between.
   const Eigen::Isometry3d motion = own_searched_pose_.inverse() * newest.pose;
   own_searched_pose_ = newest.pose;
   own_searched_utime_ = newest.utime;
   const std::size_t count = static_cast<std::size_t>(config_.relocalize_stack_scans);
-  ServiceMapAccess map(client_, config_);
-  const Relocalization found =
-      search_->addStacked(own_->stacked(count, config_.deskew_reference_time),
-                          static_cast<int>(std::min(count, own_->frames())), motion, map, hint_);
-  if (!found.pose) return "searching the shared map: " + found.problem;
-  std::cerr << "odom_client: found the shared map at frame " << newest.seq << " (confirmed on "
-            << found.confirmed << " searches; explains " << static_cast<int>(found.fitness * 100)
-            << " % of the last " << found.stacked << " scans, "
-            << static_cast<int>(found.free * 100) << " % in free space; next place "
-            << static_cast<int>(found.runner_up * 100) << " % net)\n";
-  mergeOwnFrame(odometry, newest, *found.pose);
-  return std::exchange(jump_, {});  // this frame's row says it (not the next frame's)
+  own_search_->start(own_->stacked(count, config_.deskew_reference_time),
+                     static_cast<int>(std::min(count, own_->frames())), motion, hint_, newest.seq,
+                     newest.pose);
 }
 
-void OdomRunner::mergeOwnFrame(Odometry& odometry, const FrameEstimate& newest,
-                               const Eigen::Isometry3d& verified) {
-  const Eigen::Isometry3d shared_T_own = sharedFromOwn(verified, newest.pose);
-  const OwnKeyframe last{newest.seq, newest.utime, newest.pose, newest.cloud};
-  const std::vector<OwnKeyframe> kept = mergedKeyframes(own_->keyframes(), last, shared_T_own);
+void OdomRunner::finishOwnSearch(Odometry& odometry) {
+  // The input ended while a search ran: its answer still merges what the robot kept.
+  const std::optional<SearchOutcome> done = own_search_->wait();
+  if (!done || !done->found.pose || own_->keyframes().empty()) return;
+  mergeOwnFrame(odometry, own_->keyframes().back(), *done);
+}
+
+void OdomRunner::mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest,
+                               const SearchOutcome& search) {
+  const Relocalization& found = search.found;
+  std::cerr << "odom_client: found the shared map at frame " << search.seq << " (answered at frame "
+            << newest.seq << "; confirmed on " << found.confirmed << " searches; explains "
+            << static_cast<int>(found.fitness * 100) << " % of the last " << found.stacked
+            << " scans, " << static_cast<int>(found.free * 100) << " % in free space; next place "
+            << static_cast<int>(found.runner_up * 100) << " % net)\n";
+  const Eigen::Isometry3d shared_T_own = sharedFromOwn(*found.pose, search.own_pose);
+  const std::vector<OwnKeyframe> kept = mergedKeyframes(own_->keyframes(), newest, shared_T_own);
   // The own-frame stretch reaches the shared map in order, before the robot's next frame: the
   // server sees a robot's first integration and then plausible steps.
   for (const OwnKeyframe& k : kept) integrateKept(k);
@@ -125,7 +144,7 @@ void OdomRunner::mergeOwnFrame(Odometry& odometry, const FrameEstimate& newest,
   sendStatus(robot_status_request_t::TRACKING, "merged into the shared map", newest.seq,
              newest.utime);
   own_.reset();
-  search_.reset();
+  own_search_.reset();
   localized_ = true;
   ++relocalizations_;
 }

@@ -11,7 +11,10 @@ namespace {
 class ReadAheadScanSource : public ScanSource {
  public:
   explicit ReadAheadScanSource(std::unique_ptr<ScanSource> source)
-      : source_(std::move(source)), remaining_(source_->remaining()), timing_(source_->timing()) {
+      : source_(std::move(source)),
+        remaining_(source_->remaining()),
+        timing_(source_->timing()),
+        live_(source_->live()) {
     readNext();
   }
   ~ReadAheadScanSource() override {
@@ -27,6 +30,7 @@ class ReadAheadScanSource : public ScanSource {
   }
   std::size_t remaining() const override { return remaining_; }
   std::string timing() const override { return timing_; }
+  bool live() const override { return live_; }
 
  private:
   void readNext() {
@@ -36,6 +40,7 @@ class ReadAheadScanSource : public ScanSource {
   std::unique_ptr<ScanSource> source_;
   std::size_t remaining_;  // source_'s count is the worker's to change
   std::string timing_;
+  bool live_;
   std::future<std::optional<Scan>> pending_;
 };
 

@@ -57,9 +57,15 @@ if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
     set_tests_properties(integration.relocalize PROPERTIES LABELS integration TIMEOUT 480 COST 167)
     # Issue 30 stage 4: a robot started where nothing is mapped maps in its own frame and is
     # merged into A's map when it reaches it; one that never does is not (docs/relocalization.md).
+    # A live robot (lcm-logplayer) searches beside its scan loop.
+    set(_socc_mr_lcmlog)
+    if(TARGET socc-to-lcmlog)
+      set(_socc_mr_lcmlog --to-lcmlog $<TARGET_FILE:socc-to-lcmlog>)
+    endif()
     add_test(NAME integration.own_frame
-             COMMAND bash ${_socc_mr_script} own_frame ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
-    set_tests_properties(integration.own_frame PROPERTIES LABELS integration TIMEOUT 300 COST 133)
+             COMMAND bash ${_socc_mr_script} own_frame ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>
+                     ${_socc_mr_lcmlog})
+    set_tests_properties(integration.own_frame PROPERTIES LABELS integration TIMEOUT 300 COST 160)
     # Issue 27: a robot tracks with short round trips (no timeout, no unhealthy frame) while
     # another robot's LOCALIZE searches run on the server's search thread.
     add_test(NAME integration.busy_search

@@ -55,9 +55,12 @@
 #              within 0.1 m / 1 deg of the GT; B's poses_tum.txt has a map-frame pose for every
 #              scan, within 0.1 m / 1 deg (median) of the GT after the merge. Robot C drives a
 #              world A never mapped with --own-frame: not merged, exit 5, own-frame poses in
-#              poses_own_frame_*.txt (no poses_kitti.txt), the map unchanged.
+#              poses_own_frame_*.txt (no poses_kitti.txt), the map unchanged. With --to-lcmlog,
+#              robot D drives B's street (frames 0-80) live from lcm-logplayer with --own-frame:
+#              its searches run beside its scan loop (answered at a later scan than searched),
+#              merged exactly once, a pose per scan within 0.1 m / 1 deg (median).
 set -euo pipefail
-usage() { sed -n '2,48p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,61p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 case "${1:-}" in
   -h|--help) usage 0 ;;
@@ -157,6 +160,23 @@ pose_diff() {
     END { printf "%.6f %.6f\n", mt, mr }'
 }
 
+# start_live_client NAME [odom_client options]: odom_client --live for robot NAME in the
+# background (pid in $live_pid), returned once it listens: scans replayed before it has
+# subscribed would be lost.
+start_live_client() {
+  local name=$1; shift
+  "$client_bin" --live --idle-timeout 4 --lcm-url "$url" --robot-id "$name" \
+    --out-dir "$work/$name" --quiet "$@" >"$work/$name.log" 2>&1 &
+  live_pid=$!
+  local listening="listening for scans on SOCC/SCAN/$name"
+  for _ in $(seq 300); do
+    grep -q "$listening" "$work/$name.log" && return 0
+    kill -0 "$live_pid" 2>/dev/null || fail "odom_client --live exited: $(cat "$work/$name.log")"
+    sleep 0.1
+  done
+  fail "odom_client --live did not subscribe in 30 s"
+}
+
 logplayer() {
   local seq="$data/kitti_00_first16"
   if [[ -z $data || ! -d $seq/velodyne ]]; then
@@ -184,17 +204,8 @@ logplayer() {
   stop_server
 
   start_server live  # a fresh, empty map, as for the offline run
-  "$client_bin" --live --idle-timeout 4 --lcm-url "$url" --robot-id live \
-    --out-dir "$work/live" --quiet >"$work/live.log" 2>&1 &
-  local live=$!
-  # Scans replayed before the client has subscribed are lost: wait until it says it listens.
-  local listening="listening for scans on SOCC/SCAN/live"
-  for _ in $(seq 300); do
-    grep -q "$listening" "$work/live.log" && break
-    kill -0 "$live" 2>/dev/null || fail "odom_client --live exited: $(cat "$work/live.log")"
-    sleep 0.1
-  done
-  grep -q "$listening" "$work/live.log" || fail "odom_client --live did not subscribe in 30 s"
+  start_live_client live
+  local live=$live_pid
   # Half speed (8 scans in 1.6 s); the client queues the scans it has not read yet.
   lcm-logplayer -s 0.5 --lcm-url="$url" "$work/scans.lcmlog" >"$work/logplayer.log" 2>&1 ||
     fail "lcm-logplayer failed: $(cat "$work/logplayer.log")"
@@ -594,6 +605,26 @@ own_frame() {
     fail "robot C: own-frame poses not written as poses_own_frame_*.txt"
   [[ $(map_digest) == "$before" ]] || fail "robot C changed the shared map"
   echo "robot C (never in A's area): not merged, exit 5, map unchanged"
+
+  # Robot D drives B's stretch live (lcm-logplayer at the scans' pace): its searches run beside
+  # its scan loop, so the answer comes at a later scan than the one searched, and it still merges.
+  if [[ -x $to_lcmlog_bin ]] && command -v lcm-logplayer >/dev/null; then
+    "$to_lcmlog_bin" "$work/here" -o "$work/here.lcmlog" --robot-id live --start-utime 0 --quiet ||
+      fail "socc-to-lcmlog failed"
+    start_live_client live --own-frame --config "$work/own.yaml"
+    local live=$live_pid
+    lcm-logplayer --lcm-url="$url" "$work/here.lcmlog" >"$work/logplayer.log" 2>&1 ||
+      fail "lcm-logplayer failed: $(cat "$work/logplayer.log")"
+    client_ok "$live" live
+    [[ $(grep -c "found the shared map" "$work/live.log") == 1 ]] ||
+      fail "robot D (live) was not merged exactly once: $(grep -m3 'shared map' "$work/live.log")"
+    local searched answered
+    read -r searched answered < <(sed -n 's/.*found the shared map at frame \([0-9]*\) (answered at frame \([0-9]*\).*/\1 \2/p' "$work/live.log")
+    echo "robot D (live): searched at frame $searched, answered at frame $answered"
+    ((answered > searched)) || fail "robot D (live): its search held its scan loop (answered at the searched frame $searched)"
+    [[ $(wc -l <"$work/live/poses_tum.txt") == 81 ]] || fail "robot D: not one map-frame pose per scan"
+    within_10cm_1deg "$work/live/poses_tum.txt" "$work/here/poses.txt" "robot D (live), every scan"
+  fi
   stop_server
 }
 

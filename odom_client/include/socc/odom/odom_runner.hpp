@@ -29,6 +29,7 @@
 #include "socc/odom/relocalization.hpp"
 #include "socc/odom/relocalizer.hpp"
 #include "socc/odom/scan_source.hpp"
+#include "socc/odom/shared_map_search.hpp"
 #include "socc/odom/tracking_state.hpp"
 #include "socc/rpc/map_client.hpp"
 #include "socc/trajectory_revision.hpp"
@@ -122,10 +123,14 @@ class OdomRunner {
   /// Adds a registered own-frame frame to the trajectory and, when healthy, to the own map.
   bool keepOwnFrame(const FrameEstimate& frame, FrameStats& stats);
   bool ownSearchDue(std::int64_t utime) const;
-  /// One rate-limited search of the shared map; merges on a confirmed place. Its verdict.
-  std::string searchShared(Odometry& odometry, const FrameEstimate& newest);
-  void mergeOwnFrame(Odometry& odometry, const FrameEstimate& newest,
-                     const Eigen::Isometry3d& verified);
+  /// The shared-map search at frame newest: merges when a finished search found the map, else
+  /// starts the next one when due; only at a kept (trusted) frame. The search's verdict.
+  std::string followSearch(Odometry& odometry, const FrameEstimate& newest, bool kept);
+  void launchSearch(const FrameEstimate& newest);
+  /// At the end of the input: waits for a running search and merges on its success.
+  void finishOwnSearch(Odometry& odometry);
+  /// Integrates the kept scans (newest last) where the search placed them; shared from here on.
+  void mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest, const SearchOutcome& search);
   void integrateKept(const OwnKeyframe& keyframe);
   void sendStatus(std::int8_t wire, const std::string& reason, std::int64_t seq,
                   std::int64_t utime);
@@ -150,6 +155,8 @@ class OdomRunner {
   std::string jump_;  // the last correction, for the next frame's row
   // --own-frame, until the merge.
   std::optional<OwnFrameMap> own_;
+  std::optional<SharedMapSearch> own_search_;
+  bool live_input_ = false;  // searches beside the scan loop; file input waits for each answer
   std::size_t own_rows_begin_ = 0;        // first trajectory row in the own frame
   std::int64_t own_since_utime_ = -1;     // scan time it began mapping in its own frame
   std::int64_t own_searched_utime_ = -1;  // scan time of the last search

@@ -32,6 +32,9 @@ class ScanSource {
   /// Where the scans' time stamps come from, or what was assumed in their place (printed at
   /// start-up: speeds and accelerations in frames.csv follow from it).
   virtual std::string timing() const { return "the scans' own time stamps"; }
+  /// Scans arrive at the sensor's pace whether or not they are taken (a live channel): what
+  /// blocks the scan loop loses scans. Files wait for their reader.
+  virtual bool live() const { return false; }
 };
 
 struct FrameRange {
