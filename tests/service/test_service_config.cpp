@@ -49,6 +49,8 @@ TEST(ServerConfig, ShippedFileStatesTheConsistencyDefaults) {
   EXPECT_EQ(read.snap_min_t, defaults.snap_min_t);
   EXPECT_EQ(read.snap_min_r, defaults.snap_min_r);
   EXPECT_EQ(read.correction_window, defaults.correction_window);
+  EXPECT_EQ(read.gravity_priors, defaults.gravity_priors);
+  EXPECT_EQ(read.gravity_sigma_floor, defaults.gravity_sigma_floor);
 }
 
 TEST(ServerConfig, ShippedFileStatesTheLocalizationBudget) {

@@ -70,6 +70,13 @@ struct ConsistencyParams {
   double max_closure_chi2 = 30.0;
   double joined_prior_sigma_t = 1.0;   // [m] first keyframe of a robot after the first
   double joined_prior_sigma_r = 0.05;  // [rad]
+  // Gravity reference (docs/consistency.md "Gravity reference"): a keyframe whose INTEGRATE
+  // carried the robot's up direction gets a prior tying its attitude to the map's up direction
+  // (the one measurement of a tilt of the whole map), with the sigma it was sent with but at
+  // least gravity_sigma_floor, so that an overconfident source cannot outweigh the closures and
+  // the odometry (its chi-square grows as 1 / sigma^2).
+  bool gravity_priors = true;
+  double gravity_sigma_floor = 0.0002;  // [rad] (0.011 deg)
 };
 
 }  // namespace socc::consistency

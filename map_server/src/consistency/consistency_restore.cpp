@@ -163,6 +163,7 @@ void ConsistencyService::restoreKeyframe(const StoredKeyframe& stored) {
   graph_.addNode(stored.estimate);
   for (const PoseEdge& e : stored.edges) graph_.addEdge(e);
   for (const PosePrior& p : stored.priors) graph_.addPrior(p);
+  addGravityPrior(kf);  // from the keyframe's reference and the params of this run
   estimates_.push_back(stored.estimate);
   track.last_keyframe_pose = kf.odom_pose;
   track.last_pose = kf.odom_pose;
@@ -239,6 +240,7 @@ void ConsistencyService::restoreWaiting(const StoredWaiting& stored) {
   pending.keyframe.utime = kf.utime;
   pending.keyframe.odom_pose = kf.odom_pose;
   pending.keyframe.travelled = kf.travelled;
+  pending.keyframe.gravity = kf.gravity;
   switch (stored.form) {
     case WaitingForm::kCloud:
       pending.cloud = std::make_shared<const LabeledCloud>(stored.cloud);

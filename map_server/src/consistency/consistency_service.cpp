@@ -44,7 +44,8 @@ ConsistencyService::~ConsistencyService() {
 }
 
 void ConsistencyService::observe(const std::string& robot, std::int64_t seq, std::int64_t utime,
-                                 const Eigen::Isometry3d& pose, const LabeledCloud& cloud) {
+                                 const Eigen::Isometry3d& pose, const LabeledCloud& cloud,
+                                 const std::optional<GravityReference>& gravity) {
   Pending pending;
   bool full_cloud = false;
   {
@@ -59,6 +60,7 @@ void ConsistencyService::observe(const std::string& robot, std::int64_t seq, std
       ++stats_.scans_reduced_on_arrival;
   }
   pending.keyframe.utime = utime;
+  pending.keyframe.gravity = gravity;
   if (full_cloud) {
     auto copy = std::make_shared<LabeledCloud>();
     copy->points = cloud.points;
@@ -391,6 +393,19 @@ void ConsistencyService::addToGraph(const Keyframe& kf, RobotTrack& track,
         isotropicInformation(params_.joined_prior_sigma_t, params_.joined_prior_sigma_r);
     graph_.addPrior(prior);
   }
+  addGravityPrior(kf);
+}
+
+bool ConsistencyService::addGravityPrior(const Keyframe& kf) {
+  if (kf.gravity) ++stats_.gravity_keyframes;
+  if (!kf.gravity || !params_.gravity_priors) return false;
+  // One up direction for the whole graph: every node is in the shared map frame. A robot
+  // mapping in its own frame (odom_client --own-frame) integrates nothing until it is merged,
+  // and its kept keyframes then arrive at their shared-frame poses; the up vector is in the
+  // sensor frame, which the merge does not change.
+  graph_.addGravityPrior(
+      {kf.id, kf.gravity->up, std::max(kf.gravity->sigma, params_.gravity_sigma_floor)});
+  return true;
 }
 
 Eigen::Isometry3d ConsistencyService::corrected(const std::string& robot, std::int64_t seq,
@@ -512,7 +527,8 @@ void ConsistencyService::write(const std::filesystem::path& dir) const {
      << s.max_rebuild_s << "\nrebuild_keyframes " << s.rebuild_keyframes << "\nedge_checks "
      << s.odometry_edges.checked << "\nedge_registered " << s.odometry_edges.registered
      << "\nedge_snaps " << s.odometry_edges.snaps << "\nedge_s " << s.odometry_edges.seconds
-     << "\nedge_max_s " << s.odometry_edges.max_seconds << '\n';
+     << "\nedge_max_s " << s.odometry_edges.max_seconds << "\ngravity_keyframes "
+     << s.gravity_keyframes << '\n';
   if (!kf || !cl || !ed || !st) throw std::runtime_error("cannot write " + dir.string());
 }
 

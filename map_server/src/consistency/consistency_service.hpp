@@ -49,6 +49,7 @@ struct ConsistencyStats {
   // Keyframes whose cloud the map's thread reduced on arrival (keyframe_reduction.hpp): the
   // worker was max_pending_scans behind.
   int scans_reduced_on_arrival = 0;
+  int gravity_keyframes = 0;  // keyframes whose INTEGRATE carried a gravity reference
   RecognitionTally recognition;
   OdometryEdgeTally odometry_edges;  // scan-to-scan checks of the odometry edges
   int optimizations = 0;
@@ -76,9 +77,11 @@ class ConsistencyService {
   ConsistencyService& operator=(const ConsistencyService&) = delete;
 
   /// An applied integration of robot: a keyframe when it moved far enough since its last one.
+  /// gravity: the up direction the integration carried (gravity_reference.hpp), if any.
   /// One thread observes (the map's; also checkpoint() and takeRebuild()).
   void observe(const std::string& robot, std::int64_t seq, std::int64_t utime,
-               const Eigen::Isometry3d& pose, const LabeledCloud& cloud);
+               const Eigen::Isometry3d& pose, const LabeledCloud& cloud,
+               const std::optional<GravityReference>& gravity = std::nullopt);
 
   /// Blocks until every observed keyframe is processed (tests, the benchmark, shutdown).
   void flush();
@@ -168,6 +171,8 @@ class ConsistencyService {
   /// odometry: the edge from the robot's previous keyframe (none for its first).
   void addToGraph(const Keyframe& keyframe, RobotTrack& track,
                   const std::optional<PoseEdge>& odometry);
+  /// kf's gravity prior, when it has a reference and the priors are on; true when added.
+  bool addGravityPrior(const Keyframe& kf);
   /// The odometry edge from the robot's previous keyframe to kf (scan to scan where it snapped).
   std::optional<PoseEdge> measureOdometry(const Keyframe& kf, const std::string& robot);
   /// After a correcting closure: rebuilds the grid when a keyframe moved far enough.

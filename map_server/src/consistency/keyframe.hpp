@@ -4,9 +4,11 @@
 // pose as integrated (the robot's odometry in the map frame) and its place descriptor.
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "gravity_reference.hpp"
 #include "keyframe_scan.hpp"
 #include "scan_context.hpp"
 
@@ -19,7 +21,9 @@ struct Keyframe {
   std::int64_t seq = 0;
   std::int64_t utime = 0;
   Eigen::Isometry3d odom_pose = Eigen::Isometry3d::Identity();  // map_T_sensor as integrated
-  double travelled = 0.0;               // [m] the robot's path length up to this keyframe
+  double travelled = 0.0;  // [m] the robot's path length up to this keyframe
+  // The up direction its INTEGRATE carried (sensor frame; none: the robot has no reference).
+  std::optional<GravityReference> gravity = std::nullopt;
   std::vector<Eigen::Vector3f> points;  // sensor frame, voxel-downsampled
   ScanContext descriptor;
   KeyframeScan scan;  // what the grid is rebuilt from (finer, with labels)

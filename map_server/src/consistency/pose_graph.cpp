@@ -2,10 +2,12 @@
 
 #include <ceres/ceres.h>
 #include <ceres/manifold.h>
+#include <ceres/sphere_manifold.h>
 
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 namespace socc::consistency {
@@ -65,6 +67,24 @@ struct AbsolutePoseError {
   Matrix6d sqrt_information;
 };
 
+// Residual of a gravity prior: the graph's up direction u seen from the node (R^T u) against
+// the measured up, over sigma. Three components of a 2-dof error (both are unit vectors).
+struct GravityError {
+  GravityError(const Eigen::Vector3d& up, double sigma) : up_measured(up), weight(1.0 / sigma) {}
+
+  template <typename T>
+  bool operator()(const T* q_p, const T* u_p, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(q_p);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> u(u_p);
+    Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
+    r = (q.conjugate() * u - up_measured.template cast<T>()) * T(weight);
+    return true;
+  }
+
+  Eigen::Vector3d up_measured;
+  double weight;
+};
+
 }  // namespace
 
 Matrix6d isotropicInformation(double sigma_t, double sigma_r) {
@@ -99,37 +119,65 @@ double PoseGraph::priorError(const PosePrior& prior) const {
   return r.squaredNorm();
 }
 
+void PoseGraph::addGravityPrior(const GravityPrior& prior) {
+  if (prior.node < 0 || prior.node >= static_cast<int>(poses_.size()))
+    throw std::logic_error("pose graph: no node " + std::to_string(prior.node));
+  const double norm = prior.up.norm();
+  if (!(prior.sigma > 0.0) || !std::isfinite(prior.sigma) || !(norm > 0.0) || !std::isfinite(norm))
+    throw std::invalid_argument("pose graph: a gravity prior needs sigma > 0 and an up vector");
+  GravityPrior p = prior;
+  p.up /= norm;
+  if (!up_) up_ = (pose(p.node).linear() * p.up).normalized();
+  gravity_.push_back(p);
+}
+
+double PoseGraph::gravityError(const GravityPrior& prior) const {
+  if (!up_) return 0.0;
+  const GravityError error(prior.up, prior.sigma);
+  const Eigen::Quaterniond q(pose(prior.node).linear());
+  Eigen::Vector3d r;
+  error(q.coeffs().data(), up_->data(), r.data());
+  return r.squaredNorm();
+}
+
 double PoseGraph::chi2() const {
   double sum = 0.0;
   for (const PoseEdge& e : edges_) sum += edgeError(e);
   for (const PosePrior& p : priors_)
     if (!p.fixed) sum += priorError(p);
+  for (const GravityPrior& g : gravity_) sum += gravityError(g);
   return sum;
 }
 
 double PoseGraph::optimumCost() {
   const double current = chi2();
   if (current <= 0.0) return current;
-  const std::size_t nodes = poses_.size(), edges = edges_.size(), priors = priors_.size();
+  const std::size_t nodes = poses_.size(), edges = edges_.size(), priors = priors_.size(),
+                    gravity = gravity_.size();
   if (optimum_ && optimum_->nodes == nodes && optimum_->edges == edges &&
-      optimum_->priors == priors)
+      optimum_->priors == priors && optimum_->gravity == gravity)
     return std::min(current, optimum_->chi2);  // unchanged since: the same optimization
   // The current poses were the optimum and all that was added since holds exactly at them
   // (a new keyframe continued by its integrated odometry): they still are (its gradient is 0).
+  // A new gravity prior rarely holds exactly (its sensor's tilt is measured, not chained), so
+  // with gravity references the graph without the closure is optimized again at each attempt.
   constexpr double kHolds = 1e-12;  // squared Mahalanobis error: rounding only
   const bool still_optimal =
       optimum_ && optimum_->at_poses && optimum_->edges <= edges && optimum_->priors <= priors &&
+      optimum_->gravity <= gravity &&
       std::all_of(edges_.begin() + static_cast<std::ptrdiff_t>(optimum_->edges), edges_.end(),
                   [&](const PoseEdge& e) { return edgeError(e) <= kHolds; }) &&
       std::all_of(priors_.begin() + static_cast<std::ptrdiff_t>(optimum_->priors), priors_.end(),
-                  [&](const PosePrior& p) { return priorError(p) <= kHolds; });
+                  [&](const PosePrior& p) { return priorError(p) <= kHolds; }) &&
+      std::all_of(gravity_.begin() + static_cast<std::ptrdiff_t>(optimum_->gravity), gravity_.end(),
+                  [&](const GravityPrior& g) { return gravityError(g) <= kHolds; });
   if (still_optimal) {
-    optimum_ = Optimum{nodes, edges, priors, current, true};
+    optimum_ = Optimum{nodes, edges, priors, gravity, current, true};
     return current;
   }
   PoseGraph without = *this;
   without.optimize();
-  optimum_ = Optimum{nodes, edges, priors, without.chi2(), false};
+  optimum_ = Optimum{nodes, edges, priors, gravity, without.chi2(), false};
   return std::min(current, optimum_->chi2);
 }
 
@@ -190,6 +238,15 @@ OptimizationSummary PoseGraph::optimize(int max_iterations) {
         new AbsolutePoseError(p.pose, sqrtInformation(p.information)));
     problem.AddResidualBlock(cost, nullptr, t[p.node].data(), q[p.node].coeffs().data());
   }
+  // The graph frame's up direction, on the unit sphere, estimated with the poses.
+  Eigen::Vector3d up = up_.value_or(Eigen::Vector3d::UnitZ());
+  if (!gravity_.empty()) problem.AddParameterBlock(up.data(), 3, new ceres::SphereManifold<3>);
+  for (const GravityPrior& g : gravity_) {
+    check(g.node);
+    auto* cost =
+        new ceres::AutoDiffCostFunction<GravityError, 3, 4, 3>(new GravityError(g.up, g.sigma));
+    problem.AddResidualBlock(cost, nullptr, q[g.node].coeffs().data(), up.data());
+  }
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   options.max_num_iterations = max_iterations;
@@ -204,7 +261,8 @@ OptimizationSummary PoseGraph::optimize(int max_iterations) {
     pose.translation() = t[i];
     poses_[i] = pose;
   }
-  optimum_ = Optimum{poses_.size(), edges_.size(), priors_.size(), chi2(), true};
+  if (!gravity_.empty()) up_ = up.normalized();
+  optimum_ = Optimum{poses_.size(), edges_.size(), priors_.size(), gravity_.size(), chi2(), true};
   OptimizationSummary out;
   out.converged = summary.termination_type == ceres::CONVERGENCE;
   out.iterations = static_cast<int>(summary.iterations.size());

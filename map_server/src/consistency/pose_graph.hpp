@@ -8,6 +8,9 @@
 // dropped, so a wrong edge that slipped through verification does not bend the map. Each
 // robot's first keyframe has a prior at its integrated pose: the first robot's holds the map
 // frame, the others' are weak (they joined at a relocalized pose, an estimate like any other).
+// Gravity priors (a keyframe's up direction from its robot's IMU or INS) tie the nodes'
+// attitudes to the graph frame's up direction, itself estimated with the poses: the one
+// measurement of a tilt of the whole map (docs/consistency.md "Gravity reference").
 #include <Eigen/Geometry>
 #include <optional>
 #include <vector>
@@ -30,6 +33,16 @@ struct PosePrior {
   bool fixed = false;  // the node is held at pose (the map frame's anchor)
 };
 
+// A node's measured up direction: residual (R^T u - up) / sigma, with R the node's rotation
+// (map_T_sensor) and u the graph frame's up direction (PoseGraph::up, a unit vector estimated
+// with the poses, not assumed +z: the map frame is the first keyframe's sensor frame, which
+// need not be level). Its squared norm is 2 (1 - cos angle) / sigma^2, about angle^2 / sigma^2.
+struct GravityPrior {
+  int node = 0;
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // in the node's (sensor) frame, unit
+  double sigma = 0.01;                            // [rad] > 0
+};
+
 struct OptimizationSummary {
   bool converged = false;
   int iterations = 0;
@@ -47,6 +60,10 @@ class PoseGraph {
   int addNode(const Eigen::Isometry3d& pose);
   void addEdge(const PoseEdge& edge) { edges_.push_back(edge); }
   void addPrior(const PosePrior& prior) { priors_.push_back(prior); }
+  /// The first one sets the graph frame's up direction to its node's rotation times its up (so
+  /// it holds exactly); later ones leave it to the optimization. Throws std::logic_error on a
+  /// node that does not exist, std::invalid_argument on a sigma not > 0 or a zero up.
+  void addGravityPrior(const GravityPrior& prior);
 
   /// Optimizes all nodes from their current poses. Throws std::logic_error on an edge or prior
   /// naming a node that does not exist.
@@ -62,6 +79,9 @@ class PoseGraph {
   }
   const std::vector<PoseEdge>& edges() const { return edges_; }
   const std::vector<PosePrior>& priors() const { return priors_; }
+  const std::vector<GravityPrior>& gravityPriors() const { return gravity_; }
+  /// The graph frame's up direction (unit): none before the first gravity prior.
+  const std::optional<Eigen::Vector3d>& up() const { return up_; }
 
   /// Adds edge when the graph optimized with it costs at most max_chi2 (sum of squared
   /// Mahalanobis errors) more than the graph optimized without it; then the poses are the optimized
@@ -77,6 +97,8 @@ class PoseGraph {
   double edgeError(const PoseEdge& edge) const;
   /// Squared Mahalanobis error of a prior at the current poses (a fixed one's too).
   double priorError(const PosePrior& prior) const;
+  /// Squared error of a gravity prior at the current poses and up direction (0 without one).
+  double gravityError(const GravityPrior& prior) const;
 
  private:
   /// The cost of this graph optimized from its current poses (addConsistentEdge's baseline):
@@ -90,6 +112,7 @@ class PoseGraph {
     std::size_t nodes = 0;
     std::size_t edges = 0;
     std::size_t priors = 0;
+    std::size_t gravity = 0;
     double chi2 = 0.0;
     bool at_poses = false;
   };
@@ -98,6 +121,8 @@ class PoseGraph {
   std::vector<Eigen::Isometry3d> poses_;
   std::vector<PoseEdge> edges_;
   std::vector<PosePrior> priors_;
+  std::vector<GravityPrior> gravity_;
+  std::optional<Eigen::Vector3d> up_;  // estimated with the poses
 };
 
 }  // namespace socc::consistency

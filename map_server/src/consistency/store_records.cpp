@@ -1,5 +1,6 @@
 #include "store_records.hpp"
 
+#include <optional>
 #include <stdexcept>
 
 #include "byte_io.hpp"
@@ -119,6 +120,31 @@ Keyframe getKeyframeFields(ByteReader& r) {
   return k;
 }
 
+// A keyframe's gravity reference, after every other field of its record (keyframe and waiting):
+// written only when it has one, so a store without references is byte for byte what it was and
+// an older map_server reads it; a record from before references ends without it. {uint8 1, up
+// (3 doubles), sigma (double)}.
+constexpr std::uint8_t kGravityTag = 1;
+
+void putGravity(ByteWriter& w, const std::optional<GravityReference>& gravity) {
+  if (!gravity) return;
+  w.put<std::uint8_t>(kGravityTag);
+  for (int i = 0; i < 3; ++i) w.put<double>(gravity->up[i]);
+  w.put<double>(gravity->sigma);
+}
+
+std::optional<GravityReference> getGravity(ByteReader& r) {
+  if (r.remaining() == 0) return std::nullopt;
+  if (r.get<std::uint8_t>() != kGravityTag)
+    throw std::runtime_error("keyframe: unknown field after its record");
+  Eigen::Vector3d up;
+  for (int i = 0; i < 3; ++i) up[i] = r.get<double>();
+  const double sigma = r.get<double>();
+  std::optional<GravityReference> gravity = gravityReference(up, sigma);
+  if (!gravity) throw std::runtime_error("keyframe: a gravity reference without a direction");
+  return gravity;
+}
+
 void expectEnd(const ByteReader& r) {
   if (r.remaining() != 0) throw std::runtime_error("record longer than its fields");
 }
@@ -139,6 +165,7 @@ std::string encodeKeyframe(const StoredKeyframe& record) {
     putInformation(w, p.information);
     w.put<std::uint8_t>(p.fixed ? 1 : 0);
   }
+  putGravity(w, record.keyframe.gravity);
   return w.bytes();
 }
 
@@ -157,6 +184,7 @@ StoredKeyframe decodeKeyframe(const std::string& payload) {
     p.information = getInformation(r);
     p.fixed = r.get<std::uint8_t>() != 0;
   }
+  out.keyframe.gravity = getGravity(r);
   expectEnd(r);
   return out;
 }
@@ -246,6 +274,7 @@ std::string encodeWaiting(const StoredWaiting& record) {
   for (const Eigen::Vector3f& p : record.cloud.points)
     for (int i = 0; i < 3; ++i) w.put<float>(p[i]);
   putArray(w, record.cloud.labels);
+  putGravity(w, record.keyframe.gravity);
   return w.bytes();
 }
 
@@ -266,6 +295,7 @@ StoredWaiting decodeWaiting(const std::string& payload) {
     throw std::runtime_error("waiting keyframe: labels and points differ");
   if (out.form != WaitingForm::kCloud && !out.cloud.points.empty())
     throw std::runtime_error("waiting keyframe: a cloud in a record without one");
+  out.keyframe.gravity = getGravity(r);
   expectEnd(r);
   return out;
 }

@@ -27,7 +27,7 @@ enum class RecordType : std::uint8_t {
 
 struct StoredKeyframe {
   std::string robot;
-  Keyframe keyframe;  // without its descriptor (recomputed from the points)
+  Keyframe keyframe;  // without its descriptor (recomputed from the points); with gravity
   Eigen::Isometry3d estimate = Eigen::Isometry3d::Identity();  // the node's pose when added
   std::vector<PoseEdge> edges;    // the graph's edges added with the node
   std::vector<PosePrior> priors;  // and its priors
@@ -45,7 +45,7 @@ enum class WaitingForm : std::uint8_t {
 /// snapshot cuts the journal that holds its integration).
 struct StoredWaiting {
   std::string robot;
-  // robot, robot_kf, seq, utime, odom_pose, travelled; points and scan when kReduced.
+  // robot, robot_kf, seq, utime, odom_pose, travelled, gravity; points and scan when kReduced.
   Keyframe keyframe;
   WaitingForm form = WaitingForm::kPoseOnly;
   LabeledCloud cloud;  // kCloud: points and labels as observed (no times)

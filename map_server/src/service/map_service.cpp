@@ -88,7 +88,11 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
   }
   const map::IntegrationResult result = map_.integrate(pose, cloud);
   robots_.recordIntegration(robot_id, request.seq, request.scan_utime, toLcm(pose));
-  if (consistency_) consistency_->observe(robot_id, request.seq, request.scan_utime, at.raw, cloud);
+  if (consistency_)
+    consistency_->observe(robot_id, request.seq, request.scan_utime, at.raw, cloud,
+                          consistency::gravityReference(
+                              Eigen::Map<const Eigen::Vector3f>(request.gravity_up).cast<double>(),
+                              static_cast<double>(request.gravity_sigma)));
   if (at.told) {
     reply.corrected = true;
     reply.correction = toLcm(*at.told);

@@ -45,6 +45,7 @@ std::string validate(const ServerConfig& c) {
   if (!(k.correction_window >= 0.0)) return "consistency.correction_window must be >= 0";
   if (!(k.snap_min_t >= 0.0) || !(k.snap_min_r >= 0.0))
     return "consistency.snap_min_t and snap_min_r must be >= 0";
+  if (!(k.gravity_sigma_floor > 0.0)) return "consistency.gravity_sigma_floor must be > 0";
   if (!(k.max_descriptor_distance >= 0.0 && k.max_descriptor_distance <= 1.0))
     return "consistency.max_descriptor_distance must be in [0, 1]";
   return {};
@@ -91,6 +92,8 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
       {"scan_to_scan_edges", &k.scan_to_scan_edges},
       {"snap_min_t", &k.snap_min_t},
       {"snap_min_r", &k.snap_min_r},
+      {"gravity_priors", &k.gravity_priors},
+      {"gravity_sigma_floor", &k.gravity_sigma_floor},
   };
   localization::SearchParams& search = config.localization.search;
   const YamlFields localization = {
