@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -231,21 +232,48 @@ TEST(GravityPrior, TheReusedOptimumStaysExactWithPriors) {
 }
 
 TEST(GravityPrior, OptimizationTimeOfAThousandNodes) {
-  // Cost of the priors where it is paid: each closure attempt optimizes the graph. Printed for
-  // docs/consistency.md; asserted only loosely (the machine is shared).
-  const Drive d = drive(1000, 0.0002);
-  const auto timed = [&](double sigma) {
-    PoseGraph g = chainGraph(d, sigma);
-    g.addEdge({0, 999, d.truth[0].inverse() * d.truth[999], isotropicInformation(0.1, 0.01)});
-    const OptimizationSummary s = g.optimize();
-    return std::make_pair(s.seconds, s.iterations);
-  };
-  const auto [s_without, it_without] = timed(0.0);
-  const auto [s_with, it_with] = timed(0.002);
-  std::cerr << "1000 nodes, one closure: optimize " << s_without << " s (" << it_without
-            << " iterations) without gravity priors, " << s_with << " s (" << it_with
-            << " iterations) with\n";
-  EXPECT_LT(s_with, 30.0);
+  // Cost of the priors where it is paid: each closure attempt optimizes the graph with the
+  // closure and, when the poses are not known to be the optimum without it, without it too.
+  // With references a new keyframe's prior rarely holds exactly at the chained poses, so the
+  // second optimization runs at every attempt. Printed for docs/consistency.md; asserted only
+  // loosely (the machine is shared). Fewer nodes under AddressSanitizer (its time budget).
+#ifdef __SANITIZE_ADDRESS__
+  constexpr int kNodes = 300;
+#else
+  constexpr int kNodes = 1000;
+#endif
+  for (const double drift : {0.0, 0.0002}) {
+    const Drive d = drive(kNodes + 1, drift);
+    const auto closure = [&](int a, int b) {
+      return PoseEdge{a, b, d.truth[a].inverse() * d.truth[b], isotropicInformation(0.1, 0.01)};
+    };
+    const auto attempt = [&](double sigma) {
+      Drive first = d;
+      first.odometry.pop_back();
+      first.up.pop_back();
+      PoseGraph g = chainGraph(first, sigma);
+      EXPECT_TRUE(g.addConsistentEdge(closure(kNodes / 10, kNodes - 100), 1e9));
+      // The next keyframe, continued by its odometry, then a closure attempt from it.
+      const Eigen::Isometry3d step = d.odometry[kNodes - 1].inverse() * d.odometry[kNodes];
+      g.addNode(g.pose(kNodes - 1) * step);
+      g.addEdge({kNodes - 1, kNodes, step, odometryInformation()});
+      if (sigma > 0.0) g.addGravityPrior({kNodes, d.up[kNodes], sigma});
+      OptimizationSummary with_closure;
+      const auto start = std::chrono::steady_clock::now();
+      EXPECT_TRUE(g.addConsistentEdge(closure(kNodes / 5, kNodes), 1e9, nullptr, &with_closure));
+      const double total =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return std::make_pair(total, with_closure.seconds);
+    };
+    const auto [total_without, optimize_without] = attempt(0.0);
+    const auto [total_with, optimize_with] = attempt(0.002);
+    std::cerr << kNodes + 1 << " nodes, pitch drift " << drift
+              << " rad a step, a closure attempt after a chained keyframe: " << total_without
+              << " s (optimization with the closure " << optimize_without
+              << " s) without gravity priors, " << total_with << " s (" << optimize_with
+              << " s) with\n";
+    EXPECT_LT(total_with, 60.0);
+  }
 }
 
 TEST(GravityReference, OnlyARealDirectionWithASigmaIsAReference) {

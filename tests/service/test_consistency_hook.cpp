@@ -97,6 +97,35 @@ TEST(ConsistencyHook, JournalReplayRebuildsTheKeyframes) {
   EXPECT_EQ(restored.consistency()->stats().keyframes, 3);  // x = 0, 3, 6
 }
 
+TEST(ConsistencyHook, AnIntegratesGravityReferenceReachesItsKeyframeAlsoOnReplay) {
+  // gravity_sigma 0: no reference. Keyframes at seq 1 (with), 4 (without), 7 (with).
+  test::TempDir dir;
+  const Durability durability{dir.path() / "map.snap", dir.path() / "journal.lcmlog"};
+  const auto withGravity = [](std::int64_t seq) {
+    integrate_request_t request = scan("robot1", seq, seq - 1.0);
+    if (seq != 4) {
+      request.gravity_up[0] = 0.02f;
+      request.gravity_up[2] = 0.9998f;
+      request.gravity_sigma = 0.001f;
+    }
+    return request;
+  };
+  {
+    MapService live(withConsistency(dir.path()));
+    live.openDurability(durability, std::nullopt);
+    for (int seq = 1; seq <= 7; ++seq) live.integrate(withGravity(seq));
+    live.consistency()->flush();
+    EXPECT_EQ(live.consistency()->stats().gravity_keyframes, 2);
+    // Dropped like a killed process: the journal holds every request as sent.
+  }
+  std::filesystem::remove(dir.path() / "map.snap.consistency");
+  MapService restored(withConsistency(dir.path()));
+  restored.openDurability(durability, dir.path() / "map.snap");
+  restored.consistency()->flush();
+  EXPECT_EQ(restored.consistency()->stats().keyframes, 3);
+  EXPECT_EQ(restored.consistency()->stats().gravity_keyframes, 2);
+}
+
 std::vector<std::int64_t> keyframeSeqs(MapService& service) {
   service.consistency()->flush();
   std::vector<std::int64_t> seqs;
