@@ -312,6 +312,12 @@ int main(int argc, char** argv) {
     else if (stats.count("scans_dropped"))
       std::printf("| keyframes whose scans were dropped (worker behind) | | %.0f of %.0f | |\n",
                   stats["scans_dropped"], stats["keyframes"]);
+    // Runs before gravity references (docs/consistency.md "Gravity reference") wrote no count.
+    if (stats.count("gravity_keyframes"))
+      std::printf(
+          "| keyframes with a gravity reference (INTEGRATE gravity_sigma > 0) | | %.0f of %.0f "
+          "| |\n",
+          stats["gravity_keyframes"], stats["keyframes"]);
     if (stats.count("edge_checks"))
       std::printf(
           "| odometry edges scan to scan: registered / snaps of checked, s per keyframe (max) | "
