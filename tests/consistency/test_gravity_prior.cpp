@@ -20,6 +20,8 @@
 #include "store_records.hpp"
 
 namespace socc::consistency {
+// Named: the target is compiled as a unity build, beside files with helpers of the same names.
+namespace gravity_test {
 namespace {
 
 Eigen::Isometry3d pose(const Eigen::Vector3d& t, double yaw, double pitch = 0.0,
@@ -393,4 +395,5 @@ TEST(GravityReference, AServiceStoresAndRestoresItsKeyframesReferences) {
 }
 
 }  // namespace
+}  // namespace gravity_test
 }  // namespace socc::consistency
