@@ -146,6 +146,43 @@ TEST(GravityPrior, TheMapsUpIsEstimatedNotAssumed) {
   EXPECT_GT(angle(*g.up(), Eigen::Vector3d::UnitZ()), 0.1);
 }
 
+TEST(GravityPrior, ASecondRobotIsLevelledAgainstTheSameUp) {
+  // Robot b joins the shared frame at a relocalized pose tilted 0.03 rad (its first keyframe's
+  // weak prior, 0.05 rad) and its odometry pitches 0.001 rad a keyframe too much; it meets no
+  // keyframe of robot a. Its references tie it to the up direction robot a's set: every node of
+  // the graph is in the shared frame (docs/consistency.md "Gravity reference").
+  const Drive a = drive(30, 0.0), b = drive(30, 0.001);
+  const auto run = [&](double sigma) {
+    PoseGraph g = chainGraph(a, sigma);
+    const int first = static_cast<int>(g.size());
+    Eigen::Isometry3d joined = b.truth[0];
+    joined.linear() = joined.linear() * Eigen::AngleAxisd(0.03, Eigen::Vector3d::UnitX());
+    std::vector<Eigen::Isometry3d> chain{joined};
+    for (std::size_t i = 1; i < b.odometry.size(); ++i)
+      chain.push_back(chain.back() * (b.odometry[i - 1].inverse() * b.odometry[i]));
+    for (const Eigen::Isometry3d& p : chain) g.addNode(p);
+    for (int i = 1; i < static_cast<int>(chain.size()); ++i)
+      g.addEdge(
+          {first + i - 1, first + i,
+           chain[static_cast<std::size_t>(i - 1)].inverse() * chain[static_cast<std::size_t>(i)],
+           odometryInformation()});
+    g.addPrior({first, joined, isotropicInformation(1.0, 0.05), false});
+    if (sigma > 0.0)
+      for (std::size_t i = 0; i < b.up.size(); ++i)
+        g.addGravityPrior({first + static_cast<int>(i), b.up[i], sigma});
+    g.optimize();
+    double worst = 0.0;  // robot b's tilt error (both drives start level: the map's up is +z)
+    for (std::size_t i = 0; i < b.up.size(); ++i)
+      worst = std::max(
+          worst,
+          angle(g.pose(first + static_cast<int>(i)).linear().transpose() * a.map_up, b.up[i]));
+    return worst;
+  };
+  const double without = run(0.0), with = run(0.002);
+  EXPECT_GT(without, 0.03);
+  EXPECT_LT(with, 0.003) << without;
+}
+
 TEST(GravityPrior, TheFirstReferenceNeedNotBeTheFirstKeyframes) {
   // Keyframes without a reference get no prior; the up direction starts at the first one with.
   const Drive d = drive(30, 0.001);

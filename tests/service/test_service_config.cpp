@@ -89,6 +89,8 @@ TEST(ServerConfig, ErrorsNameTheFileAndTheKey) {
             at + "consistency.keyframe_distance must be > 0");
   EXPECT_EQ(error("consistency:\n  max_descriptor_distance: 2\n"),
             at + "consistency.max_descriptor_distance must be in [0, 1]");
+  EXPECT_EQ(error("consistency:\n  gravity_sigma_floor: 0\n"),
+            at + "consistency.gravity_sigma_floor must be > 0");
   EXPECT_EQ(error("localization:\n  max_draws: 0\n"), at + "localization.max_draws must be > 0");
   EXPECT_EQ(error("localization:\n  max_draws: 5000\n  max_inlier_tests: 100000\n"), "accepted");
   EXPECT_EQ(error("limits:\n  max_robots: many\n"),
