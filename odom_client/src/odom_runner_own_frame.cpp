@@ -106,7 +106,7 @@ std::string OdomRunner::searchShared(Odometry& odometry, const FrameEstimate& ne
 void OdomRunner::mergeOwnFrame(Odometry& odometry, const FrameEstimate& newest,
                                const Eigen::Isometry3d& verified) {
   const Eigen::Isometry3d shared_T_own = sharedFromOwn(verified, newest.pose);
-  const OwnKeyframe last{newest.seq, newest.utime, newest.pose, newest.cloud};
+  const OwnKeyframe last{newest.seq, newest.utime, newest.pose, newest.cloud, newest.gravity};
   const std::vector<OwnKeyframe> kept = mergedKeyframes(own_->keyframes(), last, shared_T_own);
   // The own-frame stretch reaches the shared map in order, before the robot's next frame: the
   // server sees a robot's first integration and then plausible steps.
@@ -131,8 +131,8 @@ void OdomRunner::mergeOwnFrame(Odometry& odometry, const FrameEstimate& newest,
 }
 
 void OdomRunner::integrateKept(const OwnKeyframe& keyframe) {
-  const auto reply = client_.integrate(
-      rpc::makeIntegrateRequest(keyframe.seq, keyframe.utime, keyframe.pose, keyframe.cloud));
+  const auto reply = client_.integrate(rpc::makeIntegrateRequest(
+      keyframe.seq, keyframe.utime, keyframe.pose, keyframe.cloud, keyframe.gravity));
   if (reply.ok()) return;
   if (reply.error.status == reply_header_t::FAILED_PRECONDITION) {  // judged implausible
     std::cerr << "odom_client: warning: the server refused kept scan " << keyframe.seq << ": "
