@@ -84,6 +84,11 @@ socc::integrate_request_t integrateSeeds(SeedWriter& w) {
   in.xyz_resolution = socc::wire::quantizePoints(points, in.xyz);
   in.num_points = in.num_labels = in.num_times = 12;
   w.message("fuzz_integrate_request", "plain", in);
+  socc::integrate_request_t with_gravity = in;  // an INS's up direction (docs/lcm.md)
+  with_gravity.gravity_up[0] = 0.6f;
+  with_gravity.gravity_up[2] = 0.8f;
+  with_gravity.gravity_sigma = 6e-4f;
+  w.message("fuzz_integrate_request", "gravity", with_gravity);
   socc::auth::sign(in, key, 42);
   w.message("fuzz_integrate_request", "signed", in);
   return in;

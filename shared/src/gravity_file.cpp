@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -10,16 +11,23 @@
 namespace socc {
 namespace {
 
+// strtod, not operator>>: "nan" and "inf" are read, and then refused as not finite.
+bool parseNumber(const std::string& token, double& value) {
+  char* end = nullptr;
+  value = std::strtod(token.c_str(), &end);
+  return end != token.c_str() && *end == '\0';
+}
+
 std::optional<GravityReference> parseGravityLine(const std::string& line, std::string& error) {
   std::istringstream in(line);
   double v[4];
+  std::string token;
   for (double& x : v)
-    if (!(in >> x)) {
+    if (!(in >> token) || !parseNumber(token, x)) {
       error = "expected 4 numbers \"ux uy uz sigma_rad\"";
       return std::nullopt;
     }
-  std::string rest;
-  if (in >> rest) {
+  if (in >> token) {
     error = "more than 4 values";
     return std::nullopt;
   }
