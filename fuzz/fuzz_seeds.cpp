@@ -253,6 +253,7 @@ void fileSeeds(SeedWriter& w) {
   w.selected(r, 5, "times", "0.0\n1.036e-01\n");
   w.selected(r, 6, "xyz", raw(std::vector<float>{1, 2, 3}));
   w.selected(r, 7, "floats", raw(std::vector<float>{0.0f, 0.05f}));
+  w.selected(r, 8, "gravity", "0.01 -0.02 0.9997499 6.0e-04\n0 0 1 0\n");
 
   const std::string y = "fuzz_config_yaml";
   w.selected(y, 0, "map.yaml", "voxel_size: 0.5\nmax_range: 80\nsemantics: true\np_hit: 0.55\n");
