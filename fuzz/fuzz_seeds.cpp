@@ -84,6 +84,11 @@ socc::integrate_request_t integrateSeeds(SeedWriter& w) {
   in.xyz_resolution = socc::wire::quantizePoints(points, in.xyz);
   in.num_points = in.num_labels = in.num_times = 12;
   w.message("fuzz_integrate_request", "plain", in);
+  socc::integrate_request_t with_gravity = in;  // an INS's up direction (docs/lcm.md)
+  with_gravity.gravity_up[0] = 0.6f;
+  with_gravity.gravity_up[2] = 0.8f;
+  with_gravity.gravity_sigma = 6e-4f;
+  w.message("fuzz_integrate_request", "gravity", with_gravity);
   socc::auth::sign(in, key, 42);
   w.message("fuzz_integrate_request", "signed", in);
   return in;
@@ -248,6 +253,7 @@ void fileSeeds(SeedWriter& w) {
   w.selected(r, 5, "times", "0.0\n1.036e-01\n");
   w.selected(r, 6, "xyz", raw(std::vector<float>{1, 2, 3}));
   w.selected(r, 7, "floats", raw(std::vector<float>{0.0f, 0.05f}));
+  w.selected(r, 8, "gravity", "0.01 -0.02 0.9997499 6.0e-04\n0 0 1 0\n");
 
   const std::string y = "fuzz_config_yaml";
   w.selected(y, 0, "map.yaml", "voxel_size: 0.5\nmax_range: 80\nsemantics: true\np_hit: 0.55\n");

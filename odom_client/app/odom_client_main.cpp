@@ -37,8 +37,8 @@ struct Args {
   std::string lcm_url{socc::channels::kDefaultLcmUrl};
   std::string scan_lcm_url;               // --live: where scans arrive; empty = lcm_url
   std::vector<std::string> config_files;  // --config, layered in order
-  bool live = false, no_semantics = false, resume = false, quiet = false, relocalize = false,
-       own_frame = false, no_revised = false;
+  bool live = false, no_semantics = false, no_gravity = false, resume = false, quiet = false,
+       relocalize = false, own_frame = false, no_revised = false;
   double revised_wait_s = 30.0;  // --revised-wait
   double hint_radius = 0.0, hint_yaw_tolerance_deg = 180.0;
   double frame_period = 0.0;  // --frame-period; 0: the config's frame_period
@@ -161,6 +161,9 @@ void addOptions(CLI::App& app, Args& a) {
   app.add_flag("--resume", a.resume,
                "continue from the pose/seq the server holds for --robot-id (GET_ROBOT_POSE)");
   app.add_flag("--no-semantics", a.no_semantics, "ignore labels (all points unlabeled)");
+  app.add_flag("--no-gravity", a.no_gravity,
+               "do not send the input's gravity reference (a KITTI directory's gravity.txt) "
+               "with the INTEGRATE requests");
   app.add_option("--idle-timeout", a.idle_timeout_s,
                  "--live: stop after this many seconds without scans")
       ->capture_default_str();
@@ -355,6 +358,7 @@ int main(int argc, char** argv) {
     OdomConfig config =
         loadOdomConfig(std::vector<fs::path>(args.config_files.begin(), args.config_files.end()));
     if (args.no_semantics) config.use_semantics = false;
+    if (args.no_gravity) config.use_gravity = false;
     if (args.frame_period > 0.0) config.frame_period = args.frame_period;
     if (!args.out_dir.empty()) fs::create_directories(args.out_dir);
     socc::rpc::MapClient client(clientOptions(args, config));

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "socc/gravity_file.hpp"
 #include "socc/kitti_io.hpp"
 #include "socc/labels.hpp"
 #include "socc/odom/scan_source.hpp"
@@ -22,6 +23,14 @@ class KittiDirectorySource final : public ScanSource {
       times_ = readTimes(times);
       if (times_.size() < sequence_.scans.size())
         throw std::runtime_error(times.string() + ": fewer times than scans");
+    }
+    const fs::path gravity = root / "gravity.txt";
+    if (fs::exists(gravity)) {
+      gravity_ = readGravityFile(gravity);
+      if (gravity_.size() < sequence_.scans.size())
+        throw std::runtime_error(gravity.string() + ": " + std::to_string(gravity_.size()) +
+                                 " lines for " + std::to_string(sequence_.scans.size()) +
+                                 " scans (one line per velodyne/ scan)");
     }
     const auto n = static_cast<std::int64_t>(sequence_.scans.size());
     if (range.first < 0 || range.first >= n)
@@ -59,6 +68,7 @@ class KittiDirectorySource final : public ScanSource {
     }
     scan.utime = times_.empty() ? std::llround(static_cast<double>(i) * frame_period_ * 1e6)
                                 : static_cast<std::int64_t>(times_[i] * 1e6);
+    if (!gravity_.empty()) scan.gravity = gravity_[i];
     return scan;
   }
 
@@ -74,6 +84,7 @@ class KittiDirectorySource final : public ScanSource {
   KittiSequence sequence_;
   double frame_period_;
   std::vector<double> times_;
+  std::vector<std::optional<GravityReference>> gravity_;  // empty: no gravity.txt
   std::int64_t next_ = 0;
   std::int64_t end_ = 0;
 };

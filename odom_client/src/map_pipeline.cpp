@@ -129,7 +129,7 @@ MapPipeline::Exchange MapPipeline::exchange(const FrameEstimate& frame,
                                             const std::optional<Eigen::Vector3d>& fetch_at) {
   Exchange x;
   integrate_request_t request =
-      rpc::makeIntegrateRequest(frame.seq, frame.utime, frame.pose, frame.cloud);
+      rpc::makeIntegrateRequest(frame.seq, frame.utime, frame.pose, frame.cloud, frame.gravity);
   x.bytes_sent = static_cast<std::int64_t>(request.getEncodedSize());
   const Clock::time_point start = Clock::now();
   x.integrate = client_.integrate(std::move(request));

@@ -42,6 +42,7 @@ YamlFields fields(OdomConfig& c) {
       {"alpha_ground", &c.alpha_ground},
       {"alpha_default", &c.alpha_default},
       {"use_semantics", &c.use_semantics},
+      {"use_gravity", &c.use_gravity},
       {"initial_threshold", &c.initial_threshold},
       {"min_motion", &c.min_motion},
       {"refine_threshold", &c.refine_threshold},

@@ -95,7 +95,8 @@ std::string OdomRunner::followSearch(Odometry& odometry, const FrameEstimate& ne
   }
   if (!done) return {};
   if (!done->found.pose) return "searching the shared map: " + done->found.problem;
-  mergeOwnFrame(odometry, {newest.seq, newest.utime, newest.pose, newest.cloud}, *done);
+  mergeOwnFrame(odometry, {newest.seq, newest.utime, newest.pose, newest.cloud, newest.gravity},
+                *done);
   return std::exchange(jump_, {});  // this frame's row says it (not the next frame's)
 }
 
@@ -150,8 +151,8 @@ void OdomRunner::mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest,
 }
 
 void OdomRunner::integrateKept(const OwnKeyframe& keyframe) {
-  const auto reply = client_.integrate(
-      rpc::makeIntegrateRequest(keyframe.seq, keyframe.utime, keyframe.pose, keyframe.cloud));
+  const auto reply = client_.integrate(rpc::makeIntegrateRequest(
+      keyframe.seq, keyframe.utime, keyframe.pose, keyframe.cloud, keyframe.gravity));
   if (reply.ok()) return;
   if (reply.error.status == reply_header_t::FAILED_PRECONDITION) {  // judged implausible
     std::cerr << "odom_client: warning: the server refused kept scan " << keyframe.seq << ": "

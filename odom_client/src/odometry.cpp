@@ -123,6 +123,7 @@ FrameEstimate Odometry::registerFrame(const PreparedScan& scan, const LocalMap& 
     FrameEstimate out;
     out.seq = scan.seq;
     out.utime = scan.utime;
+    out.gravity = scan.gravity;
     out.pose = pose_;
     out.held = true;
     return out;
@@ -411,6 +412,7 @@ void Odometry::finish(const PreparedScan& scan, const Eigen::Isometry3d& mid_pos
   const double ref = config_.deskew_reference_time;
   out.seq = scan.seq;
   out.utime = scan.utime;
+  out.gravity = scan.gravity;
   out.pose = orthonormalized(mid_pose * expSe3((ref - scan.mid_time) * twist));
   out.cloud = deskew(scan.cloud, twist, ref);
   out.cloud.times.clear();  // deskewed: the points now all refer to the reference time

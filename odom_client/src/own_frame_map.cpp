@@ -9,8 +9,8 @@ OwnFrameMap::OwnFrameMap(OwnFrameLimits limits) : limits_(limits), recent_(limit
 void OwnFrameMap::add(const FrameEstimate& frame) {
   recent_.push(frame);
   if (!isKeyframe(frame.pose)) return;
-  keyframes_.push_back(
-      {frame.seq, frame.utime, frame.pose, thinnedCloud(frame.cloud, limits_.keyframe_spacing)});
+  keyframes_.push_back({frame.seq, frame.utime, frame.pose,
+                        thinnedCloud(frame.cloud, limits_.keyframe_spacing), frame.gravity});
   if (keyframes_.size() > std::max<std::size_t>(1, limits_.max_keyframes)) {
     keyframes_.erase(keyframes_.begin());
     ++dropped_;

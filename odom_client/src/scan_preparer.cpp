@@ -31,6 +31,7 @@ std::optional<PreparedInput> ScanPreparer::readAndPrepare() const {
   if (out.skipped) return out;
   try {
     out.scan = prepareScan(config_, scan->cloud, scan->seq, scan->utime);
+    if (config_.use_gravity) out.scan->gravity = scan->gravity;
   } catch (const std::invalid_argument& e) {
     out.problem = e.what();
   }

@@ -33,6 +33,7 @@ struct Arguments {
   std::string realism = "none";
   std::vector<std::string> realism_off;
   double realism_scale = 1.0;
+  std::optional<std::string> imu;  // default: ins with --realism kitti, none without
   bool quiet = false;
 };
 
@@ -71,11 +72,14 @@ int run(const Arguments& a) {
   options.write_point_times = a.distortion;
   options.show_progress = !a.quiet;
   options.scan = {a.distortion, a.seed, &realism, a.sensor_seed};
+  const std::string imu = a.imu.value_or(a.realism == "kitti" ? "ins" : "none");
+  options.imu = imuPreset(imu);
   const SequenceSummary summary = writeSequence(a.out, scene, model, options);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "wrote " << options.frames << " frames (" << a.scene << ", " << a.sensor << ") to "
-            << a.out.string() << " in " << seconds << " s (realism " << a.realism << ")\n";
+            << a.out.string() << " in " << seconds << " s (realism " << a.realism << ", imu " << imu
+            << ")\n";
   if (summary.label_classes > 0)
     std::cout << "labels: mIoU " << 100.0 * summary.label_miou << " % against the exact labels ("
               << summary.label_classes << " classes)\n";
@@ -88,8 +92,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "socc-sim: ray-casts a procedurally generated, seeded world into a synthetic LiDAR\n"
       "sequence with exact ground truth, written in the KITTI layout (velodyne/, labels/ with\n"
-      "raw SemanticKITTI ids, poses.txt in the LiDAR frame, calib.txt, times.txt and, with\n"
-      "--distortion, point_times/). Same seed -> identical files.\n"
+      "raw SemanticKITTI ids, poses.txt in the LiDAR frame, calib.txt, times.txt, with\n"
+      "--distortion point_times/, with an --imu gravity.txt). Same seed -> identical files.\n"
       "Default: 100 frames of an urban street (HDL-64, 9 m/s, moving cars and pedestrians)."};
   app.set_version_flag("--version", socc::versionLine("socc-sim"));
   Arguments a;
@@ -151,6 +155,12 @@ int main(int argc, char** argv) {
                  "Multiply every magnitude of the preset (probabilities saturate at 1)")
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
+  app.add_option("--imu", a.imu,
+                 "Attitude sensor writing gravity.txt (the up direction in the sensor frame per "
+                 "frame, sim/README.md \"Attitude sensor\"): none, ins (an OxTS RT3003-class "
+                 "INS, 0.035 deg), mems (a MEMS IMU with an attitude filter, 0.24 deg); "
+                 "default: ins with --realism kitti, none otherwise")
+      ->check(CLI::IsMember({"none", "ins", "mems"}));
   app.add_flag("--quiet", a.quiet, "No progress bar");
   CLI11_PARSE(app, argc, argv);
   try {

@@ -2,8 +2,10 @@
 
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 
+#include "socc/gravity_file.hpp"
 #include "socc/kitti_io.hpp"
 #include "socc/progress_bar.hpp"
 #include "socc/sim/label_noise.hpp"
@@ -36,6 +38,11 @@ SequenceSummary writeSequence(const fs::path& out, const Scene& scene, const Lid
   std::string times;
   const Eigen::Isometry3d first_inverse = scene.trajectory.poseAt(0.0).inverse();
   LabelScore labels;
+  std::optional<AttitudeSensor> imu;
+  if (options.imu.any())
+    imu.emplace(options.imu, options.scan.seed,
+                options.scan.sensor_seed.value_or(options.scan.seed));
+  std::vector<std::optional<GravityReference>> gravity;
   ProgressBar progress("socc-sim", options.frames, options.show_progress);
   for (std::size_t k = 0; k < options.frames; ++k) {
     const double t = options.frame_period * static_cast<double>(k);
@@ -49,8 +56,11 @@ SequenceSummary writeSequence(const fs::path& out, const Scene& scene, const Lid
               static_cast<std::streamsize>(scan.times.size() * sizeof(float)));
       if (!f) throw std::runtime_error((out / "point_times").string() + ": cannot write");
     }
+    const Eigen::Isometry3d pose = scene.trajectory.poseAt(t);
     // KITTI convention: poses relative to the first frame.
-    poses.push_back(first_inverse * scene.trajectory.poseAt(t));
+    poses.push_back(first_inverse * pose);
+    // The up direction in the sensor frame at the pose's time, independent of frame 0's tilt.
+    if (imu) gravity.push_back(imu->measure(pose.linear(), t));
     char line[32];
     std::snprintf(line, sizeof(line), "%e\n", t);
     times += line;
@@ -60,6 +70,10 @@ SequenceSummary writeSequence(const fs::path& out, const Scene& scene, const Lid
   writeKittiPoses(out / "poses.txt", poses);
   writeText(out / "times.txt", times);
   writeText(out / "calib.txt", "Tr: 1 0 0 0 0 1 0 0 0 0 1 0\n");
+  if (imu)
+    writeGravityFile(out / "gravity.txt", gravity);
+  else
+    fs::remove(out / "gravity.txt");  // a stale one would belong to another sequence
   return {labels.meanIou(), labels.classesPresent()};
 }
 

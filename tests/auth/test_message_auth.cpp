@@ -46,7 +46,7 @@ TEST(MessageAuth, SurvivesEncodeDecode) {
   sign(r, keyOf(1), 5);
   std::vector<std::uint8_t> buf(static_cast<std::size_t>(r.getEncodedSize()));
   ASSERT_EQ(r.encode(buf.data(), 0, static_cast<int>(buf.size())), static_cast<int>(buf.size()));
-  integrate_request_t decoded;
+  integrate_request_t decoded{};
   ASSERT_GT(decoded.decode(buf.data(), 0, static_cast<int>(buf.size())), 0);
   Verifier v(keyOf(1));
   EXPECT_TRUE(v.verify(decoded).ok);

@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "service/journal.hpp"
+#include "service/journal_entry.hpp"
 #include "service/snapshot_metadata.hpp"
 #include "service_test_helpers.hpp"
 #include "socc/rpc/safe_decode.hpp"
@@ -149,6 +150,65 @@ TEST(Durability, JournalKeepsTheReceivedBytes) {
   restored.openDurability(files.durability(), files.dir.path() / "map.snap");
   EXPECT_EQ(restored.integrations(), 3);
   EXPECT_EQ(test::content(restored.getChunk(test::everything())), content);
+}
+
+// The request as a server before the gravity fields (docs/lcm.md "Gravity reference") encoded it.
+integrate_request_v1_t preGravity(const integrate_request_t& r) {
+  integrate_request_v1_t old{};
+  old.header = r.header;
+  old.seq = r.seq;
+  old.scan_utime = r.scan_utime;
+  old.sensor_pose = r.sensor_pose;
+  old.num_points = r.num_points;
+  old.xyz_resolution = r.xyz_resolution;
+  old.xyz = r.xyz;
+  old.num_labels = r.num_labels;
+  old.label = r.label;
+  old.num_times = r.num_times;
+  old.time = r.time;
+  return old;
+}
+
+TEST(Durability, PreGravityTypeHasTheOldFingerprint) {
+  // integrate_request_t's fingerprint before the gravity fields (lcm-gen 1.3.1 on the .lcm of
+  // the commit before them); a journal of such a server holds exactly these bytes.
+  EXPECT_EQ(static_cast<std::uint64_t>(integrate_request_v1_t::getHash()), 0x818a59ffcd162226ull);
+  EXPECT_NE(integrate_request_v1_t::getHash(), integrate_request_t::getHash());
+  // Neither form decodes as the other: the journal reader tells them apart by the fingerprint.
+  const integrate_request_t now = scan("robot1", 1);
+  const auto now_bytes = test::encode(now);
+  const auto old_bytes = test::encode(preGravity(now));
+  EXPECT_FALSE(rpc::safeDecode<integrate_request_v1_t>(now_bytes.data(),
+                                                       static_cast<int>(now_bytes.size())));
+  EXPECT_FALSE(
+      rpc::safeDecode<integrate_request_t>(old_bytes.data(), static_cast<int>(old_bytes.size())));
+  const auto decoded = decodeJournalEntry(old_bytes.data(), old_bytes.size());
+  ASSERT_TRUE(decoded);
+  EXPECT_EQ(decoded->gravity_sigma, 0.f);
+  EXPECT_EQ(test::encode(*decoded), now_bytes);  // the same request, without a reference
+  EXPECT_FALSE(decodeJournalEntry(old_bytes.data(), old_bytes.size() - 1));
+}
+
+TEST(Durability, PreGravityJournalReplays) {
+  // A journal written by a server before the gravity fields: its entries are the old encoding.
+  Files files;
+  std::vector<std::uint8_t> content;
+  {
+    MapService live(test::smallConfig(files.dir.path()));
+    Journal old_server(files.dir.path() / "journal.lcmlog", 0);
+    for (int seq = 1; seq <= 3; ++seq) {
+      const integrate_request_t request = scan("robot1", seq, 0.4 * seq);
+      const auto bytes = test::encode(preGravity(request));
+      old_server.append(bytes.data(), bytes.size());
+      live.integrate(request);
+    }
+    content = test::content(live.getChunk(test::everything()));
+  }
+  MapService restored(test::smallConfig(files.dir.path()));
+  restored.openDurability(files.durability(), std::nullopt);
+  EXPECT_EQ(restored.integrations(), 3);
+  EXPECT_EQ(test::content(restored.getChunk(test::everything())), content);
+  EXPECT_EQ(restored.robots().find("robot1")->last_seq, 3);
 }
 
 TEST(Durability, ClearAndLoadRestartTheJournal) {

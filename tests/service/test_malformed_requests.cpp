@@ -185,6 +185,35 @@ std::vector<Case> cases() {
          }));
        },
        +R::INVALID_ARGUMENT},
+      {"NaN gravity_sigma", kInt,
+       [nan] { return test::encode(modified([&](auto& r) { r.gravity_sigma = nan; })); },
+       +R::INVALID_ARGUMENT},
+      {"negative gravity_sigma", kInt,
+       [] { return test::encode(modified([](auto& r) { r.gravity_sigma = -0.001f; })); },
+       +R::INVALID_ARGUMENT},
+      {"gravity_sigma above 0.5 rad", kInt,
+       [] { return test::encode(modified([](auto& r) { r.gravity_sigma = 0.6f; })); },
+       +R::INVALID_ARGUMENT},
+      {"non-unit gravity_up", kInt,
+       [] {
+         return test::encode(modified([](auto& r) {
+           r.gravity_up[2] = 1.02f;
+           r.gravity_sigma = 0.001f;
+         }));
+       },
+       +R::INVALID_ARGUMENT},
+      {"zero gravity_up", kInt,
+       [] { return test::encode(modified([](auto& r) { r.gravity_sigma = 0.001f; })); },
+       +R::INVALID_ARGUMENT},
+      {"NaN gravity_up", kInt,
+       [nan] {
+         return test::encode(modified([&](auto& r) {
+           r.gravity_up[0] = nan;
+           r.gravity_up[2] = 1.f;
+           r.gravity_sigma = 0.001f;
+         }));
+       },
+       +R::INVALID_ARGUMENT},
       {"negative seq", kInt, [] { return test::encode(modified([](auto& r) { r.seq = -1; })); },
        +R::INVALID_ARGUMENT},
       {"too many points", kInt,
@@ -274,6 +303,29 @@ TEST(MalformedRequests, RejectedAndMapUnchanged) {
   ASSERT_EQ(harness.replies.size(), 1u);
   EXPECT_EQ(headerOf(harness.replies[0])->status, +reply_header_t::OK);
   EXPECT_GT(harness.service.map().version(), version);
+}
+
+TEST(MalformedRequests, GravityReferenceAcceptedAndNamedWhenRefused) {
+  RouterHarness harness(test::smallConfig());
+  integrate_request_t with = scan("robot1", 1);
+  with.gravity_up[0] = 0.6f;  // any unit direction: the sensor may be mounted tilted
+  with.gravity_up[2] = 0.8f;
+  with.gravity_sigma = 0.0006f;
+  harness.send(std::string(channels::kIntegrate), test::encode(with));
+  integrate_request_t unused = scan("robot1", 2, 0.5);
+  unused.gravity_up[0] = std::numeric_limits<float>::quiet_NaN();  // sigma 0: not read
+  harness.send(std::string(channels::kIntegrate), test::encode(unused));
+  integrate_request_t bad = scan("robot1", 3, 1.0);
+  bad.gravity_up[2] = 2.f;
+  bad.gravity_sigma = 0.001f;
+  harness.send(std::string(channels::kIntegrate), test::encode(bad));
+  ASSERT_EQ(harness.replies.size(), 3u);
+  EXPECT_EQ(headerOf(harness.replies[0])->status, +reply_header_t::OK);
+  EXPECT_EQ(headerOf(harness.replies[1])->status, +reply_header_t::OK);
+  const auto refused = headerOf(harness.replies[2]);
+  EXPECT_EQ(refused->status, +reply_header_t::INVALID_ARGUMENT);
+  EXPECT_NE(refused->message.find("gravity_up must be a unit vector"), std::string::npos)
+      << refused->message;
 }
 
 TEST(MalformedRequests, RandomBytesNeverCrash) {

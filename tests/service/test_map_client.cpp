@@ -354,7 +354,7 @@ TEST(MapClientAuth, EveryRetryIsResignedWithANewCounter) {
   auth::Verifier verifier(mapClientKey());  // the server's view: each attempt is fresh and genuine
   std::optional<integrate_request_t> first;
   for (const auto& bytes : attempts) {
-    integrate_request_t request;
+    integrate_request_t request{};
     ASSERT_EQ(request.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
               static_cast<int>(bytes.size()));
     const auth::AuthResult result =

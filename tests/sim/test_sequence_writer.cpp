@@ -2,10 +2,13 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 
+#include "socc/gravity_file.hpp"
 #include "socc/kitti_io.hpp"
 #include "socc/sim/sequence_writer.hpp"
 
@@ -29,7 +32,8 @@ class SequenceWriter : public ::testing::Test {
   void TearDown() override { fs::remove_all(tempRoot()); }
 };
 
-fs::path generate(const std::string& name, std::uint64_t seed, std::size_t frames = 3) {
+fs::path generate(const std::string& name, std::uint64_t seed, std::size_t frames = 3,
+                  const ImuErrors& imu = {}) {
   SceneOptions scene_options;
   scene_options.frames = frames;
   scene_options.seed = seed;
@@ -42,6 +46,7 @@ fs::path generate(const std::string& name, std::uint64_t seed, std::size_t frame
   options.write_point_times = true;
   options.show_progress = false;
   options.scan = {true, seed};
+  options.imu = imu;
   const fs::path out = tempDir(name);
   writeSequence(out, scene, model, options);
   return out;
@@ -87,6 +92,27 @@ TEST_F(SequenceWriter, SameSeedSameBytesOtherSeedDiffers) {
   EXPECT_TRUE(sameFiles(a, b));
   EXPECT_TRUE(sameFiles(b, a));
   EXPECT_NE(contents(a / "velodyne" / "000001.bin"), contents(c / "velodyne" / "000001.bin"));
+}
+
+TEST_F(SequenceWriter, AnImuWritesGravityAndChangesNothingElse) {
+  const fs::path none = generate("none", 5, 3);
+  EXPECT_FALSE(fs::exists(none / "gravity.txt"));
+  const fs::path ins = generate("ins", 5, 3, imuPreset("ins"));
+  EXPECT_TRUE(sameFiles(none, ins));  // the scans, poses and times of the seed, byte for byte
+  const auto gravity = readGravityFile(ins / "gravity.txt");
+  ASSERT_EQ(gravity.size(), 3u);
+  for (const auto& g : gravity) {
+    ASSERT_TRUE(g.has_value());
+    EXPECT_NEAR(g->sigma, imuPreset("ins").sigma(), 1e-9);
+    // No body motion here: the sensor is level, up is +z but for the sensor's errors.
+    EXPECT_LT(std::acos(std::min(1.0, g->up.z())), 6.0 * g->sigma);
+  }
+  // Writing the same directory again without an IMU leaves no stale gravity.txt.
+  SequenceOptions options;
+  options.frames = 1;
+  options.show_progress = false;
+  writeSequence(ins, buildScene({}), lidarPreset("vlp16"), options);
+  EXPECT_FALSE(fs::exists(ins / "gravity.txt"));
 }
 
 TEST_F(SequenceWriter, UnwritableDirectoryThrows) {

@@ -1,10 +1,10 @@
 // Snapshots and the write-ahead journal (issue 6: the map survives kill -9).
 #include <stdexcept>
 
+#include "journal_entry.hpp"
 #include "map_service.hpp"
 #include "snapshot_metadata.hpp"
 #include "socc/progress_bar.hpp"
-#include "socc/rpc/safe_decode.hpp"
 
 namespace socc::service {
 
@@ -53,8 +53,8 @@ std::int64_t MapService::replayJournal(const JournalContents& contents, bool sho
     ++sequence;
     progress.tick();
     if (sequence <= integrations_) continue;  // already in the snapshot
-    const auto request =
-        rpc::safeDecode<integrate_request_t>(bytes.data(), static_cast<int>(bytes.size()));
+    // Entries of a pre-gravity server decode too (without a gravity reference).
+    const auto request = decodeJournalEntry(bytes.data(), bytes.size());
     if (!request)
       throw std::runtime_error("journal entry " + std::to_string(sequence) + " does not decode");
     integrate_reply_t reply{};

@@ -26,6 +26,29 @@ Status checkBox(const double box_min[3], const double box_max[3], const ServiceL
   return {};
 }
 
+// docs/lcm.md "Gravity reference": sigma 0 is none; a stated reference must be a unit vector.
+Status checkGravity(const integrate_request_t& request) {
+  const float sigma = request.gravity_sigma;
+  if (!(std::isfinite(sigma) && sigma >= 0.f && sigma <= kMaxGravitySigma))
+    return Status::invalid("gravity_sigma must be finite and in [0, " +
+                           std::to_string(kMaxGravitySigma) + "] rad (0: no gravity reference)");
+  if (sigma == 0.f) return {};
+  const float* up = request.gravity_up;
+  if (!(std::isfinite(up[0]) && std::isfinite(up[1]) && std::isfinite(up[2])))
+    return Status::invalid("gravity_up must be finite when gravity_sigma > 0");
+  const double norm =
+      std::sqrt(double{up[0]} * up[0] + double{up[1]} * up[1] + double{up[2]} * up[2]);
+  if (std::abs(norm - 1.0) > kGravityUpTolerance) {
+    char text[128];
+    std::snprintf(text, sizeof(text),
+                  "gravity_up must be a unit vector (length %.4f, allowed 1 +- %.2f) when "
+                  "gravity_sigma > 0",
+                  norm, kGravityUpTolerance);
+    return Status::invalid(text);
+  }
+  return {};
+}
+
 Status checkThreshold(float threshold) {
   if (!(threshold >= 0.0f && threshold <= 1.0f))
     return Status::invalid("occupancy_threshold must be in [0, 1]");
@@ -55,7 +78,7 @@ Status checkIntegrateRequest(const integrate_request_t& request, const map::MapC
   if (const std::string why = checkPose(request.sensor_pose, config.max_abs_coordinate);
       !why.empty())
     return Status::invalid("sensor_pose: " + why);
-  return {};
+  return checkGravity(request);
 }
 
 Status checkChunkRequest(const chunk_request_t& request, const ServiceLimits& limits) {

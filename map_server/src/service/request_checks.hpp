@@ -13,7 +13,13 @@
 
 namespace socc::service {
 
-/// The wire form of an Integrate: seq, array sizes, point count limit, the pose's encoding.
+/// A stated gravity reference (docs/lcm.md "Gravity reference"): its sigma at most this [rad]
+/// (29 deg: anything looser says nothing), its up vector this close to unit length.
+inline constexpr float kMaxGravitySigma = 0.5f;
+inline constexpr double kGravityUpTolerance = 0.01;
+
+/// The wire form of an Integrate: seq, array sizes, point count limit, the pose's encoding, the
+/// gravity reference (finite sigma in [0, kMaxGravitySigma]; when > 0 a finite unit gravity_up).
 /// The content (points, labels, pose as a rotation) is checked once by the map's validate().
 Status checkIntegrateRequest(const integrate_request_t& request, const map::MapConfig& config);
 Status checkChunkRequest(const chunk_request_t& request, const ServiceLimits& limits);

@@ -70,6 +70,7 @@ std::string checkIntegrateWire(const void* data, int size) {
     return "num_points does not match the message size";
   if (!cursor.skipArray(1)) return "num_labels does not match the message size";
   if (!cursor.skipArray(4)) return "num_times does not match the message size";
+  if (!cursor.skip(4 * 4)) return "truncated integrate request (gravity_up, gravity_sigma)";
   return {};
 }
 

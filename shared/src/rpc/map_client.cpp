@@ -328,7 +328,8 @@ localize_request_t makeLocalizeRequest(const std::vector<Eigen::Vector3f>& point
 
 integrate_request_t makeIntegrateRequest(std::int64_t seq, std::int64_t scan_utime,
                                          const Eigen::Isometry3d& sensor_pose,
-                                         const LabeledCloud& cloud) {
+                                         const LabeledCloud& cloud,
+                                         const std::optional<GravityReference>& gravity) {
   integrate_request_t request{};
   request.seq = seq;
   request.scan_utime = scan_utime;
@@ -339,6 +340,11 @@ integrate_request_t makeIntegrateRequest(std::int64_t seq, std::int64_t scan_uti
   request.label.assign(cloud.labels.begin(), cloud.labels.end());
   request.num_times = static_cast<std::int32_t>(cloud.times.size());
   request.time = cloud.times;
+  if (gravity) {  // else gravity_sigma stays 0: no reference
+    const Eigen::Vector3d up = gravity->up.normalized();
+    for (int i = 0; i < 3; ++i) request.gravity_up[i] = static_cast<float>(up[i]);
+    request.gravity_sigma = static_cast<float>(gravity->sigma);
+  }
   return request;
 }
 

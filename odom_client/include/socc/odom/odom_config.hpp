@@ -61,6 +61,7 @@ struct OdomConfig {
   double alpha_ground = 0.8;        // road, parking, sidewalk, terrain
   double alpha_default = 1.0;       // every other class, and unlabeled
   bool use_semantics = true;        // false: every label is treated as 0 (unlabeled)
+  bool use_gravity = true;  // false: the source's gravity reference is not sent (--no-gravity)
 
   // KISS-ICP adaptive threshold.
   double initial_threshold = 2.0;  // [m] sigma before any motion was observed

@@ -15,6 +15,7 @@
 #include <optional>
 #include <string>
 
+#include "socc/gravity_reference.hpp"
 #include "socc/odom/adaptive_threshold.hpp"
 #include "socc/odom/frame_health.hpp"
 #include "socc/odom/frame_period.hpp"
@@ -32,6 +33,7 @@ struct PreparedScan {
   std::int64_t seq = 0;    // copied into the estimate
   std::int64_t utime = 0;  // scan timestamp [us]
   double mid_time = 0.0;   // [s, relative to utime] middle of the sweep (0 without times)
+  std::optional<GravityReference> gravity = std::nullopt;  // the source's, passed on
   double time() const { return utime * 1e-6 + mid_time; }  // [s] of the mid-sweep pose
 };
 
@@ -46,6 +48,7 @@ struct FrameEstimate {
   std::int64_t utime = 0;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // map_T_sensor at the reference time
   LabeledCloud cloud;  // deskewed to the reference time, no times: what is integrated
+  std::optional<GravityReference> gravity = std::nullopt;  // the scan's, sent with its Integrate
   RegistrationResult registration;
   FrameHealth health;
   double sigma = 0.0;                 // threshold used for this frame

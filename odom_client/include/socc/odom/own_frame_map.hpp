@@ -7,8 +7,10 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
+#include "socc/gravity_reference.hpp"
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/posed_frames.hpp"
 
@@ -20,6 +22,7 @@ struct OwnKeyframe {
   std::int64_t utime = 0;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // own_T_sensor (reference time)
   LabeledCloud cloud;                                      // thinned, sensor frame (deskewed)
+  std::optional<GravityReference> gravity = std::nullopt;  // the scan's, sent when merged
 };
 
 /// Bounds of the own-frame map.

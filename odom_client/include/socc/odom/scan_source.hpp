@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "socc/gravity_reference.hpp"
 #include "socc/point_cloud.hpp"
 #include "socc/sensors/recording.hpp"
 
@@ -19,6 +20,9 @@ struct Scan {
   std::int64_t utime = 0;  // scan time [us]
   std::int64_t seq = 0;    // frame index (directories) or the driver's sequence number (LCM)
   std::string name;        // for messages, e.g. the file name
+  /// The up direction in the sensor frame at utime, from the source's IMU/INS (a KITTI
+  /// directory's gravity.txt); none: the source has no gravity reference for this scan.
+  std::optional<GravityReference> gravity = std::nullopt;
 };
 
 class ScanSource {
@@ -43,8 +47,9 @@ struct FrameRange {
 };
 
 /// velodyne/*.bin, optional labels/*.label (raw SemanticKITTI ids, mapped), optional times.txt
-/// (scan times [s]; without it frame k is at k * frame_period) and point_times/NNNNNN.bin
-/// (float32 per-point times [s]).
+/// (scan times [s]; without it frame k is at k * frame_period), point_times/NNNNNN.bin
+/// (float32 per-point times [s]) and gravity.txt (the up direction per frame,
+/// socc/gravity_file.hpp; line k is frame k, like times.txt).
 std::unique_ptr<ScanSource> openKittiDirectory(const std::filesystem::path& root, FrameRange range,
                                                double frame_period = 0.1);
 

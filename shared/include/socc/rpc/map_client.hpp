@@ -13,6 +13,7 @@
 
 #include "socc/chunk_reply_t.hpp"
 #include "socc/chunk_request_t.hpp"
+#include "socc/gravity_reference.hpp"
 #include "socc/integrate_reply_t.hpp"
 #include "socc/integrate_request_t.hpp"
 #include "socc/keyframes_reply_t.hpp"
@@ -104,10 +105,11 @@ chunk_request_t sphereChunkRequest(const Eigen::Vector3d& center, double radius,
 /// A LOCALIZE request for points (sensor frame) without a hint.
 localize_request_t makeLocalizeRequest(const std::vector<Eigen::Vector3f>& points,
                                        std::int32_t max_candidates);
-/// An INTEGRATE request of cloud (sensor frame, quantized: wire::quantizePoints). Throws
+/// An INTEGRATE request of cloud (sensor frame, quantized: wire::quantizePoints), with the
+/// scan's gravity reference when it has one (else gravity_sigma 0). Throws
 /// std::invalid_argument for a non-finite point.
-integrate_request_t makeIntegrateRequest(std::int64_t seq, std::int64_t scan_utime,
-                                         const Eigen::Isometry3d& sensor_pose,
-                                         const LabeledCloud& cloud);
+integrate_request_t makeIntegrateRequest(
+    std::int64_t seq, std::int64_t scan_utime, const Eigen::Isometry3d& sensor_pose,
+    const LabeledCloud& cloud, const std::optional<GravityReference>& gravity = std::nullopt);
 
 }  // namespace socc::rpc

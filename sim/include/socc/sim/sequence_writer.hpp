@@ -2,8 +2,11 @@
 // Writes a simulated sequence in the KITTI / SemanticKITTI layout:
 //   velodyne/NNNNNN.bin  labels/NNNNNN.label (raw ids)  point_times/NNNNNN.bin (float32, s)
 //   poses.txt (LiDAR-frame GT relative to frame 0, 3x4)  calib.txt (identity Tr)  times.txt
+//   gravity.txt (with an attitude sensor: the up direction in the sensor frame,
+//   socc/gravity_file.hpp)
 #include <filesystem>
 
+#include "socc/sim/attitude_sensor.hpp"
 #include "socc/sim/lidar_model.hpp"
 #include "socc/sim/scan_simulator.hpp"
 #include "socc/sim/scene.hpp"
@@ -16,6 +19,8 @@ struct SequenceOptions {
   bool write_point_times = false;
   bool show_progress = true;
   ScanOptions scan;
+  /// The attitude sensor whose readings go to gravity.txt; none (no error term): no file.
+  ImuErrors imu = {};
 };
 
 struct SequenceSummary {
