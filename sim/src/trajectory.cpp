@@ -37,10 +37,13 @@ Eigen::Isometry3d Trajectory::poseAt(double t) const {
 }
 
 Eigen::Isometry3d Trajectory::routePoseAt(double t) const {
-  double u = std::max(0.0, t / period_);
+  // Before the first keyframe the route goes on as its first segment does, as after the last:
+  // held at its start, a route under way would "accelerate" from rest at t = 0, and the body
+  // model would pitch the sensor by degrees over the first frames.
+  double u = t / period_;
   if (std::abs(u - std::round(u)) < 1e-9) u = std::round(u);  // frame times hit keyframes exactly
   const std::size_t last = keyframes_.size() - 1;
-  const std::size_t k = std::min(static_cast<std::size_t>(std::floor(u)), last - 1);
+  const std::size_t k = u <= 0.0 ? 0 : std::min(static_cast<std::size_t>(std::floor(u)), last - 1);
   const double alpha = u - static_cast<double>(k);
   if (alpha == 0.0) return keyframes_[k];  // exact keyframes (frame poses) stay exact
   return interpolate(keyframes_[k], keyframes_[k + 1], alpha);

@@ -11,6 +11,7 @@
 #include "socc/sim/scan_simulator.hpp"
 #include "socc/sim/semantic_ids.hpp"
 #include "socc/sim/surface_model.hpp"
+#include "socc/sim/trajectory.hpp"
 
 namespace socc::sim {
 namespace {
@@ -220,6 +221,26 @@ TEST(Realism, BodyPitchesForwardWhenBrakingAndRollsOutOfTurns) {
   EXPECT_GT((left.linear() * Eigen::Vector3d::UnitY()).z(), 0.01);  // left side up
   const Eigen::Isometry3d still = BodyMotion(MotionErrors{}, 1).offset(1.0, {-5, 3, 0}, 10.0);
   EXPECT_TRUE(still.isApprox(Eigen::Isometry3d::Identity()));
+}
+
+TEST(Realism, ARouteUnderWayDoesNotPitchAtItsStart) {
+  // 10 m/s along x from t = 0: before its first keyframe the route goes on at that speed, so the
+  // body sees no acceleration at the start (held there, it pitched the sensor by degrees).
+  Poses keyframes;
+  for (int k = 0; k < 50; ++k) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation().x() = 1.0 * k;
+    keyframes.push_back(pose);
+  }
+  Trajectory route(keyframes, 0.1);
+  MotionErrors e;
+  e.pitch_per_acceleration_deg = 0.2;
+  route.setBodyMotion(BodyMotion(e, 1));
+  for (const double t : {0.0, 0.1, 0.2, 2.0}) {
+    const Eigen::Isometry3d pose = route.poseAt(t);
+    EXPECT_NEAR((pose.linear() * Eigen::Vector3d::UnitX()).z(), 0.0, 1e-9) << "t " << t;
+    EXPECT_NEAR(pose.translation().x(), 10.0 * t, 1e-9);
+  }
 }
 
 TEST(Realism, NetworkLabelsHaveNoMoversAndAStatedScore) {
