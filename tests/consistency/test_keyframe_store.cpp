@@ -72,9 +72,10 @@ void writeSample(const std::filesystem::path& file) {
   closure.closure = {0, 2, poseAt(6.0, 0.2), 0.8, 0.05, true};
   closure.edge = {0, 2, poseAt(6.0, 0.2), isotropicInformation(0.1, 0.01)};
   store->add(RecordType::kClosure, encodeClosure(closure));
-  store->add(RecordType::kRebuild,
-             encodeRebuild({1, {poseAt(0, 0), poseAt(3, 0)}, {{"car", poseAt(0.2, 0.01)}}}));
-  store->add(RecordType::kCheckpoint, encodeCheckpoint({7, 42, 3, 1}));
+  // Two records in one append (as a checkpoint writes its waiting keyframes and its mark).
+  store->add({{RecordType::kRebuild,
+               encodeRebuild({1, {poseAt(0, 0), poseAt(3, 0)}, {{"car", poseAt(0.2, 0.01)}}})},
+              {RecordType::kCheckpoint, encodeCheckpoint({7, 42, 3, 1})}});
 }
 
 TEST(KeyframeStore, RecordsReadBackAsWritten) {

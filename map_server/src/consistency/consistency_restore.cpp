@@ -55,7 +55,9 @@ const StoredCheckpoint* coveringMark(const StoreContents& contents, std::int64_t
 
 void ConsistencyService::checkpoint(std::int64_t journal_sequence, std::int64_t map_version) {
   if (!store_) return;
-  storeWaiting();  // before the mark: a mark's keyframes are all in the store
+  // The waiting keyframes before the mark (a mark's keyframes are all in the store), written
+  // with it in one synced append.
+  std::vector<std::pair<RecordType, std::string>> records = waitingRecords();
   StoredCheckpoint mark;
   mark.journal_sequence = journal_sequence;
   mark.map_version = map_version;
@@ -64,10 +66,11 @@ void ConsistencyService::checkpoint(std::int64_t journal_sequence, std::int64_t 
     for (const auto& [name, track] : robots_) mark.observed += track.keyframes;
     mark.grid_serial = grid_serial_;
   }
-  store_->add(RecordType::kCheckpoint, encodeCheckpoint(mark));
+  records.emplace_back(RecordType::kCheckpoint, encodeCheckpoint(mark));
+  store_->add(records);
 }
 
-void ConsistencyService::storeWaiting() {
+std::vector<std::pair<RecordType, std::string>> ConsistencyService::waitingRecords() {
   // The map's thread (as observe): no keyframe is observed meanwhile. The worker may store the
   // one it is processing at the same time; a restart keeps the first of the two.
   std::vector<Pending> waiting;
@@ -80,6 +83,7 @@ void ConsistencyService::storeWaiting() {
       p.stored = true;
     }
   }
+  std::vector<std::pair<RecordType, std::string>> records;
   for (const Pending& p : waiting) {
     StoredWaiting record;
     record.robot = p.robot;
@@ -93,8 +97,9 @@ void ConsistencyService::storeWaiting() {
       record.keyframe.points = p.reduced->points;
       record.keyframe.scan = p.reduced->scan;
     }
-    store_->add(RecordType::kWaiting, encodeWaiting(record));
+    records.emplace_back(RecordType::kWaiting, encodeWaiting(record));
   }
+  return records;
 }
 
 void ConsistencyService::storeKeyframe(const std::string& robot, std::size_t first_edge,

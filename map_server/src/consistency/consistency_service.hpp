@@ -25,6 +25,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "consistency_params.hpp"
@@ -200,8 +201,9 @@ class ConsistencyService {
   void restoreClosure(const StoredClosure& stored);
   void restoreGridPoses(const StoreContents& contents, int grid_serial);
   void restoreWaiting(const StoredWaiting& stored);
-  /// Writes the keyframes observed but not yet stored by the worker (checkpoint).
-  void storeWaiting();
+  /// The records of the keyframes observed but not yet stored by the worker (a checkpoint
+  /// writes them); marks them stored.
+  std::vector<std::pair<RecordType, std::string>> waitingRecords();
 
   ConsistencyParams params_;
   map::MapConfig map_config_;

@@ -175,22 +175,36 @@ StoreContents KeyframeStore::read(const std::filesystem::path& file) {
 }
 
 void KeyframeStore::add(RecordType type, const std::string& payload) {
+  write(framed(type, payload));
+}
+
+void KeyframeStore::add(const std::vector<std::pair<RecordType, std::string>>& records) {
+  std::string bytes;
+  for (const auto& [type, payload] : records) bytes += framed(type, payload);
+  if (!bytes.empty()) write(bytes);
+}
+
+std::string KeyframeStore::framed(RecordType type, const std::string& payload) {
   map::ByteWriter frame;
   frame.put<std::uint32_t>(kRecordMarker);
   frame.put<std::uint8_t>(static_cast<std::uint8_t>(type));
   frame.put<std::uint64_t>(payload.size());
   map::ByteWriter tail;
   tail.put<std::uint32_t>(checksum(type, payload));
+  return frame.bytes() + payload + tail.bytes();
+}
+
+void KeyframeStore::write(const std::string& bytes) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (failed_) return;
-  if (!writeAll(out_, frame.bytes() + payload + tail.bytes(), sync_)) {
+  if (!writeAll(out_, bytes, sync_)) {
     failed_ = true;
     std::cerr << "map_server: consistency store " << file_.string() << " cannot be written ("
               << std::strerror(errno)
               << "): it keeps what it has; a restart will not rebuild the grid\n";
     return;
   }
-  bytes_ += kFrameHead + payload.size() + 4;
+  bytes_ += bytes.size();
 }
 
 bool KeyframeStore::failed() const {

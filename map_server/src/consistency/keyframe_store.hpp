@@ -56,12 +56,19 @@ class KeyframeStore {
   // Thread-safe. A failed write (disk full) is reported once on stderr and stops the store:
   // every later record is left out, so what it holds stays a prefix of what happened.
   void add(RecordType type, const std::string& payload);
+  /// Appends records in order with one flush and one fdatasync (a checkpoint's waiting
+  /// keyframes and its mark: one disk sync on the map's thread, not one per keyframe).
+  void add(const std::vector<std::pair<RecordType, std::string>>& records);
   bool failed() const;
   std::uint64_t bytes() const;
   const std::filesystem::path& file() const { return file_; }
 
  private:
   KeyframeStore(std::filesystem::path file, std::FILE* out, std::uint64_t bytes, bool sync);
+  /// A record as it is in the file: marker, type, size, payload, checksum.
+  static std::string framed(RecordType type, const std::string& payload);
+  /// Appends bytes, flushed (and synced), unless the store failed before; a failure stops it.
+  void write(const std::string& bytes);
 
   std::filesystem::path file_;
   bool sync_ = true;
