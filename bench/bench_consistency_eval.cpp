@@ -14,60 +14,14 @@
 #include <string>
 #include <vector>
 
+#include "consistency_output.hpp"
 #include "socc/kitti_io.hpp"
 
 namespace {
 
-struct KeyframeRow {
-  std::string robot;
-  long seq = 0;
-  Eigen::Isometry3d odom = Eigen::Isometry3d::Identity();
-  Eigen::Isometry3d optimized = Eigen::Isometry3d::Identity();
-};
-
-struct ClosureRow {
-  std::string robot_a, robot_b;
-  long seq_a = 0, seq_b = 0;
-  Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();
-};
-
-Eigen::Isometry3d readPose(std::istream& in) {
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) in >> m(r, c);
-  Eigen::Isometry3d pose(m);
-  return pose;
-}
-
-std::vector<KeyframeRow> readKeyframes(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error("cannot read " + file);
-  std::vector<KeyframeRow> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    KeyframeRow row;
-    if (!(s >> row.robot >> row.seq)) continue;
-    row.odom = readPose(s);
-    row.optimized = readPose(s);
-    if (s) rows.push_back(row);
-  }
-  return rows;
-}
-
-std::vector<ClosureRow> readClosures(const std::string& file) {
-  std::ifstream in(file);
-  std::vector<ClosureRow> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    ClosureRow row;
-    if (!(s >> row.robot_a >> row.seq_a >> row.robot_b >> row.seq_b)) continue;
-    row.relative = readPose(s);
-    if (s) rows.push_back(row);
-  }
-  return rows;
-}
+using socc::bench::ClosureRow;
+using socc::bench::KeyframeRow;
+using socc::bench::TiltFit;
 
 std::map<std::string, double> readStats(const std::string& file) {
   std::ifstream in(file);
@@ -88,30 +42,6 @@ double rmse(const std::vector<double>& e) {
   return e.empty() ? 0.0 : std::sqrt(s / static_cast<double>(e.size()));
 }
 
-// What a client output (poses_tum.txt) against the truth, in the map frame (no alignment):
-// each pose is matched to the sequence's frame of the same stamp (times.txt).
-// The vertical error as a tilted map frame: z error = a x + b y + c over the truth's positions
-// (least squares). A tilt is consistent everywhere: no loop closure can observe it.
-struct TiltFit {
-  double degrees = 0.0;   // tilt of the fitted plane
-  double residual = 0.0;  // RMS of the vertical error the plane leaves [m]
-};
-
-TiltFit fitTilt(const std::vector<Eigen::Vector3d>& truth, const std::vector<double>& z_error) {
-  TiltFit out;
-  if (truth.size() < 3) return out;
-  Eigen::MatrixXd a(truth.size(), 3);
-  Eigen::VectorXd z(truth.size());
-  for (std::size_t i = 0; i < truth.size(); ++i) {
-    a.row(static_cast<Eigen::Index>(i)) << truth[i].x(), truth[i].y(), 1.0;
-    z(static_cast<Eigen::Index>(i)) = z_error[i];
-  }
-  const Eigen::Vector3d p = a.colPivHouseholderQr().solve(z);
-  out.degrees = std::atan(std::hypot(p.x(), p.y())) * 180.0 / M_PI;
-  out.residual = std::sqrt((a * p - z).squaredNorm() / static_cast<double>(truth.size()));
-  return out;
-}
-
 // RMSE of the positions after the rigid motion that best fits them to the truth (Eigen's
 // Umeyama, no scale): the error the map carries inside itself. A whole-map tilt or turn of the
 // start's heading, which no revisit can observe, is not in it.
@@ -130,6 +60,8 @@ double alignedRmse(const std::vector<Eigen::Vector3d>& estimate,
   return std::sqrt((moved - to).colwise().squaredNorm().mean());
 }
 
+// What a client output (poses_tum.txt) against the truth, in the map frame (no alignment):
+// each pose is matched to the sequence's frame of the same stamp (times.txt).
 struct ClientScore {
   std::size_t frames = 0;  // poses output
   double ate = 0.0;        // RMSE [m]
@@ -198,8 +130,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     const socc::Poses gt = socc::readKittiPoses(gt_file);
-    const std::vector<KeyframeRow> keyframes = readKeyframes(dir + "/keyframes.txt");
-    const std::vector<ClosureRow> closures = readClosures(dir + "/closures.txt");
+    const std::vector<KeyframeRow> keyframes = socc::bench::readKeyframes(dir + "/keyframes.txt");
+    const std::vector<ClosureRow> closures = socc::bench::readClosures(dir + "/closures.txt");
     std::map<std::string, double> stats = readStats(dir + "/stats.txt");
     const auto truth = [&gt](long seq) -> const Eigen::Isometry3d& {
       if (seq < 0 || static_cast<std::size_t>(seq) >= gt.size())
@@ -275,8 +207,8 @@ int main(int argc, char** argv) {
                 after.empty() ? 0.0 : *std::max_element(after.begin(), after.end()));
     std::printf("| of it vertical / horizontal (RMSE) | %.3f / %.3f m | %.3f / %.3f m | |\n",
                 rmse(z_before), rmse(xy_before), rmse(z_after), rmse(xy_after));
-    const TiltFit tilt = fitTilt(truth_positions, z_before);
-    const TiltFit tilt_after = fitTilt(truth_positions, z_after);
+    const TiltFit tilt = socc::bench::fitTilt(truth_positions, z_before);
+    const TiltFit tilt_after = socc::bench::fitTilt(truth_positions, z_after);
     std::printf(
         "| vertical error as a tilted map: tilt, residual (RMSE) | %.2f deg, %.3f m | %.2f deg, "
         "%.3f m | |\n",

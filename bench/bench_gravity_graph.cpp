@@ -24,53 +24,16 @@
 #include <string>
 #include <vector>
 
+#include "consistency_output.hpp"
 #include "consistency_params.hpp"
 #include "pose_graph.hpp"
+#include "socc/kitti_io.hpp"
 
 namespace {
 
 using socc::consistency::PoseGraph;
 
-Eigen::Isometry3d readPose(std::istream& in) {
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) in >> m(r, c);
-  return Eigen::Isometry3d(m);
-}
-
-struct Row {
-  std::string robot;
-  long seq = 0;
-  Eigen::Isometry3d odom = Eigen::Isometry3d::Identity();
-};
-
-std::vector<Row> readKeyframes(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error("cannot read " + file);
-  std::vector<Row> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    Row row;
-    if (!(s >> row.robot >> row.seq)) continue;
-    row.odom = readPose(s);
-    if (s) rows.push_back(row);
-  }
-  return rows;
-}
-
-std::vector<Eigen::Isometry3d> readTruth(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error("cannot read " + file);
-  std::vector<Eigen::Isometry3d> poses;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    const Eigen::Isometry3d p = readPose(s);
-    if (s) poses.push_back(p);
-  }
-  return poses;
-}
+using socc::bench::KeyframeRow;
 
 struct Score {
   double rmse = 0.0, vertical = 0.0, horizontal = 0.0, tilt_deg = 0.0;
@@ -78,32 +41,31 @@ struct Score {
 
 Score score(const PoseGraph& g, const std::vector<Eigen::Isometry3d>& truth) {
   Score s;
-  Eigen::MatrixXd a(static_cast<Eigen::Index>(truth.size()), 3);
-  Eigen::VectorXd z(a.rows());
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<double> z_error;
   for (std::size_t i = 0; i < truth.size(); ++i) {
     const Eigen::Vector3d t = truth[i].translation();
     const Eigen::Vector3d e = g.pose(static_cast<int>(i)).translation() - t;
     s.vertical += e.z() * e.z();
     s.horizontal += e.head<2>().squaredNorm();
-    a.row(static_cast<Eigen::Index>(i)) << t.x(), t.y(), 1.0;
-    z(static_cast<Eigen::Index>(i)) = e.z();
+    positions.push_back(t);
+    z_error.push_back(e.z());
   }
   const double n = static_cast<double>(truth.size());
   s.rmse = std::sqrt((s.vertical + s.horizontal) / n);
   s.vertical = std::sqrt(s.vertical / n);
   s.horizontal = std::sqrt(s.horizontal / n);
-  const Eigen::Vector3d p = a.colPivHouseholderQr().solve(z);
-  s.tilt_deg = std::atan(std::hypot(p.x(), p.y())) * 180.0 / M_PI;
+  s.tilt_deg = socc::bench::fitTilt(positions, z_error).degrees;
   return s;
 }
 
 // The service's graph over the run's keyframes (see the file comment).
-PoseGraph buildGraph(const std::vector<Row>& rows, const std::string& closures_file) {
+PoseGraph buildGraph(const std::vector<KeyframeRow>& rows, const std::string& closures_file) {
   const socc::consistency::ConsistencyParams params;
   PoseGraph g;
   std::map<std::string, int> last;  // robot: its last node
   std::map<std::pair<std::string, long>, int> node;
-  for (const Row& r : rows) {
+  for (const KeyframeRow& r : rows) {
     const int id = g.addNode(r.odom);
     node[{r.robot, r.seq}] = id;
     const auto previous = last.find(r.robot);
@@ -123,17 +85,10 @@ PoseGraph buildGraph(const std::vector<Row>& rows, const std::string& closures_f
     }
     last[r.robot] = id;
   }
-  std::ifstream in(closures_file);
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    std::string robot_a, robot_b;
-    long seq_a = 0, seq_b = 0;
-    if (!(s >> robot_a >> seq_a >> robot_b >> seq_b)) continue;
-    const Eigen::Isometry3d rel = readPose(s);
-    const auto a = node.find({robot_a, seq_a}), b = node.find({robot_b, seq_b});
-    if (!s || a == node.end() || b == node.end()) continue;
-    g.addEdge({a->second, b->second, rel,
+  for (const socc::bench::ClosureRow& c : socc::bench::readClosures(closures_file)) {
+    const auto a = node.find({c.robot_a, c.seq_a}), b = node.find({c.robot_b, c.seq_b});
+    if (a == node.end() || b == node.end()) continue;
+    g.addEdge({a->second, b->second, c.relative,
                socc::consistency::isotropicInformation(params.loop_sigma_t, params.loop_sigma_r)});
   }
   return g;
@@ -162,10 +117,10 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "of the errors")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
-    const std::vector<Row> rows = readKeyframes(dir + "/keyframes.txt");
-    const std::vector<Eigen::Isometry3d> gt = readTruth(gt_file);
+    const std::vector<KeyframeRow> rows = socc::bench::readKeyframes(dir + "/keyframes.txt");
+    const socc::Poses gt = socc::readKittiPoses(gt_file);
     std::vector<Eigen::Isometry3d> truth;
-    for (const Row& r : rows) {
+    for (const KeyframeRow& r : rows) {
       if (r.seq < 0 || static_cast<std::size_t>(r.seq) >= gt.size())
         throw std::runtime_error("keyframe seq " + std::to_string(r.seq) + " not in the truth");
       truth.push_back(gt[static_cast<std::size_t>(r.seq)]);
