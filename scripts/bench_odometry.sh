@@ -91,8 +91,9 @@ server_cpu0=$(server_cpu)
 
 echo "bench_odometry: odom_client on $dir" >&2
 client_rc=0
+# --no-revised: this server runs without the consistency service (no revised trajectory to ask).
 "$build/odom_client/odom_client" --kitti "$dir" --lcm-url "$url" --robot-id bench \
-  --out-dir "$out" "${client_args[@]}" | tee "$out/client_summary.txt" >&2 || client_rc=$?
+  --out-dir "$out" --no-revised "${client_args[@]}" | tee "$out/client_summary.txt" >&2 || client_rc=$?
 times >"$out/times_after.txt"
 awk -v c0="$(children_cpu "$out/times_before.txt")" -v c1="$(children_cpu "$out/times_after.txt")" \
   -v s0="$server_cpu0" -v s1="$(server_cpu)" 'BEGIN { print c1 - c0, s1 - s0 }' >"$out/cpu.txt"
@@ -139,7 +140,7 @@ for ((run = 2; run <= repeat; run++)); do
   start_server "$run_url" "$run_out/server.log" || true  # a run without rate is left out
   run_server=$started
   "$build/odom_client/odom_client" --kitti "$dir" --lcm-url "$run_url" --robot-id bench \
-    --out-dir "$run_out" "${client_args[@]}" >"$run_out/client_summary.txt" 2>/dev/null || true
+    --out-dir "$run_out" --no-revised "${client_args[@]}" >"$run_out/client_summary.txt" 2>/dev/null || true
   stop_server "$run_server"
   run_server=""
   : >"$run_out/baseline.txt"
