@@ -58,9 +58,10 @@
 #              poses_own_frame_*.txt (no poses_kitti.txt), the map unchanged. With --to-lcmlog,
 #              robot D drives B's street (frames 0-80) live from lcm-logplayer with --own-frame:
 #              its searches run beside its scan loop (answered at a later scan than searched),
-#              merged exactly once, a pose per scan within 0.1 m / 1 deg (median).
+#              merged exactly once, a pose per scan it took (>= 30 of 81) within 0.1 m / 1 deg
+#              (median).
 set -euo pipefail
-usage() { sed -n '2,61p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,62p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 case "${1:-}" in
   -h|--help) usage 0 ;;
@@ -622,7 +623,11 @@ own_frame() {
     read -r searched answered < <(sed -n 's/.*found the shared map at frame \([0-9]*\) (answered at frame \([0-9]*\).*/\1 \2/p' "$work/live.log")
     echo "robot D (live): searched at frame $searched, answered at frame $answered"
     ((answered > searched)) || fail "robot D (live): its search held its scan loop (answered at the searched frame $searched)"
-    [[ $(wc -l <"$work/live/poses_tum.txt") == 81 ]] || fail "robot D: not one map-frame pose per scan"
+    # A live client slower than the sensor (a sanitizer build) loses scans in the socket: one
+    # map-frame pose per scan it took, and enough of them to have merged.
+    local taken; taken=$(($(wc -l <"$work/live/frames.csv") - 1))
+    [[ $(wc -l <"$work/live/poses_tum.txt") == "$taken" ]] || fail "robot D: not one map-frame pose per scan"
+    ((taken >= 30)) || fail "robot D took only $taken of 81 scans"
     within_10cm_1deg "$work/live/poses_tum.txt" "$work/here/poses.txt" "robot D (live), every scan"
   fi
   stop_server
