@@ -28,7 +28,8 @@ install(EXPORT socc-targets NAMESPACE socc:: DESTINATION ${SOCC_CMAKE_DIR})
 
 # Public headers: the map client and what it includes, plus the generated LCM types.
 set(_inc ${PROJECT_SOURCE_DIR}/shared/include/socc)
-install(FILES ${_inc}/channels.hpp ${_inc}/labels.hpp ${_inc}/lcm_url.hpp ${_inc}/point_cloud.hpp
+install(FILES ${_inc}/channels.hpp ${_inc}/gravity_reference.hpp ${_inc}/labels.hpp ${_inc}/lcm_url.hpp
+              ${_inc}/point_cloud.hpp
               ${_inc}/pose_conversion.hpp ${PROJECT_BINARY_DIR}/shared/include/socc/version.hpp
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/socc)
 install(FILES ${_inc}/rpc/map_client.hpp ${_inc}/rpc/status_names.hpp ${_inc}/rpc/client_id.hpp
