@@ -7,12 +7,11 @@
 #include <Eigen/Core>
 #include <optional>
 
+#include "socc/gravity_reference.hpp"
+
 namespace socc::consistency {
 
-struct GravityReference {
-  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // unit vector, sensor frame
-  double sigma = 0.0;                             // [rad] 1-sigma of its direction, > 0
-};
+using socc::GravityReference;  // the client's type: up (sensor frame), sigma per tilt axis
 
 /// The reference an INTEGRATE carries (gravity_up, gravity_sigma; docs/lcm.md): none when sigma
 /// is not > 0 (0: the robot has none) or up is not a finite nonzero vector; up normalized.
