@@ -43,6 +43,7 @@ YamlFields fields(OdomConfig& c) {
       {"alpha_default", &c.alpha_default},
       {"use_semantics", &c.use_semantics},
       {"use_gravity", &c.use_gravity},
+      {"gravity_tilt_walk_deg", &c.gravity_tilt_walk_deg},
       {"initial_threshold", &c.initial_threshold},
       {"min_motion", &c.min_motion},
       {"refine_threshold", &c.refine_threshold},
@@ -123,6 +124,8 @@ std::string validate(const OdomConfig& c) {
     return "vertical_angle_correction_deg must be within [-5, 5]";
   if (!finite_pos(c.frame_period)) return "frame_period must be > 0";
   if (!std::isfinite(c.deskew_reference_time)) return "deskew_reference_time must be finite";
+  if (!std::isfinite(c.gravity_tilt_walk_deg) || c.gravity_tilt_walk_deg < 0.0)
+    return "gravity_tilt_walk_deg must be >= 0";
   if (c.deskew_iterations < 1) return "deskew_iterations must be >= 1";
   if (c.chunk_interval < 1) return "chunk_interval must be >= 1";
   if (!std::isfinite(c.sweep_twist_sigma_linear) || c.sweep_twist_sigma_linear < 0.0 ||

@@ -77,7 +77,8 @@ Odometry::Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_po
                   config.target_points),
       period_(config.frame_period),
       pose_(initial_pose),
-      keep_first_pose_(initial_pose_known && !config.refine_initial_pose) {}
+      keep_first_pose_(initial_pose_known && !config.refine_initial_pose),
+      tilt_(config.gravity_tilt_walk_deg * M_PI / 180.0) {}
 
 PreparedScan prepareScan(const OdomConfig& config, const LabeledCloud& raw, std::int64_t seq,
                          std::int64_t utime) {
@@ -150,7 +151,16 @@ FrameEstimate Odometry::registerFrame(const PreparedScan& scan, const LocalMap& 
   const bool on_time = time_ >= 0.0 && period_.periods(scan.time() - time_) < kGapPeriods;
   if (has_motion_model_ && on_time) threshold_.update(prediction.inverse() * mid);
   advance(scan, out, mid);
+  if (const std::optional<Eigen::Vector3d> up = upAtMid(scan, twist_))
+    tilt_.update(mid.linear(), *up, scan.gravity->sigma, scan.time());
   return out;
+}
+
+std::optional<Eigen::Vector3d> Odometry::upAtMid(const PreparedScan& scan,
+                                                 const Vector6d& twist) const {
+  if (!scan.gravity || !(scan.gravity->sigma > 0.0)) return std::nullopt;
+  // map_R_mid * x = map_R_scan * g with map_R_scan = map_R_mid * Exp(-mid_time * omega).
+  return Eigen::Vector3d(expSe3(-scan.mid_time * twist).linear() * scan.gravity->up);
 }
 
 FrameEstimate Odometry::estimateWithRetries(const PreparedScan& scan, const LocalMap& map) {
@@ -177,7 +187,10 @@ bool Odometry::registrable(const LocalMap& map) const {
 
 FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, double sigma,
                                  const Vector6d& model_twist) {
-  FrameEstimate out = estimateWith(scan, map, sigma, model_twist, params_);
+  RegistrationParams params = params_;
+  if (const std::optional<Eigen::Vector3d> up = upAtMid(scan, model_twist))
+    params.tilt = tilt_.prior(*up, scan.gravity->sigma, scan.time());
+  FrameEstimate out = estimateWith(scan, map, sigma, model_twist, params);
   // Along a degenerate registration's weakest direction the scan's evidence is a few pairs' worth:
   // the sensor's noise and its calibration errors, a texture that moves with the sensor, pull
   // the pose where they like, and the motion model follows them (a featureless corridor
@@ -187,7 +200,7 @@ FrameEstimate Odometry::estimate(const PreparedScan& scan, const LocalMap& map, 
   // prediction, with 30 (a sparse sensor in a turn) the scan still moves it about half way.
   const bool predicted = time_ >= 0.0 && scan.time() > time_ && twist_known_;
   if (!out.health.degenerate || !predicted || !config_.hold_degenerate_direction) return out;
-  RegistrationParams hold = params_;
+  RegistrationParams hold = params;
   hold.hold_direction = out.health.weakest_direction;
   hold.hold_position = (pose_ * expSe3(model_twist * (scan.time() - time_))).translation();
   hold.hold_pairs = config_.min_constraint;
@@ -446,6 +459,7 @@ std::optional<FrameEstimate> Odometry::takeReleasedFrame() {
 
 void Odometry::correct(const Eigen::Isometry3d& correction) {
   pose_ = correction * pose_;
+  tilt_.correct(correction.linear());
   if (released_) released_->pose = correction * released_->pose;
 }
 

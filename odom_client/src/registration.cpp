@@ -180,6 +180,25 @@ void addHold(const RegistrationParams& params, const Eigen::Isometry3d& pose, do
   b += stiffness * offset * a;
 }
 
+// Holds the tilt towards params.tilt: residual r = R g - u (g the sensor's up, u the map's),
+// J = -[R g]x for a left increment. Its information is the data's own on the rotation (with the
+// translation marginalised: the same about any point), seen through J, times gain / (1 - gain):
+// the two together put each tilt axis gain of the way from the scan's answer to the reference's.
+void addTilt(const RegistrationParams& params, const Eigen::Isometry3d& pose, Matrix6d& H,
+             Vector6d& b) {
+  if (!params.tilt || params.tilt->gain <= 0.0) return;
+  const Eigen::Vector3d v = pose.linear() * params.tilt->sensor_up;
+  const Eigen::Matrix3d rotation_info =
+      H.bottomRightCorner<3, 3>() -
+      H.bottomLeftCorner<3, 3>() * H.topLeftCorner<3, 3>().ldlt().solve(H.topRightCorner<3, 3>());
+  const double gain = std::min(params.tilt->gain, 0.99);
+  const Eigen::Matrix3d jt = skew(v);  // J^T = (-[v]x)^T
+  const Eigen::Matrix3d info = gain / (1.0 - gain) * jt * rotation_info * jt.transpose();
+  if (!info.allFinite()) return;
+  H.bottomRightCorner<3, 3>() += jt * info * jt.transpose();
+  b.tail<3>() += jt * info * (v - params.tilt->map_up);
+}
+
 Step solve(const Systems& sys, double alpha, const Eigen::Isometry3d& pose, const Vector6d& c,
            const SweepTwistPrior* prior, const RegistrationParams& params) {
   const auto mix = [alpha](const auto& planar, const auto& point) {
@@ -189,6 +208,7 @@ Step solve(const Systems& sys, double alpha, const Eigen::Isometry3d& pose, cons
   Matrix6d H = mix(sys.planar.H, sys.point.H);
   Vector6d b = mix(sys.planar.b, sys.point.b);
   addHold(params, pose, alpha, H, b);
+  addTilt(params, pose, H, b);
   Step step;
   if (!prior) {
     step.pose = H.ldlt().solve(-b);

@@ -62,6 +62,10 @@ struct OdomConfig {
   double alpha_default = 1.0;       // every other class, and unlabeled
   bool use_semantics = true;        // false: every label is treated as 0 (unlabeled)
   bool use_gravity = true;  // false: the source's gravity reference is not sent (--no-gravity)
+  // [deg / sqrt(s)] how fast the odometry's tilt drifts without a gravity reference: the
+  // reference's weight against the registration (tilt_reference.hpp); 0: the reference is only
+  // sent, the odometry does not use it.
+  double gravity_tilt_walk_deg = 0.01;
 
   // KISS-ICP adaptive threshold.
   double initial_threshold = 2.0;  // [m] sigma before any motion was observed

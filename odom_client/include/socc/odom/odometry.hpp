@@ -23,6 +23,7 @@
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/registration.hpp"
 #include "socc/odom/se3.hpp"
+#include "socc/odom/tilt_reference.hpp"
 #include "socc/odom/voxel_downsampling.hpp"
 #include "socc/point_cloud.hpp"
 
@@ -139,6 +140,9 @@ class Odometry {
   void judge(const PreparedScan& scan, FrameEstimate& out) const;
   void advance(const PreparedScan& scan, const FrameEstimate& out, const Eigen::Isometry3d& mid);
   Vector6d twistTo(const Eigen::Isometry3d& mid_pose, double time) const;
+  // The scan's gravity reference as the sensor's up at the sweep's middle (the reference is
+  // taken at the scan time; twist turns it to the pose's instant); none without one.
+  std::optional<Eigen::Vector3d> upAtMid(const PreparedScan& scan, const Vector6d& twist) const;
 
   OdomConfig config_;
   std::array<double, kNumClasses> class_factor_;
@@ -158,6 +162,7 @@ class Odometry {
   // first scan integrated there would carry that error into everyone's map.
   bool keep_first_pose_ = false;
   SurpriseCheck surprise_check_;
+  TiltReference tilt_;                     // the gravity reference's hold on roll and pitch
   std::optional<PreparedScan> held_;       // first scan with times, waiting for the motion
   std::optional<FrameEstimate> released_;  // held_ once finalised
 };

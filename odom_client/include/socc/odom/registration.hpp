@@ -3,6 +3,7 @@
 // voxels) and point-to-point residuals, alpha = N_pl / (N_pl + N_po), each correspondence
 // weighted by w_gm * w_occ * w_sem; Gauss-Newton on SE(3) (6x6 normal equations, LDLT).
 #include <Eigen/Geometry>
+#include <optional>
 #include <vector>
 
 #include "socc/odom/local_map.hpp"
@@ -11,6 +12,15 @@
 #include "socc/point_cloud.hpp"
 
 namespace socc::odom {
+
+/// A gravity reference's hold on the sensor's tilt (tilt_reference.hpp): the sensor's measured
+/// up, rotated into the map, is pulled towards the map's up so that the registration's tilt
+/// moves `gain` of the way from where the scan alone puts it to where the reference does.
+struct TiltPrior {
+  Eigen::Vector3d map_up = Eigen::Vector3d::UnitZ();     // unit, map frame
+  Eigen::Vector3d sensor_up = Eigen::Vector3d::UnitZ();  // unit, sensor frame at the pose
+  double gain = 0.0;                                     // in [0, 1)
+};
 
 struct RegistrationParams {
   double planarity_threshold = 0.1;
@@ -39,6 +49,8 @@ struct RegistrationParams {
   // What the hold is worth, in planar pairs of full weight (a prior on the position along the
   // direction, in the data's units); 0: no hold.
   double hold_pairs = 0.0;
+  // The gravity reference's hold on roll and pitch; none: the scan alone.
+  std::optional<TiltPrior> tilt = std::nullopt;
 };
 
 struct RegistrationResult {

@@ -1,0 +1,36 @@
+#include "socc/odom/tilt_reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace socc::odom {
+
+double TiltReference::predicted(double time) const {
+  const double dt = time_ >= 0.0 ? std::max(time - time_, 0.0) : 0.0;
+  return variance_ + walk_ * walk_ * dt;
+}
+
+std::optional<TiltPrior> TiltReference::prior(const Eigen::Vector3d& up_at_mid, double sigma,
+                                              double time) const {
+  if (walk_ <= 0.0 || sigma <= 0.0 || up_sum_.squaredNorm() == 0.0) return std::nullopt;
+  const double p = predicted(time);
+  TiltPrior out;
+  out.map_up = up_sum_.normalized();
+  out.sensor_up = up_at_mid.normalized();
+  out.gain = p / (p + sigma * sigma);
+  return out;
+}
+
+void TiltReference::update(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& up_at_mid,
+                           double sigma, double time) {
+  if (walk_ <= 0.0 || sigma <= 0.0) return;
+  const std::optional<TiltPrior> used = prior(up_at_mid, sigma, time);
+  const double p = predicted(time);
+  variance_ = used ? (1.0 - used->gain) * p : 0.0;
+  time_ = time;
+  // The map's up is the mean of every frame's: the reference's white noise and its slowly
+  // wandering bias average out over the run.
+  up_sum_ += rotation * up_at_mid.normalized();
+}
+
+}  // namespace socc::odom
