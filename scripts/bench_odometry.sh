@@ -18,7 +18,7 @@
 # default) = end when DIR/point_times exists (the peer deskews), else start.
 #
 # Usage: scripts/bench_odometry.sh DIR [--build BUILD] [--out OUT] [--gt POSES] [--calib CALIB]
-#                                  [--lengths 100,200,...] [--no-semantics] [--frames N]
+#                                  [--lengths 100,200,...] [--no-semantics] [--no-gravity] [--frames N]
 #                                  [--config ODOM_YAML] [--baseline CMD [--baseline-poses FILE]]
 #                                  [--baseline-pose-at end|start|auto] [--repeat N] [--no-targets]
 set -euo pipefail
@@ -38,6 +38,7 @@ while [ $# -gt 0 ]; do
     --calib) calib="$2"; shift 2 ;;
     --lengths) lengths="$2"; shift 2 ;;
     --no-semantics) client_args+=(--no-semantics); shift ;;
+    --no-gravity) client_args+=(--no-gravity); shift ;;
     --config) client_args+=(--config "$2"); shift 2 ;;
     --frames) client_args+=(--last-frame "$(($2 - 1))"); shift 2 ;;
     --baseline) baseline="$2"; shift 2 ;;

@@ -28,9 +28,11 @@ void TiltReference::update(const Eigen::Matrix3d& rotation, const Eigen::Vector3
   const double p = predicted(time);
   variance_ = used ? (1.0 - used->gain) * p : 0.0;
   time_ = time;
-  // The map's up is the mean of every frame's: the reference's white noise and its slowly
-  // wandering bias average out over the run.
-  up_sum_ += rotation * up_at_mid.normalized();
+  // The map's up: the mean of the first second's frames (the reference's white noise averages
+  // out while the odometry has had no time to drift). Later frames would pull it along with the
+  // odometry's own tilt drift, the very error the reference is there to hold.
+  if (start_ < 0.0) start_ = time;
+  if (time - start_ <= kUpWindow) up_sum_ += rotation * up_at_mid.normalized();
 }
 
 }  // namespace socc::odom

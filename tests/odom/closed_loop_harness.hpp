@@ -4,6 +4,7 @@
 // health) and back into that grid. Shared by the closed-loop tests (named namespace, inline:
 // test_odom is a unity build).
 #include <cstdio>
+#include <optional>
 #include <vector>
 
 #include "service/chunk_reply.hpp"
@@ -56,8 +57,10 @@ struct ClosedLoop {
   explicit ClosedLoop(const Eigen::Isometry3d& start, const OdomConfig& config = {})
       : cfg(config), odom(cfg, start, true) {}
 
-  void step(const socc::LabeledCloud& cloud, int frame) {
-    const PreparedScan p = odom.prepare(cloud, frame, frame * 100000);
+  void step(const socc::LabeledCloud& cloud, int frame,
+            const std::optional<socc::GravityReference>& gravity = std::nullopt) {
+    PreparedScan p = odom.prepare(cloud, frame, frame * 100000);
+    p.gravity = gravity;
     const FrameEstimate e =
         odom.registerFrame(p, chunkAround(map, odom.predictedPose(p).translation(), cfg));
     if (auto first = odom.takeReleasedFrame()) submit(*first);

@@ -112,6 +112,46 @@ TEST(ClosedLoop, AFeaturelessCorridorWithSensorErrorsCoastsFlaggedAndKeepsTracki
   EXPECT_LT(worst_change, 0.03) << "3 m/s^2 at 10 Hz";
 }
 
+// A street seen by a sensor with KITTI-like errors and its 0.22 deg elevation error left
+// uncorrected: the ground turns into a shallow cone that tilts every registration step the same
+// way (odom_client/README.md, elevation correction), 0.27 deg in 40 frames. An INS's gravity
+// reference (here the true up with the INS's stated sigma) holds the tilt, the more the faster
+// the odometry's tilt is said to drift (gravity_tilt_walk_deg: the filter's gain).
+TEST(ClosedLoop, AGravityReferenceHoldsTheTiltThatTheScansLetDrift) {
+  constexpr int kFrames = 40;
+  const socc::sim::Realism realism = socc::sim::realismPreset("kitti");
+  socc::sim::SceneOptions options;
+  options.frames = kFrames;
+  options.body_motion = realism.motion;
+  const socc::sim::Scene scene = socc::sim::buildScene(options);
+  const socc::sim::LidarModel lidar = socc::sim::lidarPreset("hdl64");
+  // walk < 0: no reference; else gravity_tilt_walk_deg.
+  const auto tiltError = [&](double walk) {
+    OdomConfig cfg;
+    if (walk >= 0.0) cfg.gravity_tilt_walk_deg = walk;
+    ClosedLoop loop(scene.trajectory.poseAt(0.0), cfg);
+    for (int k = 0; k < kFrames; ++k) {
+      const Eigen::Matrix3d truth = scene.trajectory.poseAt(0.1 * k).linear();
+      std::optional<socc::GravityReference> gravity;
+      if (walk >= 0.0) gravity = socc::GravityReference{truth.transpose().col(2), 6e-4};
+      loop.step(simulated(scene, lidar, k, true, &realism), k, gravity);
+    }
+    EXPECT_EQ(loop.integrated, kFrames);
+    const Eigen::Vector3d up_est = loop.poses.back().linear().transpose().col(2);
+    const Eigen::Vector3d up_true =
+        scene.trajectory.poseAt(0.1 * (kFrames - 1)).linear().transpose().col(2);
+    return std::acos(std::clamp(up_est.dot(up_true), -1.0, 1.0)) * 180.0 / M_PI;
+  };
+  const double alone = tiltError(-1.0), held = tiltError(OdomConfig{}.gravity_tilt_walk_deg),
+               firm = tiltError(0.1);
+  std::printf(
+      "street, uncorrected elevation error: tilt after %d frames %.4f deg alone, "
+      "%.4f deg with the reference (default walk), %.4f deg (walk 0.1)\n",
+      kFrames, alone, held, firm);
+  EXPECT_LT(held, 0.7 * alone);  // 0.27 -> 0.13 deg
+  EXPECT_LT(firm, 0.2 * alone);  // 0.27 -> 0.02 deg
+}
+
 // A robot whose scans suddenly come from another place (a kidnapped robot, a wrong sensor
 // stream): its frames turn unhealthy, it declares itself lost, and nothing more is integrated.
 TEST(ClosedLoop, AKidnappedRobotGetsLostAndStopsIntegrating) {

@@ -41,7 +41,7 @@ TEST(TiltReference, TheGainIsTheKalmanFiltersPerTiltAxis) {
   EXPECT_NEAR(p, steady, 1e-3 * steady);
 }
 
-TEST(TiltReference, TheMapsUpIsTheMeanOfTheFramesAndFollowsACorrection) {
+TEST(TiltReference, TheMapsUpIsTheFirstSecondsMeanAndFollowsACorrection) {
   TiltReference tilt(kWalk);
   const Eigen::Matrix3d roll = Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitX()).toRotationMatrix();
   tilt.update(Eigen::Matrix3d::Identity(), roll * Eigen::Vector3d::UnitZ(), kSigma, 0.0);
@@ -53,6 +53,10 @@ TEST(TiltReference, TheMapsUpIsTheMeanOfTheFramesAndFollowsACorrection) {
   const double q = kWalk * kWalk * 0.1, r = kSigma * kSigma;
   const double p = (1.0 - q / (q + r)) * q + q;  // after the second frame, predicted at 0.2 s
   EXPECT_NEAR(prior->gain, p / (p + r), 1e-12);
+  // After the first second a frame's up no longer moves the map's: it carries the drift.
+  tilt.update(Eigen::Matrix3d::Identity(), roll * Eigen::Vector3d::UnitZ(), kSigma, 1.2);
+  prior = tilt.prior(Eigen::Vector3d::UnitZ(), kSigma, 1.3);
+  EXPECT_NEAR((prior->map_up - Eigen::Vector3d::UnitZ()).norm(), 0.0, 1e-12);
   const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()).toRotationMatrix();
   tilt.correct(turn);
   prior = tilt.prior(Eigen::Vector3d::UnitZ(), kSigma, 0.2);

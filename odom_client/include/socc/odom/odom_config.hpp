@@ -65,7 +65,7 @@ struct OdomConfig {
   // [deg / sqrt(s)] how fast the odometry's tilt drifts without a gravity reference: the
   // reference's weight against the registration (tilt_reference.hpp); 0: the reference is only
   // sent, the odometry does not use it.
-  double gravity_tilt_walk_deg = 0.01;
+  double gravity_tilt_walk_deg = 0.03;
 
   // KISS-ICP adaptive threshold.
   double initial_threshold = 2.0;  // [m] sigma before any motion was observed

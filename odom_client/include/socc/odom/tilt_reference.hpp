@@ -22,8 +22,9 @@ class TiltReference {
   /// sensor frame) with gravity's sigma, at time [s]; none before the map's up is known, or when
   /// off.
   std::optional<TiltPrior> prior(const Eigen::Vector3d& up_at_mid, double sigma, double time) const;
-  /// A registered frame: rotation map_R_sensor at the instant of up_at_mid. Adds its up to the
-  /// map's estimate and applies the filter's update with the gain prior() gave (none: 0).
+  /// A registered frame: rotation map_R_sensor at the instant of up_at_mid. Applies the filter's
+  /// update with the gain prior() gave (none: 0); in the first second its up (map frame) joins
+  /// the map's.
   void update(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& up_at_mid, double sigma,
               double time);
   /// Every pose so far was rotated by rotation (a map correction).
@@ -34,10 +35,12 @@ class TiltReference {
  private:
   // The filter's prediction at time: the last variance plus the walk since then.
   double predicted(double time) const;
+  static constexpr double kUpWindow = 1.0;  // [s] the frames whose up defines the map's
   double walk_;
-  Eigen::Vector3d up_sum_ = Eigen::Vector3d::Zero();  // sum of every frame's up, map frame
+  Eigen::Vector3d up_sum_ = Eigen::Vector3d::Zero();  // sum of those frames' up, map frame
   double variance_ = 0.0;  // the first frame defines the map's up: no error yet
   double time_ = -1.0;     // [s] of the last update
+  double start_ = -1.0;    // [s] of the first
 };
 
 }  // namespace socc::odom
