@@ -10,6 +10,10 @@ double TiltReference::predicted(double time) const {
   return variance_ + walk_ * walk_ * dt;
 }
 
+double TiltReference::gain(double predicted_variance, double sigma) {
+  return predicted_variance / (predicted_variance + sigma * sigma);
+}
+
 std::optional<TiltPrior> TiltReference::prior(const Eigen::Vector3d& up_at_mid, double sigma,
                                               double time) const {
   if (walk_ <= 0.0 || sigma <= 0.0 || up_sum_.squaredNorm() == 0.0) return std::nullopt;
@@ -17,16 +21,16 @@ std::optional<TiltPrior> TiltReference::prior(const Eigen::Vector3d& up_at_mid, 
   TiltPrior out;
   out.map_up = up_sum_.normalized();
   out.sensor_up = up_at_mid.normalized();
-  out.gain = p / (p + sigma * sigma);
+  out.gain = gain(p, sigma);
   return out;
 }
 
 void TiltReference::update(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& up_at_mid,
                            double sigma, double time) {
   if (walk_ <= 0.0 || sigma <= 0.0) return;
-  const std::optional<TiltPrior> used = prior(up_at_mid, sigma, time);
+  // The update with the gain prior() gave this frame (none before the map's up is known).
   const double p = predicted(time);
-  variance_ = used ? (1.0 - used->gain) * p : 0.0;
+  variance_ = up_sum_.squaredNorm() > 0.0 ? (1.0 - gain(p, sigma)) * p : 0.0;
   time_ = time;
   // The map's up: the mean of the first second's frames (the reference's white noise averages
   // out while the odometry has had no time to drift). Later frames would pull it along with the

@@ -9,7 +9,6 @@
 #include <Eigen/Core>
 #include <optional>
 
-#include "socc/gravity_reference.hpp"
 #include "socc/odom/registration.hpp"
 
 namespace socc::odom {
@@ -35,6 +34,8 @@ class TiltReference {
  private:
   // The filter's prediction at time: the last variance plus the walk since then.
   double predicted(double time) const;
+  // The Kalman gain of a prediction with that variance against a reference of that sigma.
+  static double gain(double predicted_variance, double sigma);
   static constexpr double kUpWindow = 1.0;  // [s] the frames whose up defines the map's
   double walk_;
   Eigen::Vector3d up_sum_ = Eigen::Vector3d::Zero();  // sum of those frames' up, map frame
