@@ -10,6 +10,7 @@
 #
 # Usage: scripts/bench_robustness.sh [--build BUILD] [--out OUT] [--frames N] [--config ODOM_YAML]
 #        [--kitti-sweep | --kitti-starts [SEQS]] [--only REGEX] [--keep-sequences] [--realism kitti|none]
+#        [--peer NAME=CMD ...]
 #        (--only: the cases whose name matches the bash regex, e.g. 'indoor|figure8'. --kitti-sweep: instead of
 #        the matrix, two segments of every KITTI GT trajectory 00-10 but 03, sensors rotating
 #        HDL-64 / VLP-32 / VLP-16, with distortion. --kitti-starts: the first --frames (default
@@ -18,11 +19,15 @@
 #        unhealthy or lost frame (issue 27). The simulated sequences, ~0.8 GB per HDL-64 case, are
 #        deleted once evaluated unless --keep-sequences. --realism: socc-sim's error models,
 #        sim/README.md "Realism"; none: the exact simulator. Under kitti every case runs with
-#        odom_client/config/kitti.yaml, the simulated sensor's calibration, before --config.)
+#        odom_client/config/kitti.yaml, the simulated sensor's calibration, before --config.
+#        --peer: side by side on each distorted sequence (not --kitti-starts): socc LiDAR only
+#        (--no-gravity, as the peers), with semantics and without, and each peer, run as
+#        `CMD DIR POSES_OUT` and scored one frame shifted (deskewing peers report each sweep's
+#        end); reported in further columns, not judged.)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$root/build"; out="$root/out/robustness"; frames=""; odom_args=(); sweep=0; keep=0
-only=""; starts=0; start_seqs="00,01,02,04,05,06,07,08,09,10"
+only=""; starts=0; peers=(); start_seqs="00,01,02,04,05,06,07,08,09,10"
 realism=kitti
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -37,7 +42,8 @@ while [ $# -gt 0 ]; do
     --keep-sequences) keep=1; shift ;;
     --realism) realism="$2"; shift 2 ;;
     --only) only="$2"; shift 2 ;;
-    -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --peer) peers+=("$2"); shift 2 ;;
+    -h|--help) sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench_robustness: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -109,6 +115,26 @@ simulate() {  # dir distortion(0|1) args... -> sequence in dir
   "$build/sim/socc-sim" --out "$dir" --frames "$frames" "${seed[@]}" "${distortion[@]}" --realism "$realism" --quiet "${args[@]}" >&2
 }
 
+side_by_side() {  # seq_dir case_out: socc LiDAR only (with / without semantics) and the peers
+  local seq="$1" dir="$2" p name cmd est
+  for variant in lidar lidar_no_semantics; do
+    local extra=(--no-gravity)
+    [ $variant = lidar_no_semantics ] && extra+=(--no-semantics)
+    "$root/scripts/bench_odometry.sh" "$seq" --build "$build" --out "$dir/socc_$variant" --no-targets \
+      "${extra[@]}" "${odom_args[@]}" >"$dir/socc_$variant.txt" 2>"$dir/socc_$variant.log" || true
+  done
+  for p in "${peers[@]}"; do
+    name="${p%%=*}" cmd="${p#*=}" est="$dir/peer_$name.txt"
+    bash -c "$cmd \"\$1\" \"\$2\"" peer "$seq" "$est" >"$dir/peer_$name.log" 2>&1 || true
+    [ -s "$est" ] || continue
+    tail -n +2 "$seq/poses.txt" >"$dir/gt_shift.txt"; head -n -1 "$est" >"$dir/est_shift.txt"
+    "$build/eval/socc-eval" --gt "$dir/gt_shift.txt" --est "$dir/est_shift.txt" --truncate \
+      --json "$dir/peer_$name.json" >/dev/null 2>&1 || true
+  done
+}
+
+peer_names=()
+for p in "${peers[@]}"; do peer_names+=("${p%%=*}"); done
 rows=()
 failed=0
 if [[ -n $only ]]; then
@@ -125,22 +151,27 @@ for c in "${cases[@]}"; do
     simulate "$out/$name/$variant/seq" "$([ $variant = distorted ] && echo 1 || echo 0)" "${args[@]}"
     "$root/scripts/bench_odometry.sh" "$out/$name/$variant/seq" --build "$build" \
       --out "$out/$name/$variant" --no-targets "${odom_args[@]}" >"$out/$name/$variant.txt" 2>"$out/$name/$variant.log" || true
+    [ $variant = distorted ] && ((${#peers[@]})) && ((!starts)) && side_by_side "$out/$name/$variant/seq" "$out/$name"
     ((keep)) || rm -rf "$out/$name/$variant/seq"
   done
-  row="$(python3 - "$out/$name" "$name" "$target" <<'PY'
+  row="$(python3 - "$out/$name" "$name" "$target" "${peer_names[@]}" <<'PY'
 import csv, json, os, re, sys
-out, name, target = sys.argv[1], sys.argv[2], sys.argv[3]
+out, name, target, peers = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
 starts = target == "starts"  # --kitti-starts: no clean run; no unhealthy or lost frame at all
 target = 0.0 if starts else float(target)
+def error(path):  # KITTI t_err, or ATE max / path length below 100 m
+    if not os.path.exists(path):
+        return None
+    ev = json.load(open(path))
+    t_err = ev["kitti"].get("t_err_percent")
+    if t_err is None:
+        t_err = 100.0 * ev["ate_m"]["max"] / max(ev["gt_length_m"], 1e-9)
+    return ev, t_err
 def load(variant):
     d = f"{out}/{variant}"
-    if not os.path.exists(f"{d}/eval.json"):
+    if error(f"{d}/eval.json") is None:
         return None
-    ev = json.load(open(f"{d}/eval.json"))
-    t_err = ev["kitti"].get("t_err_percent")
-    if t_err is None:  # shorter than 100 m: ATE max over the path length
-        t_err = 100.0 * ev["ate_m"]["max"] / max(ev["gt_length_m"], 1e-9)
-    ev["err"] = t_err
+    ev, ev["err"] = error(f"{d}/eval.json")
     ev["rows"] = list(csv.DictReader(open(f"{d}/frames.csv")))
     hz = re.search(r"rate: ([0-9.]+) Hz", open(f"{d}/client_summary.txt").read())
     ev["hz"] = hz.group(1) if hz else "n/a"
@@ -166,10 +197,13 @@ if target == 0:  # the featureless corridor: flagged, not judged on drift; a hea
 else:
     ok = (dist["err"] <= 3.0 and ate["max"] <= 3.0 and lost == 0
           and dist["err"] <= target * clean["err"] + 0.01)
+side = [f"{out}/socc_lidar/eval.json", f"{out}/socc_lidar_no_semantics/eval.json"] + \
+    [f"{out}/peer_{p}.json" for p in peers] if peers else []
+side = "".join(f" {e[1]:.3f} % |" if e else " failed |" for e in map(error, side))
 print(f"| {name} | {dist['gt_length_m']:.0f} m | {dist['err']:.3f} % | {clean['err']:.3f} % | "
       f"{ratio:.2f} ({'not judged' if target == 0 else f'<= {target:g}'}) | {ate['rmse']:.3f} / {ate['max']:.3f} m | {rpe:.3f} m | "
       f"{degenerate} / {count('unhealthy') + count('retried')} / {lost} | {dist['hz']} | "
-      f"{'PASS' if ok else 'FAIL'} |")
+      f"{'PASS' if ok else 'FAIL'} |{side}")
 PY
 )"
   rows+=("$row")
@@ -189,10 +223,42 @@ echo "## odometry robustness, ${#cases[@]} cases x $frames frames, seed 11 unles
 echo
 echo "Error: KITTI t_err, or ATE max / path length below 100 m. Frames and Hz of the distorted run."
 echo
-echo "| case | path | error, distorted | error, clean | ratio (target) | ATE RMSE / max | max RPE (1 frame) | degenerate / unhealthy+retried / lost frames | Hz | |"
-echo "|---|---|---|---|---|---|---|---|---|---|"
+side_header=""; side_rule=""
+if ((${#peers[@]})); then
+  echo "Side by side (distorted, not judged): socc LiDAR only (--no-gravity) with and without"
+  echo "semantics, and each peer scored one frame shifted."
+  echo
+  for h in "socc LiDAR only" "socc LiDAR only, no semantics" "${peer_names[@]}"; do
+    side_header+=" $h |"; side_rule+="---|"
+  done
+fi
+echo "| case | path | error, distorted | error, clean | ratio (target) | ATE RMSE / max | max RPE (1 frame) | degenerate / unhealthy+retried / lost frames | Hz | |$side_header"
+echo "|---|---|---|---|---|---|---|---|---|---|$side_rule"
 fi
 printf '%s\n' "${rows[@]}"
 echo
+if ((${#peers[@]})) && ((!starts)); then  # the side by side summed up over the judged cases
+  printf '%s\n' "${rows[@]}" | python3 -c '
+import sys
+names = sys.argv[1:]
+cols = {n: [] for n in ["socc LiDAR only", "socc LiDAR only, no semantics"] + names}
+wins = judged = 0
+for line in sys.stdin:
+    f = [c.strip() for c in line.strip().strip("|").split("|")]
+    if "not judged" in f[4] or len(f) < 10 + len(cols):
+        continue
+    v = [float(c.split()[0]) if c[:1].isdigit() else None for c in f[10:10 + len(cols)]]
+    if None in v:
+        continue
+    judged += 1
+    for n, x in zip(cols, v):
+        cols[n].append(x)
+    wins += v[0] < 0.9 * min(v[2:])
+means = ", ".join(f"{n} {sum(x) / len(x):.3f} %" for n, x in cols.items() if x)
+print(f"Side by side over {judged} judged cases, mean error: {means}; socc LiDAR only at least "
+      f"10 % below the better peer on {wins} of {judged}.")
+' "${peer_names[@]}"
+  echo
+fi
 echo "$failed of ${#cases[@]} cases failed"
 [ "$failed" -eq 0 ]
