@@ -1,5 +1,6 @@
 // odom_client: SOCC-ICP odometry against the shared map server (see odom_client/README.md).
 #include <CLI/CLI.hpp>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -45,7 +46,7 @@ struct Args {
   std::int64_t first = 0, last = -1;
   double idle_timeout_s = 5.0;
   // --pcap / --bag: a recording read through socc_sensors (docs/sensors.md).
-  std::string pcap, bag, topic, sensor, calibration, sensor_address;
+  std::string pcap, bag, topic, imu_topic, sensor, calibration, sensor_address;
   std::uint16_t port = 0;
 };
 
@@ -58,6 +59,11 @@ std::vector<CLI::Option*> addRecordingOptions(CLI::App& app, Args& a) {
                              "packet topics (docs/sensors.md)")
                   ->check(CLI::ExistingPath);
   app.add_option("--topic", a.topic, "--bag: the topic to read (default: the only LiDAR topic)")
+      ->needs(bag);
+  app.add_option("--imu-topic", a.imu_topic,
+                 "--bag: a sensor_msgs/Imu topic whose attitude (orientation) is the gravity "
+                 "reference of the scans; its mounting and sigma: imu_*_deg in --config "
+                 "(odom_client/README.md \"Gravity reference\")")
       ->needs(bag);
   std::string models;
   for (const std::string& m : socc::sensors::supportedModels())
@@ -254,6 +260,24 @@ void resumeFromServer(socc::rpc::MapClient& client, Args& a, const OdomConfig& c
   }
 }
 
+ImuAttitude imuAttitude(const fs::path& bag, const std::string& topic, const OdomConfig& config) {
+  constexpr double kDeg = M_PI / 180.0;
+  if (std::isnan(config.imu_roll_deg) || std::isnan(config.imu_pitch_deg) ||
+      std::isnan(config.imu_yaw_deg))
+    throw std::runtime_error(
+        "--imu-topic needs the IMU's mounting in the LiDAR frame: imu_roll_deg, imu_pitch_deg "
+        "and imu_yaw_deg in a --config file (0, 0, 0 when its axes are the LiDAR's; "
+        "odom_client/README.md \"Gravity reference\")");
+  ImuAttitude imu;
+  imu.stream = socc::sensors::openImuTopic(bag, topic);
+  imu.sensor_R_imu = (Eigen::AngleAxisd(config.imu_yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
+                      Eigen::AngleAxisd(config.imu_pitch_deg * kDeg, Eigen::Vector3d::UnitY()) *
+                      Eigen::AngleAxisd(config.imu_roll_deg * kDeg, Eigen::Vector3d::UnitX()))
+                         .toRotationMatrix();
+  imu.sigma = config.imu_attitude_sigma_deg * kDeg;
+  return imu;
+}
+
 std::unique_ptr<ScanSource> openSource(const Args& a, const OdomConfig& config) {
   if (!a.input.empty())
     return readAhead(openKittiDirectory(a.input, {a.first, a.last}, config.frame_period));
@@ -264,8 +288,11 @@ std::unique_ptr<ScanSource> openSource(const Args& a, const OdomConfig& config) 
     options.sensor.sensor_address = a.sensor_address;
     options.topic = a.topic;
     options.port = a.port;
-    return readAhead(
-        openRecordingScans(a.pcap.empty() ? a.bag : a.pcap, options, {a.first, a.last}));
+    std::unique_ptr<ScanSource> scans =
+        openRecordingScans(a.pcap.empty() ? a.bag : a.pcap, options, {a.first, a.last});
+    if (!a.imu_topic.empty())
+      scans = withImuAttitude(std::move(scans), imuAttitude(a.bag, a.imu_topic, config));
+    return readAhead(std::move(scans));
   }
   if (!a.pcd_dir.empty())
     return readAhead(openPointCloudDirectory(a.pcd_dir, {a.first, a.last}, config.frame_period));

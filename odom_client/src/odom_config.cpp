@@ -44,6 +44,10 @@ YamlFields fields(OdomConfig& c) {
       {"use_semantics", &c.use_semantics},
       {"use_gravity", &c.use_gravity},
       {"gravity_tilt_walk_deg", &c.gravity_tilt_walk_deg},
+      {"imu_roll_deg", &c.imu_roll_deg},
+      {"imu_pitch_deg", &c.imu_pitch_deg},
+      {"imu_yaw_deg", &c.imu_yaw_deg},
+      {"imu_attitude_sigma_deg", &c.imu_attitude_sigma_deg},
       {"initial_threshold", &c.initial_threshold},
       {"min_motion", &c.min_motion},
       {"refine_threshold", &c.refine_threshold},
@@ -126,6 +130,12 @@ std::string validate(const OdomConfig& c) {
   if (!std::isfinite(c.deskew_reference_time)) return "deskew_reference_time must be finite";
   if (!std::isfinite(c.gravity_tilt_walk_deg) || c.gravity_tilt_walk_deg < 0.0)
     return "gravity_tilt_walk_deg must be >= 0";
+  for (const double angle : {c.imu_roll_deg, c.imu_pitch_deg, c.imu_yaw_deg})
+    if (std::isinf(angle) || std::abs(angle) > 360.0)  // NaN: not stated
+      return "imu_roll_deg, imu_pitch_deg and imu_yaw_deg must be within [-360, 360]";
+  if (!std::isfinite(c.imu_attitude_sigma_deg) || c.imu_attitude_sigma_deg < 0.0 ||
+      c.imu_attitude_sigma_deg > 90.0)
+    return "imu_attitude_sigma_deg must be within [0, 90]";
   if (c.deskew_iterations < 1) return "deskew_iterations must be >= 1";
   if (c.chunk_interval < 1) return "chunk_interval must be >= 1";
   if (!std::isfinite(c.sweep_twist_sigma_linear) || c.sweep_twist_sigma_linear < 0.0 ||

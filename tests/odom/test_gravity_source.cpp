@@ -1,10 +1,12 @@
 // The gravity reference from the input to the INTEGRATE request: a KITTI directory's
 // gravity.txt indexes its frames (also in a frame range), bad files are errors, ScanPreparer
 // passes it on unless use_gravity is off (--no-gravity), the odometry keeps it with its frame
-// (also the held first one), and the request carries it (gravity_sigma 0 without).
+// (also the held first one), and the request carries it (gravity_sigma 0 without); a
+// recording's IMU attitude as each scan's reference (withImuAttitude).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -49,7 +51,93 @@ std::string openError(const fs::path& dir) {
   return "";
 }
 
+// Scans at the given times [s], one point each.
+class ListedScans final : public ScanSource {
+ public:
+  explicit ListedScans(std::vector<double> times) : times_(std::move(times)) {}
+  std::optional<Scan> next() override {
+    if (next_ == times_.size()) return std::nullopt;
+    Scan scan;
+    scan.utime = static_cast<std::int64_t>(std::llround(times_[next_++] * 1e6));
+    scan.cloud.points = {{10.f, 0.f, 0.f}};
+    return scan;
+  }
+  std::size_t remaining() const override { return times_.size() - next_; }
+
+ private:
+  std::vector<double> times_;
+  std::size_t next_ = 0;
+};
+
+class ListedImu final : public sensors::ImuStream {
+ public:
+  explicit ListedImu(std::vector<sensors::ImuSample> samples) : samples_(std::move(samples)) {}
+  std::optional<sensors::ImuSample> next() override {
+    if (next_ == samples_.size()) return std::nullopt;
+    return samples_[next_++];
+  }
+
+ private:
+  std::vector<sensors::ImuSample> samples_;
+  std::size_t next_ = 0;
+};
+
+// An IMU rolling about its x axis at 0.1 rad/s from t = 1 s, a sample every 20 ms over
+// 1.00-1.20 s and 1.40-1.60 s (a 0.2 s gap between), the one at 1.10 s without an attitude.
+std::unique_ptr<sensors::ImuStream> rollingImu(const Eigen::Matrix3d& covariance) {
+  std::vector<sensors::ImuSample> samples;
+  for (int k = 0; k <= 30; ++k) {
+    if (k > 10 && k < 20) continue;
+    sensors::ImuSample s;
+    s.stamp_ns = 1'000'000'000 + k * 20'000'000LL;
+    if (k != 5)
+      s.orientation =
+          Eigen::Quaterniond(Eigen::AngleAxisd(0.1 * k * 0.02, Eigen::Vector3d::UnitX()));
+    s.orientation_covariance = covariance;
+    samples.push_back(s);
+  }
+  return std::make_unique<ListedImu>(std::move(samples));
+}
+
+std::vector<std::optional<GravityReference>> attitudes(ImuAttitude imu,
+                                                       const std::vector<double>& times) {
+  auto source = withImuAttitude(std::make_unique<ListedScans>(times), std::move(imu));
+  std::vector<std::optional<GravityReference>> out;
+  while (std::optional<Scan> scan = source->next()) out.push_back(scan->gravity);
+  return out;
+}
+
 }  // namespace
+
+// The attitude between the samples on either side of a scan's time, turned into the sensor
+// frame by the mounting; none before the IMU's first sample, across a gap of more than 0.1 s,
+// after its last; sigma as configured, else the samples' covariance, else 0.5 deg.
+TEST(GravitySource, AnImuAttitudeIsInterpolatedAtEachScansTime) {
+  ImuAttitude imu;
+  imu.stream = rollingImu(Eigen::Vector3d(1e-4, 4e-4, 1.0).asDiagonal());
+  imu.sensor_R_imu = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const std::vector<std::optional<GravityReference>> g =
+      attitudes(std::move(imu), {0.9, 1.05, 1.1, 1.3, 1.5, 1.7});
+  ASSERT_EQ(g.size(), 6u);
+  EXPECT_FALSE(g[0]);  // before the IMU
+  EXPECT_FALSE(g[3]);  // in the gap
+  EXPECT_FALSE(g[5]);  // after it
+  // Rolled by angle about the IMU's x: up (0, sin, cos) in the IMU frame, (-sin, 0, cos) in the
+  // sensor frame whose x is the IMU's y.
+  for (const auto& [i, angle] : {std::pair{1, 0.005}, {2, 0.01}, {4, 0.05}}) {
+    ASSERT_TRUE(g[static_cast<std::size_t>(i)]) << i;
+    const GravityReference& r = *g[static_cast<std::size_t>(i)];
+    EXPECT_LT((r.up - Eigen::Vector3d(-std::sin(angle), 0.0, std::cos(angle))).norm(), 1e-9) << i;
+    EXPECT_DOUBLE_EQ(r.sigma, 0.02) << i;  // sqrt of the larger of roll's and pitch's variance
+  }
+  ImuAttitude stated;
+  stated.stream = rollingImu(Eigen::Vector3d(1e-4, 4e-4, 1.0).asDiagonal());
+  stated.sigma = 0.003;
+  EXPECT_DOUBLE_EQ(attitudes(std::move(stated), {1.05})[0]->sigma, 0.003);
+  ImuAttitude unknown;
+  unknown.stream = rollingImu(Eigen::Matrix3d::Zero());
+  EXPECT_DOUBLE_EQ(attitudes(std::move(unknown), {1.05})[0]->sigma, 0.5 * M_PI / 180.0);
+}
 
 TEST(GravitySource, KittiDirectoryGivesEachFrameItsLine) {
   auto source = openKittiDirectory(kittiDir("good", kFourLines), {});

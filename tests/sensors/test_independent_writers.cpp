@@ -2,18 +2,20 @@
 // the ctest fixture sensors.bag_writers): ROS 1 bags by Debian's python3-rosbag (chunks none,
 // bz2, lz4) and MCAP files by @mcap/core with Foxglove's CDR and ROS 1 serializers (chunks
 // none, zstd, lz4). Every coordinate and intensity reads back bit-identical; stamps and point
-// times as written; topic choice and its errors.
+// times as written; topic choice and its errors; sensor_msgs/Imu samples as written.
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 #include <unistd.h>
 #include <zstd.h>
 
+#include <cmath>
 #include <cstring>
 
 #include "bag_test_data.hpp"
 #include "bags/bag_reader.hpp"
 #include "socc/kitti_io.hpp"
 #include "socc/sensors/bag_recording.hpp"
+#include "socc/sensors/imu_stream.hpp"
 
 namespace socc::sensors::bags {
 namespace {
@@ -114,8 +116,9 @@ TEST_P(IndependentWriter, Float64CloudsWithTimesReadBack) {
 
 TEST_P(IndependentWriter, TopicsAndTopicChoice) {
   const std::unique_ptr<BagReader> reader = openBagReader(file_);
-  ASSERT_EQ(reader->topics().size(), 3u);
-  for (const TopicInfo& t : reader->topics()) EXPECT_EQ(t.messages, 2u) << t.name;
+  ASSERT_EQ(reader->topics().size(), 4u);
+  for (const TopicInfo& t : reader->topics())
+    EXPECT_EQ(t.messages, t.name == "/imu" ? 21u : 2u) << t.name;
   EXPECT_TRUE(isBag(file_));
   // Two PointCloud2 topics: the caller must choose; the error lists the topics.
   try {
@@ -136,6 +139,40 @@ TEST_P(IndependentWriter, TopicsAndTopicChoice) {
   RecordingOptions absent;
   absent.topic = "/nope";
   EXPECT_THROW(openBag(file_, absent), std::runtime_error);
+}
+
+// /imu: sensor_msgs/Imu as the writers' imu_sample(k) makes it (write_ros1_bags.py), the
+// orientation dropped where the covariance says there is none; never taken for a LiDAR topic.
+TEST_P(IndependentWriter, ImuSamplesReadBackAsWritten) {
+  const std::unique_ptr<ImuStream> imu = openImuTopic(file_, "");  // the only Imu topic
+  std::vector<ImuSample> samples;
+  while (std::optional<ImuSample> s = imu->next()) samples.push_back(std::move(*s));
+  EXPECT_EQ(imu->problems(), "");
+  ASSERT_EQ(samples.size(), 21u);
+  for (int k = 0; k < 21; ++k) {
+    const ImuSample& s = samples[static_cast<std::size_t>(k)];
+    EXPECT_EQ(s.stamp_ns, 1'699'999'999'500'000'000 + k * 100'000'000LL) << k;
+    ASSERT_EQ(s.orientation.has_value(), k != 5) << k;
+    if (s.orientation) {
+      EXPECT_DOUBLE_EQ(s.orientation->x(), std::sin(0.005 * k)) << k;
+      EXPECT_DOUBLE_EQ(s.orientation->w(), std::cos(0.005 * k)) << k;
+      EXPECT_EQ(s.orientation->y(), 0.0);
+      EXPECT_EQ(s.orientation->z(), 0.0);
+    }
+    EXPECT_EQ(s.orientation_covariance(0, 0), k == 5 ? -1.0 : 1e-4) << k;
+    EXPECT_EQ(s.orientation_covariance(1, 1), 4e-4);
+    EXPECT_EQ(s.orientation_covariance(2, 2), 1e-2);
+    EXPECT_EQ(s.angular_velocity, Eigen::Vector3d(0.1, 0.2, 0.3 + k)) << k;
+    EXPECT_EQ(s.linear_acceleration, Eigen::Vector3d(0.5, -0.25, 9.81));
+  }
+  try {
+    openImuTopic(file_, "/points");
+    FAIL() << "a PointCloud2 topic taken for an IMU";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no sensor_msgs/Imu topic /points"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("/imu"), std::string::npos) << e.what();  // listed
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Bags, IndependentWriter,

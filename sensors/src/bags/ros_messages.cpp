@@ -37,6 +37,24 @@ PointCloud2Msg readPointCloud2(Reader& r) {
   return m;
 }
 
+template <class Reader, std::size_t N>
+void readDoubles(Reader& r, std::array<double, N>& out) {
+  for (double& v : out) v = r.template read<double>();
+}
+
+template <class Reader>
+ImuMsg readImu(Reader& r) {
+  ImuMsg m;
+  m.header = r.header();
+  readDoubles(r, m.orientation);
+  readDoubles(r, m.orientation_covariance);
+  readDoubles(r, m.angular_velocity);
+  readDoubles(r, m.angular_velocity_covariance);
+  readDoubles(r, m.linear_acceleration);
+  readDoubles(r, m.linear_acceleration_covariance);
+  return m;
+}
+
 Packet packetOf(std::int64_t stamp_ns, ByteView bytes) {
   Packet p;
   p.stamp_ns = stamp_ns;
@@ -114,6 +132,19 @@ PointCloud2Msg parsePointCloud2(ByteView message, Encoding encoding) {
   }
   CdrReader r(message);
   return readPointCloud2(r);
+}
+
+bool isImuType(const std::string& type) {
+  return ros1TypeName(type) == "sensor_msgs/Imu";
+}
+
+ImuMsg parseImu(ByteView message, Encoding encoding) {
+  if (encoding == Encoding::kRos1) {
+    Ros1Reader r(message);
+    return readImu(r);
+  }
+  CdrReader r(message);
+  return readImu(r);
 }
 
 void appendPackets(MessageKind kind, ByteView message, Encoding encoding,

@@ -2,6 +2,7 @@
 // The ROS messages socc reads from bags, parsed from either serialization (ROS 1 or CDR):
 // sensor_msgs/PointCloud2 and the vendors' raw packet messages. Parsers throw FormatError on
 // bytes that do not hold the message.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -48,6 +49,22 @@ struct PointCloud2Msg {
 };
 
 PointCloud2Msg parsePointCloud2(ByteView message, Encoding encoding);
+
+/// sensor_msgs/Imu ("sensor_msgs/Imu" or "sensor_msgs/msg/Imu"): not a LiDAR topic, read
+/// beside one (socc/sensors/imu_stream.hpp).
+bool isImuType(const std::string& type);
+
+struct ImuMsg {
+  MessageHeader header;
+  std::array<double, 4> orientation{};  // x y z w
+  std::array<double, 9> orientation_covariance{};
+  std::array<double, 3> angular_velocity{};
+  std::array<double, 9> angular_velocity_covariance{};
+  std::array<double, 3> linear_acceleration{};
+  std::array<double, 9> linear_acceleration_covariance{};
+};
+
+ImuMsg parseImu(ByteView message, Encoding encoding);
 
 /// Appends the UDP payloads of a packet message (kind != kPointCloud2) to out. Packets without
 /// a stamp of their own (Ouster) get message_stamp_ns, the bag's receive time.

@@ -7,6 +7,7 @@
 //   /points_ros1  sensor_msgs/PointCloud2, ros1:     x y z float64, intensity float32,
 //                                                    time float32 = point index * 1e-6 s
 //   /chatter      std_msgs/msg/String, cdr           (a topic socc does not read)
+//   /imu          sensor_msgs/msg/Imu, cdr:           the samples of write_ros1_bags.py
 // Scan i has header stamp 1700000000 + i s + 500 ns and log time 1 ms later.
 "use strict";
 const fs = require("node:fs");
@@ -50,6 +51,44 @@ const ROS2_HEADER = "builtin_interfaces/Time stamp\nstring frame_id\n" +
 const ROS1_HEADER = "uint32 seq\ntime stamp\nstring frame_id";
 const ROS2_DEF = POINTCLOUD2.replace("HEADER_BODY", ROS2_HEADER);
 const ROS1_DEF = POINTCLOUD2.replace("HEADER_BODY", ROS1_HEADER);
+
+const IMU_DEF = `std_msgs/Header header
+geometry_msgs/Quaternion orientation
+float64[9] orientation_covariance
+geometry_msgs/Vector3 angular_velocity
+float64[9] angular_velocity_covariance
+geometry_msgs/Vector3 linear_acceleration
+float64[9] linear_acceleration_covariance
+================================================================================
+MSG: std_msgs/Header
+${ROS2_HEADER}
+================================================================================
+MSG: geometry_msgs/Quaternion
+float64 x
+float64 y
+float64 z
+float64 w
+================================================================================
+MSG: geometry_msgs/Vector3
+float64 x
+float64 y
+float64 z`;
+
+// Sample k of /imu, as write_ros1_bags.py's imu_sample(k) writes it.
+function imuSample(k) {
+  const covariance = [1e-4, 0, 0, 0, 4e-4, 0, 0, 0, 1e-2];
+  if (k === 5) covariance[0] = -1;
+  return {
+    header: { stamp: { sec: 1699999999 + Math.floor((5 + k) / 10), nanosec: ((5 + k) % 10) * 100000000 },
+              frame_id: "imu" },
+    orientation: { x: Math.sin(0.005 * k), y: 0, z: 0, w: Math.cos(0.005 * k) },
+    orientation_covariance: covariance,
+    angular_velocity: { x: 0.1, y: 0.2, z: 0.3 + k },
+    angular_velocity_covariance: new Array(9).fill(0),
+    linear_acceleration: { x: 0.5, y: -0.25, z: 9.81 },
+    linear_acceleration_covariance: new Array(9).fill(0),
+  };
+}
 
 class FileWritable {
   constructor(file) { this.fd = fs.openSync(file, "w"); this.pos = 0n; }
@@ -113,6 +152,11 @@ async function writeFile(file, compression, scans) {
     { schemaId: ros1Schema, topic: "/points_ros1", messageEncoding: "ros1", metadata: new Map() });
   const chatter = await writer.registerChannel(
     { schemaId: stringSchema, topic: "/chatter", messageEncoding: "cdr", metadata: new Map() });
+  const imuSchema = await writer.registerSchema(
+    { name: "sensor_msgs/msg/Imu", encoding: "ros2msg", data: enc.encode(IMU_DEF) });
+  const imu = await writer.registerChannel(
+    { schemaId: imuSchema, topic: "/imu", messageEncoding: "cdr", metadata: new Map() });
+  const imus = new Ros2Writer(parse(IMU_DEF, { ros2: true }));
   const ros2 = new Ros2Writer(parse(ROS2_DEF, { ros2: true }));
   const ros1 = new Ros1Writer(parse(ROS1_DEF));
   const strings = new Ros2Writer(parse("string data", { ros2: true }));
@@ -128,6 +172,12 @@ async function writeFile(file, compression, scans) {
                               data: ros1.writeMessage(ros1Msg) });
     await writer.addMessage({ channelId: chatter, sequence: i, logTime, publishTime: logTime,
                               data: strings.writeMessage({ data: "scan " + i }) });
+  }
+  for (let k = 0; k < 21; k++) {
+    const m = imuSample(k);
+    const logTime = BigInt(m.header.stamp.sec) * 1000000000n + BigInt(m.header.stamp.nanosec) + 1000000n;
+    await writer.addMessage({ channelId: imu, sequence: k, logTime, publishTime: logTime,
+                              data: imus.writeMessage(m) });
   }
   await writer.end();
   writable.close();

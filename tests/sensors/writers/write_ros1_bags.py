@@ -7,15 +7,17 @@ For each chunk compression (none, bz2, lz4) OUT_DIR/clouds_<compression>.bag hol
     /points_f64  sensor_msgs/PointCloud2: x y z float64, intensity float32, timestamp float64
                  = absolute seconds (header stamp + point index * 1e-6 s)
     /chatter     std_msgs/String (a topic socc does not read)
+    /imu         sensor_msgs/Imu: 21 samples at 10 Hz from 1699999999.5 s (imu_sample below)
 Scan i has header stamp 1700000000 + i s + 500 ns and record time 1 ms later.
 """
+import math
 import os
 import struct
 import sys
 
 import genpy
 import rosbag
-from sensor_msgs.msg import PointCloud2, PointField
+from sensor_msgs.msg import Imu, PointCloud2, PointField
 from std_msgs.msg import String
 
 
@@ -55,6 +57,24 @@ def float64_cloud(stamp, raw):
     return cloud(stamp, fields, 36, n, bytes(out))
 
 
+def imu_sample(k):
+    """Sample k of /imu (write_mcap_clouds.cjs writes the same): header stamp 1699999999.5 s +
+    0.1 k s; orientation a turn of 0.01 k rad about x; orientation covariance diag(1e-4, 4e-4,
+    1e-2), but [0] = -1 (no orientation) for k = 5; angular velocity (0.1, 0.2, 0.3 + k) rad/s;
+    linear acceleration (0.5, -0.25, 9.81) m/s^2."""
+    m = Imu()
+    m.header.stamp = genpy.Time(1699999999 + (5 + k) // 10, ((5 + k) % 10) * 100000000)
+    m.header.frame_id = "imu"
+    m.orientation.x = math.sin(0.005 * k)
+    m.orientation.w = math.cos(0.005 * k)
+    m.orientation_covariance = [1e-4, 0, 0, 0, 4e-4, 0, 0, 0, 1e-2]
+    if k == 5:
+        m.orientation_covariance[0] = -1.0
+    m.angular_velocity.x, m.angular_velocity.y, m.angular_velocity.z = 0.1, 0.2, 0.3 + k
+    m.linear_acceleration.x, m.linear_acceleration.y, m.linear_acceleration.z = 0.5, -0.25, 9.81
+    return m
+
+
 def main():
     if len(sys.argv) < 3:
         sys.exit("usage: write_ros1_bags.py OUT_DIR SCAN.bin...")
@@ -70,6 +90,9 @@ def main():
                 bag.write("/points", kitti_cloud(stamp, raw), record)
                 bag.write("/points_f64", float64_cloud(stamp, raw), record)
                 bag.write("/chatter", String(data="scan %d" % i), record)
+            for k in range(21):
+                m = imu_sample(k)
+                bag.write("/imu", m, m.header.stamp + genpy.Duration(0, 1000000))
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@
 // Defaults are the SOCC-ICP paper's hyperparameters for driving data (KITTI).
 #include <array>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,16 @@ struct OdomConfig {
   // reference's weight against the registration (tilt_reference.hpp); 0: the reference is only
   // sent, the odometry does not use it.
   double gravity_tilt_walk_deg = 0.03;
+  // A recording's IMU as the gravity reference (--imu-topic): the IMU frame's orientation in
+  // the sensor frame, as yaw about z, then pitch about y, then roll about x [deg] (sensor_R_imu =
+  // Rz(yaw) Ry(pitch) Rx(roll)); NaN: not stated, and --imu-topic refuses to guess it (a wrong
+  // mounting turns the vehicle's pitch into roll and pulls the tilt with a confident sigma). Then
+  // the 1-sigma of its attitude's roll and pitch [deg]; 0: the messages' orientation_covariance,
+  // or 0.5 deg where they state none.
+  double imu_roll_deg = std::numeric_limits<double>::quiet_NaN();
+  double imu_pitch_deg = std::numeric_limits<double>::quiet_NaN();
+  double imu_yaw_deg = std::numeric_limits<double>::quiet_NaN();
+  double imu_attitude_sigma_deg = 0.0;
 
   // KISS-ICP adaptive threshold.
   double initial_threshold = 2.0;  // [m] sigma before any motion was observed

@@ -11,6 +11,7 @@
 
 #include "socc/gravity_reference.hpp"
 #include "socc/point_cloud.hpp"
+#include "socc/sensors/imu_stream.hpp"
 #include "socc/sensors/recording.hpp"
 
 namespace socc::odom {
@@ -65,6 +66,19 @@ std::unique_ptr<ScanSource> openPointCloudDirectory(const std::filesystem::path&
 std::unique_ptr<ScanSource> openRecordingScans(const std::filesystem::path& file,
                                                const sensors::RecordingOptions& options,
                                                FrameRange range);
+
+/// A recording's IMU attitude as the scans' gravity reference (odom_client/README.md "Gravity
+/// reference"): the IMU's orientation interpolated at each scan's time, its up direction turned
+/// into the sensor frame.
+struct ImuAttitude {
+  std::unique_ptr<sensors::ImuStream> stream;
+  Eigen::Matrix3d sensor_R_imu = Eigen::Matrix3d::Identity();  // the IMU's axes, sensor frame
+  double sigma = 0.0;  // [rad] per tilt component; 0: the samples' covariance, or 0.5 deg
+};
+
+/// source's scans, each with the gravity reference of imu at its time (none where the IMU has
+/// no attitude within 0.1 s of it: counted, and reported on stderr at the end).
+std::unique_ptr<ScanSource> withImuAttitude(std::unique_ptr<ScanSource> source, ImuAttitude imu);
 
 /// source, read one scan ahead in a worker thread: the next file is read while the current scan
 /// is registered. For directories; a live source buffers what arrives anyway.
