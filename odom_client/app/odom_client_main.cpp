@@ -262,18 +262,16 @@ void resumeFromServer(socc::rpc::MapClient& client, Args& a, const OdomConfig& c
 
 ImuAttitude imuAttitude(const fs::path& bag, const std::string& topic, const OdomConfig& config) {
   constexpr double kDeg = M_PI / 180.0;
-  if (std::isnan(config.imu_roll_deg) || std::isnan(config.imu_pitch_deg) ||
-      std::isnan(config.imu_yaw_deg))
-    throw std::runtime_error(
-        "--imu-topic needs the IMU's mounting in the LiDAR frame: imu_roll_deg, imu_pitch_deg "
-        "and imu_yaw_deg in a --config file (0, 0, 0 when its axes are the LiDAR's; "
-        "odom_client/README.md \"Gravity reference\")");
+  const bool stated = !std::isnan(config.imu_roll_deg);  // validate(): all three or none
   ImuAttitude imu;
   imu.stream = socc::sensors::openImuTopic(bag, topic);
-  imu.sensor_R_imu = (Eigen::AngleAxisd(config.imu_yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
-                      Eigen::AngleAxisd(config.imu_pitch_deg * kDeg, Eigen::Vector3d::UnitY()) *
-                      Eigen::AngleAxisd(config.imu_roll_deg * kDeg, Eigen::Vector3d::UnitX()))
-                         .toRotationMatrix();
+  if (stated)
+    imu.sensor_R_imu = (Eigen::AngleAxisd(config.imu_yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
+                        Eigen::AngleAxisd(config.imu_pitch_deg * kDeg, Eigen::Vector3d::UnitY()) *
+                        Eigen::AngleAxisd(config.imu_roll_deg * kDeg, Eigen::Vector3d::UnitX()))
+                           .toRotationMatrix();
+  else
+    imu.mounts = socc::sensors::StaticTransforms::fromBag(bag);
   imu.sigma = config.imu_attitude_sigma_deg * kDeg;
   return imu;
 }

@@ -3,6 +3,8 @@
 // direction in the IMU frame; the extrinsic rotation turns it into the sensor frame.
 #include <cmath>
 #include <iostream>
+#include <limits>
+#include <stdexcept>
 
 #include "socc/odom/scan_source.hpp"
 
@@ -24,6 +26,7 @@ class ImuAttitudeSource final : public ScanSource {
       return scan;
     }
     ++scans_;
+    if (!imu_.sensor_R_imu) imu_.sensor_R_imu = mounting(scan->frame_id);
     scan->gravity = attitudeAt(scan->utime * 1000);
     if (scan->gravity) ++referenced_;
     return scan;
@@ -34,6 +37,29 @@ class ImuAttitudeSource final : public ScanSource {
   bool live() const override { return source_->live(); }
 
  private:
+  // sensor_R_imu from the recording's static transforms, by the frames' names.
+  Eigen::Matrix3d mounting(const std::string& sensor_frame) {
+    advanceTo(std::numeric_limits<std::int64_t>::min());  // the first sample names its frame
+    const std::string imu_frame = after_ ? after_->frame_id : std::string();
+    std::optional<Eigen::Isometry3d> pose;
+    if (!sensor_frame.empty() && !imu_frame.empty())
+      pose = imu_.mounts.lookup(sensor_frame, imu_frame);
+    if (!pose)
+      throw std::runtime_error(
+          "--imu-topic: the IMU's mounting in the LiDAR frame is not known: state imu_roll_deg, "
+          "imu_pitch_deg and imu_yaw_deg in a --config file, or record /tf_static with a chain "
+          "from the scans' frame (" +
+          (sensor_frame.empty() ? std::string("they name none") : sensor_frame) +
+          ") to the IMU's (" + (imu_frame.empty() ? std::string("none named") : imu_frame) +
+          "); the recording's static transforms:\n" +
+          (imu_.mounts.empty() ? std::string("  (none)\n") : imu_.mounts.describe()));
+    const Eigen::Vector3d ypr = pose->linear().eulerAngles(2, 1, 0) * 180.0 / M_PI;
+    std::cerr << "odom_client: IMU mounting from /tf_static: " << sensor_frame << " <- "
+              << imu_frame << ", yaw " << ypr[0] << " pitch " << ypr[1] << " roll " << ypr[2]
+              << " deg\n";
+    return pose->linear();
+  }
+
   // Moves the pair (before_, after_) of samples with an attitude on either side of t.
   void advanceTo(std::int64_t t) {
     while (!ended_ && (!after_ || after_->stamp_ns <= t)) {
@@ -70,7 +96,7 @@ class ImuAttitudeSource final : public ScanSource {
       return std::nullopt;
     }
     GravityReference g;
-    g.up = (imu_.sensor_R_imu * (q.conjugate() * Eigen::Vector3d::UnitZ())).normalized();
+    g.up = (*imu_.sensor_R_imu * (q.conjugate() * Eigen::Vector3d::UnitZ())).normalized();
     g.sigma = sigmaOf(*nearest);
     return g;
   }

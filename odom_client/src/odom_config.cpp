@@ -130,9 +130,14 @@ std::string validate(const OdomConfig& c) {
   if (!std::isfinite(c.deskew_reference_time)) return "deskew_reference_time must be finite";
   if (!std::isfinite(c.gravity_tilt_walk_deg) || c.gravity_tilt_walk_deg < 0.0)
     return "gravity_tilt_walk_deg must be >= 0";
-  for (const double angle : {c.imu_roll_deg, c.imu_pitch_deg, c.imu_yaw_deg})
+  int stated = 0;
+  for (const double angle : {c.imu_roll_deg, c.imu_pitch_deg, c.imu_yaw_deg}) {
     if (std::isinf(angle) || std::abs(angle) > 360.0)  // NaN: not stated
       return "imu_roll_deg, imu_pitch_deg and imu_yaw_deg must be within [-360, 360]";
+    stated += std::isnan(angle) ? 0 : 1;
+  }
+  if (stated == 1 || stated == 2)
+    return "imu_roll_deg, imu_pitch_deg and imu_yaw_deg: state all three or none";
   if (!std::isfinite(c.imu_attitude_sigma_deg) || c.imu_attitude_sigma_deg < 0.0 ||
       c.imu_attitude_sigma_deg > 90.0)
     return "imu_attitude_sigma_deg must be within [0, 90]";

@@ -38,6 +38,7 @@ class RecordingScanSource final : public ScanSource {
     const float remainder_s = static_cast<float>(sweep.stamp_ns - scan.utime * 1000) * 1e-9f;
     scan.seq = sweep.seq;
     scan.name = name_ + " sweep " + std::to_string(sweep.seq);
+    scan.frame_id = std::move(sweep.frame_id);
     scan.cloud.points = std::move(sweep.points);
     scan.cloud.times = std::move(sweep.time);
     for (float& t : scan.cloud.times) t += remainder_s;

@@ -168,40 +168,33 @@ TEST_F(OdomEndToEnd, Vlp16CaptureMapsWithNoLostOrUnhealthyFrame) {
 // scans 1 s apart, a sensor_msgs/Imu topic at 10 Hz around them) read with --imu-topic. Scan 1
 // gets the IMU's attitude; scan 0 none: the sample at its time carries no orientation, which
 // leaves 0.2 s between the attitudes on either side (more than 0.1 s: a gap). The run goes on.
-// Without the IMU's mounting in the config it is refused.
+// The IMU's mounting comes from the bag's /tf_static, or from the config where it is stated.
 TEST_F(OdomEndToEnd, ABagsImuAttitudeReachesEveryScan) {
   const fs::path bag = fs::path(SOCC_BAG_FIXTURES_DIR) / "clouds_none.bag";
   if (!fs::exists(fs::path(SOCC_SHARED_DATA_DIR) / "kitti_00_first16"))
     GTEST_SKIP() << "shared data absent: the fixture bags are written from its KITTI scans";
   ASSERT_TRUE(fs::exists(bag)) << bag << ": run the fixture sensors.bag_writers";
   const fs::path out = work_ / "imu_bag";
-  const auto run = [&](const std::vector<std::string>& config) {
-    std::vector<std::string> args = {SOCC_ODOM_CLIENT_BIN,
-                                     "--bag",
-                                     bag.string(),
-                                     "--topic",
-                                     "/points",
-                                     "--imu-topic",
-                                     "/imu",
-                                     "--lcm-url",
-                                     url_,
-                                     "--robot-id",
-                                     "imu_bag",
-                                     "--out-dir",
-                                     out.string(),
-                                     "--quiet"};
+  const auto run = [&](const std::string& robot, const std::vector<std::string>& config) {
+    std::vector<std::string> args = {
+        SOCC_ODOM_CLIENT_BIN, "--bag", bag.string(), "--topic", "/points",   "--imu-topic", "/imu",
+        "--lcm-url",          url_,    "--robot-id", robot,     "--out-dir", out.string()};
     args.insert(args.end(), config.begin(), config.end());
     socc::testing::ChildProcess c(args, out.string() + ".log");
     return c.wait(std::chrono::seconds(60));
   };
-  // Without the IMU's mounting stated: refused, naming the keys; nothing sent.
-  EXPECT_NE(run({}), 0);
-  EXPECT_NE(readFile(out.string() + ".log").find("imu_roll_deg, imu_pitch_deg"), std::string::npos)
+  // The mounting from the bag's /tf_static (velodyne <- imu: turned 90 deg about z).
+  ASSERT_EQ(run("imu_bag", {}), 0) << readFile(out.string() + ".log");
+  EXPECT_NE(readFile(out.string() + ".log")
+                .find("IMU mounting from /tf_static: velodyne <- imu, yaw 90 pitch"),
+            std::string::npos)
       << readFile(out.string() + ".log");
-  EXPECT_EQ(client_->getStats().reply->stats.num_robots, 0);
+  // Stated in the config, it is used as stated.
   const fs::path mounting = work_ / "imu_mounting.yaml";
   std::ofstream(mounting) << "imu_roll_deg: 0\nimu_pitch_deg: 0\nimu_yaw_deg: 0\n";
-  ASSERT_EQ(run({"--config", mounting.string()}), 0) << readFile(out.string() + ".log");
+  ASSERT_EQ(run("imu_bag_stated", {"--config", mounting.string()}), 0)
+      << readFile(out.string() + ".log");
+  EXPECT_EQ(readFile(out.string() + ".log").find("IMU mounting from"), std::string::npos);
   const std::string log = readFile(out.string() + ".log");
   EXPECT_NE(log.find("IMU attitude for 1 of 2 scans ("), std::string::npos) << log;
   EXPECT_NE(log.find(", 1 without an orientation)"), std::string::npos) << log;

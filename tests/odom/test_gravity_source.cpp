@@ -18,6 +18,7 @@
 
 using namespace socc;
 using namespace socc::odom;
+using socc::sensors::StaticTransforms;
 namespace fs = std::filesystem;
 
 namespace {
@@ -54,18 +55,21 @@ std::string openError(const fs::path& dir) {
 // Scans at the given times [s], one point each.
 class ListedScans final : public ScanSource {
  public:
-  explicit ListedScans(std::vector<double> times) : times_(std::move(times)) {}
+  explicit ListedScans(std::vector<double> times, std::string frame = "lidar")
+      : times_(std::move(times)), frame_(std::move(frame)) {}
   std::optional<Scan> next() override {
     if (next_ == times_.size()) return std::nullopt;
     Scan scan;
     scan.utime = static_cast<std::int64_t>(std::llround(times_[next_++] * 1e6));
     scan.cloud.points = {{10.f, 0.f, 0.f}};
+    scan.frame_id = frame_;
     return scan;
   }
   std::size_t remaining() const override { return times_.size() - next_; }
 
  private:
   std::vector<double> times_;
+  std::string frame_;
   std::size_t next_ = 0;
 };
 
@@ -90,6 +94,7 @@ std::unique_ptr<sensors::ImuStream> rollingImu(const Eigen::Matrix3d& covariance
     if (k > 10 && k < 20) continue;
     sensors::ImuSample s;
     s.stamp_ns = 1'000'000'000 + k * 20'000'000LL;
+    s.frame_id = "imu";
     if (k != 5)
       s.orientation =
           Eigen::Quaterniond(Eigen::AngleAxisd(0.1 * k * 0.02, Eigen::Vector3d::UnitX()));
@@ -100,8 +105,9 @@ std::unique_ptr<sensors::ImuStream> rollingImu(const Eigen::Matrix3d& covariance
 }
 
 std::vector<std::optional<GravityReference>> attitudes(ImuAttitude imu,
-                                                       const std::vector<double>& times) {
-  auto source = withImuAttitude(std::make_unique<ListedScans>(times), std::move(imu));
+                                                       const std::vector<double>& times,
+                                                       const std::string& frame = "lidar") {
+  auto source = withImuAttitude(std::make_unique<ListedScans>(times, frame), std::move(imu));
   std::vector<std::optional<GravityReference>> out;
   while (std::optional<Scan> scan = source->next()) out.push_back(scan->gravity);
   return out;
@@ -132,11 +138,51 @@ TEST(GravitySource, AnImuAttitudeIsInterpolatedAtEachScansTime) {
   }
   ImuAttitude stated;
   stated.stream = rollingImu(Eigen::Vector3d(1e-4, 4e-4, 1.0).asDiagonal());
+  stated.sensor_R_imu = Eigen::Matrix3d::Identity();
   stated.sigma = 0.003;
   EXPECT_DOUBLE_EQ(attitudes(std::move(stated), {1.05})[0]->sigma, 0.003);
   ImuAttitude unknown;
   unknown.stream = rollingImu(Eigen::Matrix3d::Zero());
+  unknown.sensor_R_imu = Eigen::Matrix3d::Identity();
   EXPECT_DOUBLE_EQ(attitudes(std::move(unknown), {1.05})[0]->sigma, 0.5 * M_PI / 180.0);
+}
+
+// Without a stated mounting, the recording's static transforms give it by the scans' and the
+// IMU's frame names; without a chain between them the first scan is an error that says what
+// to state, never a guessed mounting.
+std::string mountingError(StaticTransforms mounts, const std::string& frame) {
+  ImuAttitude imu;
+  imu.stream = rollingImu(Eigen::Matrix3d::Zero());
+  imu.mounts = std::move(mounts);
+  try {
+    attitudes(std::move(imu), {1.05}, frame);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(GravitySource, AnImusMountingComesFromTheRecordingsStaticTransforms) {
+  ImuAttitude imu;
+  imu.stream = rollingImu(Eigen::Matrix3d::Zero());
+  Eigen::Isometry3d base_T_imu = Eigen::Isometry3d::Identity();
+  base_T_imu.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).matrix();
+  base_T_imu.translation() = Eigen::Vector3d(0.5, 0.0, 0.2);
+  imu.mounts.add("base_link", "lidar", Eigen::Isometry3d::Identity());
+  imu.mounts.add("base_link", "imu", base_T_imu);
+  const std::optional<GravityReference> g = attitudes(std::move(imu), {1.05})[0];
+  ASSERT_TRUE(g);
+  EXPECT_LT((g->up - Eigen::Vector3d(-std::sin(0.005), 0.0, std::cos(0.005))).norm(), 1e-9);
+
+  const std::string none = mountingError({}, "lidar");
+  EXPECT_NE(none.find("imu_roll_deg, imu_pitch_deg and imu_yaw_deg"), std::string::npos) << none;
+  EXPECT_NE(none.find("(lidar) to the IMU's (imu)"), std::string::npos) << none;
+  EXPECT_NE(none.find("(none)"), std::string::npos) << none;
+  StaticTransforms other;
+  other.add("base_link", "camera", Eigen::Isometry3d::Identity());
+  const std::string unjoined = mountingError(other, "");
+  EXPECT_NE(unjoined.find("they name none"), std::string::npos) << unjoined;
+  EXPECT_NE(unjoined.find("base_link -> camera"), std::string::npos) << unjoined;
 }
 
 TEST(GravitySource, KittiDirectoryGivesEachFrameItsLine) {

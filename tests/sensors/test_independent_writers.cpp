@@ -2,7 +2,8 @@
 // the ctest fixture sensors.bag_writers): ROS 1 bags by Debian's python3-rosbag (chunks none,
 // bz2, lz4) and MCAP files by @mcap/core with Foxglove's CDR and ROS 1 serializers (chunks
 // none, zstd, lz4). Every coordinate and intensity reads back bit-identical; stamps and point
-// times as written; topic choice and its errors; sensor_msgs/Imu samples as written.
+// times as written; topic choice and its errors; sensor_msgs/Imu samples as written; the
+// static transforms of /tf_static.
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 #include <unistd.h>
@@ -16,6 +17,7 @@
 #include "socc/kitti_io.hpp"
 #include "socc/sensors/bag_recording.hpp"
 #include "socc/sensors/imu_stream.hpp"
+#include "socc/sensors/static_transforms.hpp"
 
 namespace socc::sensors::bags {
 namespace {
@@ -116,9 +118,9 @@ TEST_P(IndependentWriter, Float64CloudsWithTimesReadBack) {
 
 TEST_P(IndependentWriter, TopicsAndTopicChoice) {
   const std::unique_ptr<BagReader> reader = openBagReader(file_);
-  ASSERT_EQ(reader->topics().size(), 4u);
+  ASSERT_EQ(reader->topics().size(), 5u);
   for (const TopicInfo& t : reader->topics())
-    EXPECT_EQ(t.messages, t.name == "/imu" ? 21u : 2u) << t.name;
+    EXPECT_EQ(t.messages, t.name == "/imu" ? 21u : t.name == "/tf_static" ? 1u : 2u) << t.name;
   EXPECT_TRUE(isBag(file_));
   // Two PointCloud2 topics: the caller must choose; the error lists the topics.
   try {
@@ -173,6 +175,19 @@ TEST_P(IndependentWriter, ImuSamplesReadBackAsWritten) {
         << e.what();
     EXPECT_NE(std::string(e.what()).find("/imu"), std::string::npos) << e.what();  // listed
   }
+}
+
+// /tf_static: base_link -> velodyne (ROS 1: "/base_link") and base_link -> imu, joined into the
+// IMU's mounting in the frame the scans name.
+TEST_P(IndependentWriter, StaticTransformsJoinTheScansFrameToTheImus) {
+  const StaticTransforms mounts = StaticTransforms::fromBag(file_);
+  const std::optional<Eigen::Isometry3d> lidar_T_imu = mounts.lookup("velodyne", "imu");
+  ASSERT_TRUE(lidar_T_imu) << mounts.describe();
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).matrix();
+  EXPECT_LT((lidar_T_imu->linear() - turn).norm(), 1e-12);
+  EXPECT_LT((lidar_T_imu->translation() - Eigen::Vector3d(0.1, 0.0, -1.2)).norm(), 1e-12);
+  EXPECT_FALSE(mounts.lookup("velodyne", "camera"));
+  EXPECT_EQ(readAll(file_, "/points").at(0).frame_id, "velodyne");
 }
 
 INSTANTIATE_TEST_SUITE_P(Bags, IndependentWriter,

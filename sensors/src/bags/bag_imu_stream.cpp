@@ -33,6 +33,7 @@ std::size_t chooseImuTopic(const bags::BagReader& reader, const std::string& req
 ImuSample toSample(const bags::ImuMsg& m) {
   ImuSample s;
   s.stamp_ns = m.header.stamp_ns;
+  s.frame_id = m.header.frame_id;
   s.orientation_covariance = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
       m.orientation_covariance.data());
   s.angular_velocity = Eigen::Vector3d(m.angular_velocity.data());

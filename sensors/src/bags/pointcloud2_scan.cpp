@@ -197,6 +197,7 @@ PointCloud2Conversion convertPointCloud2(const PointCloud2Msg& cloud,
   const std::int64_t header_ns =
       cloud.header.stamp_ns != 0 ? cloud.header.stamp_ns : receive_stamp_ns;
   scan.stamp_ns = header_ns;
+  scan.frame_id = cloud.header.frame_id;
   const std::size_t n = std::size_t{cloud.height} * cloud.width;
   if (n == 0) return out;  // also no loop over 2^32 empty rows
   scan.points.reserve(n);

@@ -55,6 +55,19 @@ ImuMsg readImu(Reader& r) {
   return m;
 }
 
+template <class Reader>
+std::vector<TransformMsg> readTfMessage(Reader& r) {
+  // Header (stamp, frame_id), child_frame_id and 7 float64: at least 64 bytes each.
+  std::vector<TransformMsg> out(r.sequenceLength(64));
+  for (TransformMsg& t : out) {
+    t.header = r.header();
+    t.child_frame_id = r.string();
+    readDoubles(r, t.translation);
+    readDoubles(r, t.rotation);
+  }
+  return out;
+}
+
 Packet packetOf(std::int64_t stamp_ns, ByteView bytes) {
   Packet p;
   p.stamp_ns = stamp_ns;
@@ -145,6 +158,19 @@ ImuMsg parseImu(ByteView message, Encoding encoding) {
   }
   CdrReader r(message);
   return readImu(r);
+}
+
+bool isTfMessageType(const std::string& type) {
+  return ros1TypeName(type) == "tf2_msgs/TFMessage";
+}
+
+std::vector<TransformMsg> parseTfMessage(ByteView message, Encoding encoding) {
+  if (encoding == Encoding::kRos1) {
+    Ros1Reader r(message);
+    return readTfMessage(r);
+  }
+  CdrReader r(message);
+  return readTfMessage(r);
 }
 
 void appendPackets(MessageKind kind, ByteView message, Encoding encoding,

@@ -66,6 +66,18 @@ struct ImuMsg {
 
 ImuMsg parseImu(ByteView message, Encoding encoding);
 
+/// tf2_msgs/TFMessage: the transforms of /tf and /tf_static.
+bool isTfMessageType(const std::string& type);
+
+struct TransformMsg {  // geometry_msgs/TransformStamped: child_frame_id's pose in header.frame_id
+  MessageHeader header;
+  std::string child_frame_id;
+  std::array<double, 3> translation{};
+  std::array<double, 4> rotation{};  // x y z w
+};
+
+std::vector<TransformMsg> parseTfMessage(ByteView message, Encoding encoding);
+
 /// Appends the UDP payloads of a packet message (kind != kPointCloud2) to out. Packets without
 /// a stamp of their own (Ouster) get message_stamp_ns, the bag's receive time.
 void appendPackets(MessageKind kind, ByteView message, Encoding encoding,

@@ -8,6 +8,7 @@
 //                                                    time float32 = point index * 1e-6 s
 //   /chatter      std_msgs/msg/String, cdr           (a topic socc does not read)
 //   /imu          sensor_msgs/msg/Imu, cdr:           the samples of write_ros1_bags.py
+//   /tf_static    tf2_msgs/msg/TFMessage, cdr:        the transforms of write_ros1_bags.py
 // Scan i has header stamp 1700000000 + i s + 500 ns and log time 1 ms later.
 "use strict";
 const fs = require("node:fs");
@@ -73,6 +74,43 @@ MSG: geometry_msgs/Vector3
 float64 x
 float64 y
 float64 z`;
+
+const TF_DEF = `geometry_msgs/TransformStamped[] transforms
+================================================================================
+MSG: geometry_msgs/TransformStamped
+std_msgs/Header header
+string child_frame_id
+geometry_msgs/Transform transform
+================================================================================
+MSG: std_msgs/Header
+${ROS2_HEADER}
+================================================================================
+MSG: geometry_msgs/Transform
+geometry_msgs/Vector3 translation
+geometry_msgs/Quaternion rotation
+================================================================================
+MSG: geometry_msgs/Vector3
+float64 x
+float64 y
+float64 z
+================================================================================
+MSG: geometry_msgs/Quaternion
+float64 x
+float64 y
+float64 z
+float64 w`;
+
+// /tf_static as write_ros1_bags.py's static_transforms() (frame names without a leading '/').
+function staticTransforms() {
+  const header = (frame) => ({ stamp: { sec: 1699999999, nanosec: 0 }, frame_id: frame });
+  return { transforms: [
+    { header: header("base_link"), child_frame_id: "velodyne",
+      transform: { translation: { x: 0, y: 0, z: 1.7 }, rotation: { x: 0, y: 0, z: 0, w: 1 } } },
+    { header: header("base_link"), child_frame_id: "imu",
+      transform: { translation: { x: 0.1, y: 0, z: 0.5 },
+                   rotation: { x: 0, y: 0, z: Math.sin(Math.PI / 4), w: Math.cos(Math.PI / 4) } } },
+  ] };
+}
 
 // Sample k of /imu, as write_ros1_bags.py's imu_sample(k) writes it.
 function imuSample(k) {
@@ -157,6 +195,14 @@ async function writeFile(file, compression, scans) {
   const imu = await writer.registerChannel(
     { schemaId: imuSchema, topic: "/imu", messageEncoding: "cdr", metadata: new Map() });
   const imus = new Ros2Writer(parse(IMU_DEF, { ros2: true }));
+  const tfSchema = await writer.registerSchema(
+    { name: "tf2_msgs/msg/TFMessage", encoding: "ros2msg", data: enc.encode(TF_DEF) });
+  const tf = await writer.registerChannel(
+    { schemaId: tfSchema, topic: "/tf_static", messageEncoding: "cdr", metadata: new Map() });
+  const tfs = new Ros2Writer(parse(TF_DEF, { ros2: true }));
+  const tfTime = 1699999999n * 1000000000n;
+  await writer.addMessage({ channelId: tf, sequence: 0, logTime: tfTime, publishTime: tfTime,
+                            data: tfs.writeMessage(staticTransforms()) });
   const ros2 = new Ros2Writer(parse(ROS2_DEF, { ros2: true }));
   const ros1 = new Ros1Writer(parse(ROS1_DEF));
   const strings = new Ros2Writer(parse("string data", { ros2: true }));

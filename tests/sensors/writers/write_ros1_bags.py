@@ -8,6 +8,8 @@ For each chunk compression (none, bz2, lz4) OUT_DIR/clouds_<compression>.bag hol
                  = absolute seconds (header stamp + point index * 1e-6 s)
     /chatter     std_msgs/String (a topic socc does not read)
     /imu         sensor_msgs/Imu: 21 samples at 10 Hz from 1699999999.5 s (imu_sample below)
+    /tf_static   tf2_msgs/TFMessage: /base_link -> velodyne at (0, 0, 1.7), base_link -> imu at
+                 (0.1, 0, 0.5) turned 90 deg about z (so velodyne_R_imu is that turn)
 Scan i has header stamp 1700000000 + i s + 500 ns and record time 1 ms later.
 """
 import math
@@ -17,8 +19,10 @@ import sys
 
 import genpy
 import rosbag
+from geometry_msgs.msg import TransformStamped
 from sensor_msgs.msg import Imu, PointCloud2, PointField
 from std_msgs.msg import String
+from tf2_msgs.msg import TFMessage
 
 
 def cloud(stamp, fields, point_step, width, data):
@@ -75,6 +79,24 @@ def imu_sample(k):
     return m
 
 
+def static_transforms():
+    """The /tf_static message (write_mcap_clouds.cjs writes the same, without the leading '/')."""
+    lidar = TransformStamped()
+    lidar.header.stamp = genpy.Time(1699999999, 0)
+    lidar.header.frame_id = "/base_link"
+    lidar.child_frame_id = "velodyne"
+    lidar.transform.translation.z = 1.7
+    lidar.transform.rotation.w = 1.0
+    imu = TransformStamped()
+    imu.header.stamp = genpy.Time(1699999999, 0)
+    imu.header.frame_id = "base_link"
+    imu.child_frame_id = "imu"
+    imu.transform.translation.x, imu.transform.translation.z = 0.1, 0.5
+    imu.transform.rotation.z = math.sin(math.pi / 4)
+    imu.transform.rotation.w = math.cos(math.pi / 4)
+    return TFMessage(transforms=[lidar, imu])
+
+
 def main():
     if len(sys.argv) < 3:
         sys.exit("usage: write_ros1_bags.py OUT_DIR SCAN.bin...")
@@ -90,6 +112,7 @@ def main():
                 bag.write("/points", kitti_cloud(stamp, raw), record)
                 bag.write("/points_f64", float64_cloud(stamp, raw), record)
                 bag.write("/chatter", String(data="scan %d" % i), record)
+            bag.write("/tf_static", static_transforms(), genpy.Time(1699999999, 0))
             for k in range(21):
                 m = imu_sample(k)
                 bag.write("/imu", m, m.header.stamp + genpy.Duration(0, 1000000))

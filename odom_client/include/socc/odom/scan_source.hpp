@@ -13,6 +13,7 @@
 #include "socc/point_cloud.hpp"
 #include "socc/sensors/imu_stream.hpp"
 #include "socc/sensors/recording.hpp"
+#include "socc/sensors/static_transforms.hpp"
 
 namespace socc::odom {
 
@@ -21,6 +22,7 @@ struct Scan {
   std::int64_t utime = 0;  // scan time [us]
   std::int64_t seq = 0;    // frame index (directories) or the driver's sequence number (LCM)
   std::string name;        // for messages, e.g. the file name
+  std::string frame_id;    // the sensor frame's name where the source has one (PointCloud2)
   /// The up direction in the sensor frame at utime, from the source's IMU/INS (a KITTI
   /// directory's gravity.txt); none: the source has no gravity reference for this scan.
   std::optional<GravityReference> gravity = std::nullopt;
@@ -72,12 +74,16 @@ std::unique_ptr<ScanSource> openRecordingScans(const std::filesystem::path& file
 /// into the sensor frame.
 struct ImuAttitude {
   std::unique_ptr<sensors::ImuStream> stream;
-  Eigen::Matrix3d sensor_R_imu = Eigen::Matrix3d::Identity();  // the IMU's axes, sensor frame
+  /// The IMU's axes in the sensor frame; none: from mounts, by the scans' and the IMU samples'
+  /// frame names (a recording's /tf_static).
+  std::optional<Eigen::Matrix3d> sensor_R_imu;
+  sensors::StaticTransforms mounts;
   double sigma = 0.0;  // [rad] per tilt component; 0: the samples' covariance, or 0.5 deg
 };
 
 /// source's scans, each with the gravity reference of imu at its time (none where the IMU has
-/// no attitude within 0.1 s of it: counted, and reported on stderr at the end).
+/// no attitude within 0.1 s of it: counted, and reported on stderr at the end). Throws
+/// std::runtime_error at the first scan when the mounting is neither given nor found in mounts.
 std::unique_ptr<ScanSource> withImuAttitude(std::unique_ptr<ScanSource> source, ImuAttitude imu);
 
 /// source, read one scan ahead in a worker thread: the next file is read while the current scan

@@ -14,6 +14,7 @@ namespace socc::sensors {
 
 struct ImuSample {
   std::int64_t stamp_ns = 0;  // the message's header stamp
+  std::string frame_id;       // the message's header frame_id: the IMU's frame
   /// The IMU frame's orientation in its world frame (z up, ENU as REP 103/145 say); none when
   /// the message carries none (orientation_covariance[0] == -1) or an unusable quaternion.
   std::optional<Eigen::Quaterniond> orientation;

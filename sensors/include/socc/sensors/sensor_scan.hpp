@@ -24,6 +24,7 @@ struct SensorScan {
   // or one with lost packets beyond the decoder's tolerance).
   bool complete = true;
   std::string source;  // for messages: "pcap foo.pcap", "bag x.mcap /points"
+  std::string frame_id;  // the points' frame as a PointCloud2 names it; empty for packets
 
   std::size_t size() const { return points.size(); }
 };
