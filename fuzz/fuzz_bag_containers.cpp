@@ -21,7 +21,11 @@ void decodeMessage(const bags::TopicInfo& topic, const bags::BagMessage& m) {
   if (!topic.encoding) return;
   const bags::MessageKind kind = bags::messageKind(topic.type);
   try {
-    if (kind == bags::MessageKind::kPointCloud2) {
+    if (bags::isImuType(topic.type)) {
+      bags::parseImu(bags::ByteView(m.data), *topic.encoding);
+    } else if (bags::isTfMessageType(topic.type)) {
+      bags::parseTfMessage(bags::ByteView(m.data), *topic.encoding);
+    } else if (kind == bags::MessageKind::kPointCloud2) {
       bags::convertPointCloud2(bags::parsePointCloud2(bags::ByteView(m.data), *topic.encoding),
                                m.stamp_ns);
     } else if (kind != bags::MessageKind::kUnsupported) {
