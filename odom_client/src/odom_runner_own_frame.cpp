@@ -133,7 +133,7 @@ void OdomRunner::mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest,
   for (const OwnKeyframe& k : kept) integrateKept(k);
   for (std::size_t i = own_rows_begin_; i < trajectory_.poses.size(); ++i)
     trajectory_.poses[i] = shared_T_own * trajectory_.poses[i];
-  odometry.correct(shared_T_own);  // as a map correction: the motion model goes on
+  odometry.moveFrame(shared_T_own);  // as a map correction, the map's up turned too
   watch(odometry);
   jump_ = mergeText(shared_T_own, kept.size(), *own_);
   std::cerr << "odom_client: " << jump_ << "\n";

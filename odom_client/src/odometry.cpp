@@ -459,8 +459,12 @@ std::optional<FrameEstimate> Odometry::takeReleasedFrame() {
 
 void Odometry::correct(const Eigen::Isometry3d& correction) {
   pose_ = correction * pose_;
-  tilt_.correct(correction.linear());
   if (released_) released_->pose = correction * released_->pose;
+}
+
+void Odometry::moveFrame(const Eigen::Isometry3d& new_T_old) {
+  correct(new_T_old);
+  tilt_.moveFrame(new_T_old.linear());
 }
 
 void Odometry::reset(const Eigen::Isometry3d& pose) {

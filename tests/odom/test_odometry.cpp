@@ -260,6 +260,39 @@ TEST(Se3, IncrementsKeepThePoseARigidTransform) {
   EXPECT_LT((orthonormalized(skewed).linear() - r).norm(), 1e-9);
 }
 
+// With a gravity reference the odometry holds the map's up. A map correction moves the pose,
+// not gravity: the service rebuilt the map in the same frame, and a tilt in the correction is
+// the drift it removed (turning the up with it kept a 0.15 deg tilt error for the rest of a
+// KITTI-05-shaped drive, docs/consistency.md). An own-frame merge turns the frame: the up too.
+TEST(Odometry, AMapCorrectionKeepsTheMapsUpAFrameMoveTurnsIt) {
+  socc::sim::SceneOptions options;
+  options.frames = 4;
+  const socc::sim::Scene scene = socc::sim::buildScene(options);
+  const socc::sim::LidarModel lidar = socc::sim::lidarPreset("vlp32");
+  socc::LabeledCloud world;
+  for (int k = 0; k < 4; ++k)
+    for (const Eigen::Vector3f& q : simulatedFrame(scene, lidar, k, false).points)
+      world.points.push_back((scene.trajectory.poseAt(0.1 * k) * q.cast<double>()).cast<float>());
+  const LocalMap map = buildScanMap(world, 0.5);
+  Odometry odom(OdomConfig{}, scene.trajectory.poseAt(0.0), true);
+  for (int k = 0; k < 3; ++k) {
+    PreparedScan scan = odom.prepare(simulatedFrame(scene, lidar, k, false), k, k * 100000);
+    const Eigen::Matrix3d truth = scene.trajectory.poseAt(0.1 * k).linear();
+    scan.gravity = socc::GravityReference{truth.transpose().col(2), 6e-4};
+    odom.registerFrame(scan, map);
+  }
+  const auto mapUp = [&odom] {
+    return odom.tiltReference().prior(Eigen::Vector3d::UnitZ(), 6e-4, 0.3)->map_up;
+  };
+  ASSERT_TRUE(odom.tiltReference().prior(Eigen::Vector3d::UnitZ(), 6e-4, 0.3));
+  const Eigen::Vector3d up = mapUp();
+  const Eigen::Isometry3d tilt(Eigen::AngleAxisd(0.003, Eigen::Vector3d::UnitY()));
+  odom.correct(tilt);
+  EXPECT_LT((mapUp() - up).norm(), 1e-12);
+  odom.moveFrame(tilt);
+  EXPECT_LT((mapUp() - tilt.linear() * up).norm(), 1e-12);
+}
+
 // A map correction (docs/consistency.md): the server rebuilt the grid 2 m and 3 deg away and the
 // robot applies the correction to its odometry. The next frames register against the moved map
 // as if nothing happened: healthy, no kinematic surprise, the motion model intact.

@@ -41,7 +41,7 @@ TEST(TiltReference, TheGainIsTheKalmanFiltersPerTiltAxis) {
   EXPECT_NEAR(p, steady, 1e-3 * steady);
 }
 
-TEST(TiltReference, TheMapsUpIsTheFirstSecondsMeanAndFollowsACorrection) {
+TEST(TiltReference, TheMapsUpIsTheFirstSecondsMeanAndTurnsWithTheFrame) {
   TiltReference tilt(kWalk);
   const Eigen::Matrix3d roll = Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitX()).toRotationMatrix();
   tilt.update(Eigen::Matrix3d::Identity(), roll * Eigen::Vector3d::UnitZ(), kSigma, 0.0);
@@ -58,7 +58,7 @@ TEST(TiltReference, TheMapsUpIsTheFirstSecondsMeanAndFollowsACorrection) {
   prior = tilt.prior(Eigen::Vector3d::UnitZ(), kSigma, 1.3);
   EXPECT_NEAR((prior->map_up - Eigen::Vector3d::UnitZ()).norm(), 0.0, 1e-12);
   const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  tilt.correct(turn);
+  tilt.moveFrame(turn);
   prior = tilt.prior(Eigen::Vector3d::UnitZ(), kSigma, 0.2);
   EXPECT_NEAR((prior->map_up - turn * Eigen::Vector3d::UnitZ()).norm(), 0.0, 1e-12);
 }

@@ -98,7 +98,15 @@ class Odometry {
   /// The map was corrected (docs/consistency.md): corrected = correction * pose for every pose
   /// so far. Moves the state's pose (and a released first frame); the motion (a body twist),
   /// the period and the threshold stay, so the next registration goes on as if nothing happened.
+  /// The map's up (gravity in the map frame) stays: the service rebuilt the map in the same
+  /// frame, levelled by the robots' gravity references, so the correction's tilt is the drift
+  /// it removed, not a turn of gravity.
   void correct(const Eigen::Isometry3d& correction);
+  /// The map frame itself changed (an own-frame robot merged into the shared map):
+  /// new_T_old * pose for every pose so far, as correct() does, and the map's up turns with it.
+  void moveFrame(const Eigen::Isometry3d& new_T_old);
+  /// The gravity reference's hold on roll and pitch (the map's up, the filter's state).
+  const TiltReference& tiltReference() const { return tilt_; }
   /// Restarts from pose with zero velocity and the initial threshold (e.g. --resume).
   void reset(const Eigen::Isometry3d& pose);
 

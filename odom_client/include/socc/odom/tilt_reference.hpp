@@ -26,8 +26,8 @@ class TiltReference {
   /// the map's.
   void update(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& up_at_mid, double sigma,
               double time);
-  /// Every pose so far was rotated by rotation (a map correction).
-  void correct(const Eigen::Matrix3d& rotation) { up_sum_ = rotation * up_sum_; }
+  /// The map frame turned by rotation (new_R_old; an own-frame robot merged): so did its up.
+  void moveFrame(const Eigen::Matrix3d& rotation) { up_sum_ = rotation * up_sum_; }
   /// [rad^2] the odometry's tilt error variance per axis after the last update.
   double variance() const { return variance_; }
 
