@@ -15,6 +15,17 @@ std::string ros1TypeName(const std::string& type) {
   return pos == std::string::npos ? type : type.substr(0, pos) + "/" + type.substr(pos + 5);
 }
 
+// read(reader) on a reader of the message's serialization: each parser is written once.
+template <class Read>
+auto parseAs(ByteView message, Encoding encoding, Read read) {
+  if (encoding == Encoding::kRos1) {
+    Ros1Reader r(message);
+    return read(r);
+  }
+  CdrReader r(message);
+  return read(r);
+}
+
 template <class Reader>
 PointCloud2Msg readPointCloud2(Reader& r) {
   PointCloud2Msg m;
@@ -139,12 +150,7 @@ std::string supportedMessageTypes() {
 }
 
 PointCloud2Msg parsePointCloud2(ByteView message, Encoding encoding) {
-  if (encoding == Encoding::kRos1) {
-    Ros1Reader r(message);
-    return readPointCloud2(r);
-  }
-  CdrReader r(message);
-  return readPointCloud2(r);
+  return parseAs(message, encoding, [](auto& r) { return readPointCloud2(r); });
 }
 
 bool isImuType(const std::string& type) {
@@ -152,12 +158,7 @@ bool isImuType(const std::string& type) {
 }
 
 ImuMsg parseImu(ByteView message, Encoding encoding) {
-  if (encoding == Encoding::kRos1) {
-    Ros1Reader r(message);
-    return readImu(r);
-  }
-  CdrReader r(message);
-  return readImu(r);
+  return parseAs(message, encoding, [](auto& r) { return readImu(r); });
 }
 
 bool isTfMessageType(const std::string& type) {
@@ -165,25 +166,17 @@ bool isTfMessageType(const std::string& type) {
 }
 
 std::vector<TransformMsg> parseTfMessage(ByteView message, Encoding encoding) {
-  if (encoding == Encoding::kRos1) {
-    Ros1Reader r(message);
-    return readTfMessage(r);
-  }
-  CdrReader r(message);
-  return readTfMessage(r);
+  return parseAs(message, encoding, [](auto& r) { return readTfMessage(r); });
 }
 
 void appendPackets(MessageKind kind, ByteView message, Encoding encoding,
                    std::int64_t message_stamp_ns, std::vector<Packet>& out) {
   // All of a message's packets or none: a damaged message is one counted drop.
-  std::vector<Packet> packets;
-  if (encoding == Encoding::kRos1) {
-    Ros1Reader r(message);
-    readPackets(kind, r, message_stamp_ns, packets);
-  } else {
-    CdrReader r(message);
-    readPackets(kind, r, message_stamp_ns, packets);
-  }
+  std::vector<Packet> packets = parseAs(message, encoding, [&](auto& r) {
+    std::vector<Packet> read;
+    readPackets(kind, r, message_stamp_ns, read);
+    return read;
+  });
   for (Packet& p : packets) out.push_back(std::move(p));
 }
 
