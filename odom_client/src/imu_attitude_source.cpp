@@ -40,7 +40,8 @@ class ImuAttitudeSource final : public ScanSource {
   // sensor_R_imu from the recording's static transforms, by the frames' names.
   Eigen::Matrix3d mounting(const std::string& sensor_frame) {
     advanceTo(std::numeric_limits<std::int64_t>::min());  // the first sample names its frame
-    const std::string imu_frame = after_ ? after_->frame_id : std::string();
+    if (!after_) return Eigen::Matrix3d::Identity();      // no attitude at all: report() says so
+    const std::string imu_frame = after_->frame_id;
     std::optional<Eigen::Isometry3d> pose;
     if (!sensor_frame.empty() && !imu_frame.empty())
       pose = imu_.mounts.lookup(sensor_frame, imu_frame);
@@ -84,6 +85,7 @@ class ImuAttitudeSource final : public ScanSource {
     advanceTo(t);
     Eigen::Quaterniond q;
     const sensors::ImuSample* nearest = nullptr;
+    if (before_ && t < before_->stamp_ns) return std::nullopt;  // scans out of time order
     if (before_ && after_ && after_->stamp_ns - before_->stamp_ns <= kMaxGapNs) {
       const double span = static_cast<double>(after_->stamp_ns - before_->stamp_ns);
       const double alpha = static_cast<double>(t - before_->stamp_ns) / span;

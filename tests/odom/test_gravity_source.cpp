@@ -180,6 +180,10 @@ TEST(GravitySource, AnImusMountingComesFromTheRecordingsStaticTransforms) {
   EXPECT_NE(none.find("(none)"), std::string::npos) << none;
   StaticTransforms other;
   other.add("base_link", "camera", Eigen::Isometry3d::Identity());
+  // An IMU without any attitude needs no mounting: its scans just get no reference.
+  ImuAttitude rates_only;
+  rates_only.stream = std::make_unique<ListedImu>(std::vector<sensors::ImuSample>(3));
+  EXPECT_FALSE(attitudes(std::move(rates_only), {0.0})[0]);
   const std::string unjoined = mountingError(other, "");
   EXPECT_NE(unjoined.find("they name none"), std::string::npos) << unjoined;
   EXPECT_NE(unjoined.find("base_link -> camera"), std::string::npos) << unjoined;
