@@ -62,8 +62,9 @@ std::vector<CLI::Option*> addRecordingOptions(CLI::App& app, Args& a) {
       ->needs(bag);
   app.add_option("--imu-topic", a.imu_topic,
                  "--bag: a sensor_msgs/Imu topic whose attitude (orientation) is the gravity "
-                 "reference of the scans; its mounting and sigma: imu_*_deg in --config "
-                 "(odom_client/README.md \"Gravity reference\")")
+                 "reference of the scans; its mounting: imu_roll_deg / imu_pitch_deg / "
+                 "imu_yaw_deg in --config, else the bag's /tf_static (odom_client/README.md "
+                 "\"Gravity reference\")")
       ->needs(bag);
   std::string models;
   for (const std::string& m : socc::sensors::supportedModels())
