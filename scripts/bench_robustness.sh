@@ -127,9 +127,7 @@ side_by_side() {  # seq_dir case_out: socc LiDAR only (with / without semantics)
     name="${p%%=*}" cmd="${p#*=}" est="$dir/peer_$name.txt"
     bash -c "$cmd \"\$1\" \"\$2\"" peer "$seq" "$est" >"$dir/peer_$name.log" 2>&1 || true
     [ -s "$est" ] || continue
-    tail -n +2 "$seq/poses.txt" >"$dir/gt_shift.txt"; head -n -1 "$est" >"$dir/est_shift.txt"
-    "$build/eval/socc-eval" --gt "$dir/gt_shift.txt" --est "$dir/est_shift.txt" --truncate \
-      --json "$dir/peer_$name.json" >/dev/null 2>&1 || true
+    "$root/scripts/score_peer.sh" "$build" "$seq/poses.txt" "$est" "$dir/peer_$name.json" 2>/dev/null || true
   done
 }
 
@@ -169,9 +167,10 @@ def error(path):  # KITTI t_err, or ATE max / path length below 100 m
     return ev, t_err
 def load(variant):
     d = f"{out}/{variant}"
-    if error(f"{d}/eval.json") is None:
+    scored = error(f"{d}/eval.json")
+    if scored is None:
         return None
-    ev, ev["err"] = error(f"{d}/eval.json")
+    ev, ev["err"] = scored
     ev["rows"] = list(csv.DictReader(open(f"{d}/frames.csv")))
     hz = re.search(r"rate: ([0-9.]+) Hz", open(f"{d}/client_summary.txt").read())
     ev["hz"] = hz.group(1) if hz else "n/a"

@@ -72,13 +72,7 @@ for seq in "${seq_list[@]}"; do
       nice bash -c "$peer \"\$1\" \"\$2\"" peer "$dir" "$est" >"$out/peer_${seq}_s${seed}.log" 2>&1 ||
         { cat "$out/peer_${seq}_s${seed}.log" >&2; echo "bench_sim_calibration: the peer failed" >&2; exit 1; }
     fi
-    if [ "$pose_at" = end ]; then
-      # Estimate k is the pose at the start of sweep k + 1.
-      tail -n +2 "$dir/poses.txt" >"$out/gt_shift_${seq}_s${seed}.txt"; gt="$out/gt_shift_${seq}_s${seed}.txt"
-      head -n -1 "$est" >"$out/est_shift_${seq}_s${seed}.txt"; est="$out/est_shift_${seq}_s${seed}.txt"
-    fi
-    "$build/eval/socc-eval" --gt "$gt" --est "$est" --truncate \
-      --json "$out/eval_${seq}_s${seed}.json" >/dev/null
+    "$root/scripts/score_peer.sh" "$build" "$gt" "$est" "$out/eval_${seq}_s${seed}.json" --pose-at "$pose_at"
     miou=$(sed -n 's/^labels: mIoU \([0-9.]*\) .*/\1/p' "$out/sim_${seq}_s${seed}.log" 2>/dev/null || true)
     echo "$seq $seed $out/eval_${seq}_s${seed}.json ${miou:-nan}" >>"$results"
     [ "$keep" -eq 1 ] || rm -rf "$dir"

@@ -71,9 +71,7 @@ for seq in "${seq_list[@]}"; do
         nice bash -c "$cmd \"\$1\" \"\$2\"" peer "$dir" "$est" >"$out/peer_${name}_${seq}_s${seed}.log" 2>&1 || true
       fi
       if [ -s "$est" ]; then
-        tail -n +2 "$dir/poses.txt" >"$out/gt_shift.txt"; head -n -1 "$est" >"$out/est_shift.txt"
-        "$build/eval/socc-eval" --gt "$out/gt_shift.txt" --est "$out/est_shift.txt" --truncate \
-          --json "$out/peer_${name}_${seq}_s${seed}.json" >/dev/null
+        "$root/scripts/score_peer.sh" "$build" "$dir/poses.txt" "$est" "$out/peer_${name}_${seq}_s${seed}.json"
       fi
       echo "$run|$name|$out/peer_${name}_${seq}_s${seed}.json" >>"$results"
     done
