@@ -76,7 +76,12 @@ LocalMap MapPipeline::fetchNow(const Eigen::Vector3d& center, FrameStats& stats)
   stats.chunk_ms = stats.fetch_ms;
   stats.chunk_voxels = static_cast<std::int64_t>(map.size());
   stats.bytes_received = chunk.bytes_received;
-  if (config_.pipelined_map) target_.emplace(Target{map, map, center, 0, 0.0, {}, {}, {}});
+  // Taken as it is: nothing else to register against (a swap between the Integrate and this
+  // chunk is not caught here, docs/consistency.md "Limits").
+  frame_gate_.adopt(chunk.reply->map_epoch);
+  held_.reset();
+  if (config_.pipelined_map)
+    target_.emplace(Target{map, map, center, chunk.reply->map_epoch, 0, 0.0, {}, {}, {}});
   return map;
 }
 
@@ -145,6 +150,8 @@ MapPipeline::Exchange MapPipeline::exchange(const FrameEstimate& frame,
     return x;
   }
   x.chunk = cache_.apply(*chunk.reply, ahead, config_.chunk_radius);
+  x.chunk_epoch = chunk.reply->map_epoch;
+  x.chunk_version = chunk.reply->map_version;
   x.center = ahead;
   x.chunk_bytes = chunk.bytes_received;
   x.chunk_ms = msSince(fetch);
@@ -185,11 +192,22 @@ std::int64_t MapPipeline::finish() {
     target_.reset();
     if (!x.chunk) cache_.reset();
   }
-  if (x.chunk) {
+  if (std::optional<Target> next = nextTarget(x)) {
     target_.reset();  // an older chunk (and its overlay) is superseded
-    target_.emplace(Target{*x.chunk, *x.chunk, x.center, x.chunk_bytes, x.chunk_ms, {}, {}, {}});
+    target_.emplace(std::move(*next));
   }
   return x.integrate.reply->map_version;
+}
+
+std::optional<MapPipeline::Target> MapPipeline::nextTarget(Exchange& x) {
+  // A held chunk waited for this reply: its correction, if any, is told by now.
+  std::optional<Target> next = std::exchange(held_, std::nullopt);
+  if (next) frame_gate_.adopt(next->epoch);
+  if (!x.chunk) return next;
+  Target t{*x.chunk, *x.chunk, x.center, x.chunk_epoch, x.chunk_bytes, x.chunk_ms, {}, {}, {}};
+  if (frame_gate_.admit(x.chunk_epoch, x.chunk_version, x.integrate.reply->map_version)) return t;
+  held_.emplace(std::move(t));
+  return next;
 }
 
 }  // namespace socc::odom

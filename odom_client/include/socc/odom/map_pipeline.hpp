@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "socc/odom/chunk_cache.hpp"
+#include "socc/odom/chunk_frame_gate.hpp"
 #include "socc/odom/frame_log.hpp"
 #include "socc/odom/local_map.hpp"
 #include "socc/odom/odom_config.hpp"
@@ -80,6 +81,8 @@ class MapPipeline {
     double integrate_ms = 0.0;
     std::int64_t bytes_sent = 0;
     std::optional<LocalMap> chunk;  // none: not asked for, or the service failed (soft state)
+    std::int64_t chunk_epoch = 0;
+    std::int64_t chunk_version = 0;
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     std::int64_t chunk_bytes = 0;
     double chunk_ms = 0.0;
@@ -97,6 +100,7 @@ class MapPipeline {
     LocalMap chunk;
     LocalMap map;  // chunk with overlay: the next frame's target
     Eigen::Vector3d center;
+    std::int64_t epoch = 0;  // the chunk's map instance
     std::int64_t bytes = 0;  // of the chunk, until a frame reported them
     double chunk_ms = 0.0;
     std::vector<MapVoxel> overlay;
@@ -106,6 +110,9 @@ class MapPipeline {
 
   LocalMap fetchNow(const Eigen::Vector3d& center, FrameStats& stats);
   void startOverlay(std::shared_ptr<const FrameEstimate> frame);  // target_->pending
+  /// The next target after an Integrate reply: a chunk held since the last one, else none;
+  /// the exchange's own chunk when it is in the robot's frame, else held in turn.
+  std::optional<Target> nextTarget(Exchange& x);
   /// In the worker: the frame's Integrate, then (when fetch_at) the chunk around fetch_at.
   Exchange exchange(const FrameEstimate& frame, const std::optional<Eigen::Vector3d>& fetch_at);
   rpc::Result<chunk_reply_t> fetchChunk(const Eigen::Vector3d& center);
@@ -117,6 +124,8 @@ class MapPipeline {
   std::optional<InFlight> in_flight_;
   std::atomic<bool> closing_{false};  // set by close(), read by the worker
   std::optional<Target> target_;
+  std::optional<Target> held_;  // a chunk of a grid the robot may not be in yet (ChunkFrameGate)
+  ChunkFrameGate frame_gate_;
   std::int64_t integrates_ = 0;
   ChunkCache cache_;  // the worker's (delta_chunks)
   std::int64_t refetched_chunks_ = 0;
