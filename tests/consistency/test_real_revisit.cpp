@@ -64,12 +64,13 @@ Revisit kitti08() {
   return r;
 }
 
-// The query's estimate: the GT pose moved by an odometry drift of `shift` metres and `yaw`.
+// The query's estimate: the GT pose `shift` metres off and turned by `yaw` about its own
+// position (an odometry's drift).
 Eigen::Isometry3d drifted(const Eigen::Isometry3d& gt, double shift, double yaw) {
-  Eigen::Isometry3d d = Eigen::Isometry3d::Identity();
-  d.translation() = Eigen::Vector3d(shift, 0.6 * shift, 0.0);
-  d.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return d * gt;
+  Eigen::Isometry3d out = gt;
+  out.translation() += shift * Eigen::Vector3d(0.8, 0.6, 0.0);
+  out.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * gt.linear();
+  return out;
 }
 
 // The closure of keyframe 1 (the query) against keyframe 0, if any.
