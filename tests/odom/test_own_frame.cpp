@@ -15,6 +15,7 @@ using namespace socc::odom;
 using harness::ClosedLoop;
 using harness::InProcessMap;
 using harness::simulated;
+using harness::smallMapSearch;
 
 // A frame of a few points around the sensor at pose (own frame).
 FrameEstimate frameAt(std::int64_t seq, const Eigen::Isometry3d& pose) {
@@ -77,12 +78,6 @@ TEST(OwnFrameMap, MergeMovesTheKeptScansInOrderAndEndsWithTheNewestFrame) {
   // The newest frame already kept as the last keyframe is not integrated twice.
   const OwnKeyframe last = own.keyframes().back();
   EXPECT_EQ(mergedKeyframes(own.keyframes(), last, shared_T_own).size(), own.keyframes().size());
-}
-
-socc::localization::LocalizerParams smallMapSearch() {  // as test_relocalization.cpp
-  socc::localization::LocalizerParams p;
-  p.search.max_iterations = 10'000;
-  return p;
 }
 
 struct OwnFrameRun {

@@ -18,15 +18,7 @@ using namespace socc::odom;
 using harness::ClosedLoop;
 using harness::InProcessMap;
 using harness::simulated;
-
-// The server's search on the small socc-sim maps here (40 frames): a third of the default draw
-// budget finds the place, and these tests check the client's rules, not the search's recall
-// (bench_relocalization measures that with the defaults, as does the KITTI test below).
-socc::localization::LocalizerParams smallMapSearch() {
-  socc::localization::LocalizerParams p;
-  p.search.max_iterations = 10'000;
-  return p;
-}
+using harness::smallMapSearch;
 
 double degrees(const Eigen::Isometry3d& d) {
   return Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI;
