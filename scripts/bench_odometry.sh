@@ -120,16 +120,12 @@ if [ -n "$baseline" ]; then
   bash -c "$baseline \"\$1\"" baseline "$dir" >"$out/baseline.txt" 2>&1 ||
     { cat "$out/baseline.txt" >&2; echo "bench_odometry: the baseline failed" >&2; exit 1; }
   if [ -n "$baseline_poses" ]; then
-    base_gt="$gt" base_est="$baseline_poses"
     [ "$baseline_pose_at" = auto ] && { [ -d "$dir/point_times" ] && baseline_pose_at=end || baseline_pose_at=start; }
-    if [ "$baseline_pose_at" = end ]; then  # estimate k = pose at the start of sweep k + 1
-      tail -n +2 "$gt" >"$out/baseline_gt_shifted.txt"; base_gt="$out/baseline_gt_shifted.txt"
-      head -n -1 "$baseline_poses" >"$out/baseline_est_shifted.txt"; base_est="$out/baseline_est_shifted.txt"
-    fi
-    base_args=(--gt "$base_gt" --est "$base_est" --truncate --json "$out/baseline_eval.json")
+    base_args=()
     [ -n "$calib" ] && base_args+=(--calib "$calib")
     [ -n "$lengths" ] && base_args+=(--lengths "$lengths")
-    "$build/eval/socc-eval" "${base_args[@]}" >"$out/baseline_eval.txt"
+    "$root/scripts/score_peer.sh" "$build" "$gt" "$baseline_poses" "$out/baseline_eval.json" \
+      --pose-at "$baseline_pose_at" -- "${base_args[@]}" >"$out/baseline_eval.txt"
   fi
 fi
 

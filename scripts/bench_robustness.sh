@@ -127,7 +127,7 @@ side_by_side() {  # seq_dir case_out: socc LiDAR only (with / without semantics)
     name="${p%%=*}" cmd="${p#*=}" est="$dir/peer_$name.txt"
     bash -c "$cmd \"\$1\" \"\$2\"" peer "$seq" "$est" >"$dir/peer_$name.log" 2>&1 || true
     [ -s "$est" ] || continue
-    "$root/scripts/score_peer.sh" "$build" "$seq/poses.txt" "$est" "$dir/peer_$name.json" 2>/dev/null || true
+    "$root/scripts/score_peer.sh" "$build" "$seq/poses.txt" "$est" "$dir/peer_$name.json" >/dev/null 2>&1 || true
   done
 }
 

@@ -72,7 +72,7 @@ for seq in "${seq_list[@]}"; do
       nice bash -c "$peer \"\$1\" \"\$2\"" peer "$dir" "$est" >"$out/peer_${seq}_s${seed}.log" 2>&1 ||
         { cat "$out/peer_${seq}_s${seed}.log" >&2; echo "bench_sim_calibration: the peer failed" >&2; exit 1; }
     fi
-    "$root/scripts/score_peer.sh" "$build" "$gt" "$est" "$out/eval_${seq}_s${seed}.json" --pose-at "$pose_at"
+    "$root/scripts/score_peer.sh" "$build" "$gt" "$est" "$out/eval_${seq}_s${seed}.json" --pose-at "$pose_at" >/dev/null
     miou=$(sed -n 's/^labels: mIoU \([0-9.]*\) .*/\1/p' "$out/sim_${seq}_s${seed}.log" 2>/dev/null || true)
     echo "$seq $seed $out/eval_${seq}_s${seed}.json ${miou:-nan}" >>"$results"
     [ "$keep" -eq 1 ] || rm -rf "$dir"

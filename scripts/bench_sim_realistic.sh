@@ -71,7 +71,7 @@ for seq in "${seq_list[@]}"; do
         nice bash -c "$cmd \"\$1\" \"\$2\"" peer "$dir" "$est" >"$out/peer_${name}_${seq}_s${seed}.log" 2>&1 || true
       fi
       if [ -s "$est" ]; then
-        "$root/scripts/score_peer.sh" "$build" "$dir/poses.txt" "$est" "$out/peer_${name}_${seq}_s${seed}.json"
+        "$root/scripts/score_peer.sh" "$build" "$dir/poses.txt" "$est" "$out/peer_${name}_${seq}_s${seed}.json" >/dev/null
       fi
       echo "$run|$name|$out/peer_${name}_${seq}_s${seed}.json" >>"$results"
     done
