@@ -351,6 +351,10 @@ int runOdometry(const Args& a, const OdomConfig& config, socc::rpc::MapClient& c
               << "\n";
   }
   std::cout << log.summary(runner.wallSeconds());
+  std::cout << "map: " << runner.corrections() << " corrections applied, "
+            << runner.relocalizations() << " relocalizations, " << runner.heldChunks()
+            << " chunks held for the next Integrate reply (another robot's correction), "
+            << runner.refetchedChunks() << " refetched\n";
   if (rc == 0 && runner.trackingState() == TrackingState::kLost) {
     std::cerr << "odom_client: error: the run ended LOST: frames after the robot lost track "
                  "were not integrated (frames.csv status column)\n";

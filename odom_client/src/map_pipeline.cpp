@@ -207,6 +207,7 @@ std::optional<MapPipeline::Target> MapPipeline::nextTarget(Exchange& x) {
   Target t{*x.chunk, *x.chunk, x.center, x.chunk_epoch, x.chunk_bytes, x.chunk_ms, {}, {}, {}};
   if (frame_gate_.admit(x.chunk_epoch, x.chunk_version, x.integrate.reply->map_version)) return t;
   held_.emplace(std::move(t));
+  ++held_chunks_;
   return next;
 }
 

@@ -379,6 +379,11 @@ TEST_F(OdomOnSimulatedDrive, StepsAndEndDriftMatchExactGroundTruth) {
   EXPECT_FALSE(fs::exists(out / "poses_revised_kitti.txt"));
   EXPECT_NE(readFile(out.string() + ".log").find("map_server --consistency"), std::string::npos)
       << readFile(out.string() + ".log");
+  // One robot, no consistency service: nothing corrected, no chunk held (ChunkFrameGate).
+  EXPECT_NE(readFile(out.string() + ".log")
+                .find("map: 0 corrections applied, 0 relocalizations, 0 chunks held"),
+            std::string::npos)
+      << readFile(out.string() + ".log");
 }
 
 double rmsError(const socc::Poses& run, const socc::Poses& gt) {

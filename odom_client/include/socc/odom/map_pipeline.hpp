@@ -74,6 +74,9 @@ class MapPipeline {
 
   /// Chunks fetched twice because the first one predated the previous frame's Integrate.
   std::int64_t refetchedChunks() const { return refetched_chunks_; }
+  /// Chunks of a grid swapped in by another robot's Integrate, held until this robot's next
+  /// Integrate reply (ChunkFrameGate).
+  std::int64_t heldChunks() const { return held_chunks_; }
 
  private:
   struct Exchange {  // what the worker brings back
@@ -129,6 +132,7 @@ class MapPipeline {
   std::int64_t integrates_ = 0;
   ChunkCache cache_;  // the worker's (delta_chunks)
   std::int64_t refetched_chunks_ = 0;
+  std::int64_t held_chunks_ = 0;
   std::optional<Eigen::Isometry3d> correction_;  // received, not taken yet
 };
 

@@ -76,6 +76,8 @@ class OdomRunner {
   double wallSeconds() const { return wall_seconds_; }
   /// Chunks fetched twice because the first one predated the previous frame's Integrate.
   std::int64_t refetchedChunks() const { return pipeline_ ? pipeline_->refetchedChunks() : 0; }
+  /// Chunks held for the robot's next Integrate reply (MapPipeline::heldChunks).
+  std::int64_t heldChunks() const { return pipeline_ ? pipeline_->heldChunks() : 0; }
   TrackingState trackingState() const { return tracking_.state(); }
   /// Scans localized in the map by relocalization (the first, and each recovery).
   int relocalizations() const { return relocalizations_; }
