@@ -36,13 +36,16 @@ Relocalization PlaceTracker::update(const Eigen::Isometry3d& motion,
   out.free = best.verified.free;
   out.evidence = best.verified.evidence();
   out.runner_up = next.size() > 1 ? next[1].verified.evidence() : 0.0;
+  // The share explained must stand net of the points the place contradicts: a lookalike that
+  // explains 64 % of the scans but puts 20 % of them into free space explains 44 %.
   const bool leads =
-      out.fitness >= rules_.min_fitness && out.evidence - out.runner_up >= rules_.margin;
+      out.evidence >= rules_.min_fitness && out.evidence - out.runner_up >= rules_.margin;
   for (std::size_t i = 1; i < next.size(); ++i) next[i].lead = 0;
   best.lead = leads ? best.lead + 1 : 0;
   out.confirmed = best.lead;
-  if (out.fitness < rules_.min_fitness)
-    out.problem = "best place explains " + percentText(out.fitness) + " of the scans (< " +
+  if (out.evidence < rules_.min_fitness)
+    out.problem = "best place explains " + percentText(out.evidence) +
+                  " of the scans net of the free space it contradicts (< " +
                   percentText(rules_.min_fitness) + ")";
   else if (!leads)
     out.problem = "ambiguous: two places explain " + percentText(out.evidence) + " and " +

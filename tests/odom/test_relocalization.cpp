@@ -172,9 +172,9 @@ TEST(Relocalize, KittiReverseRevisitWithoutAGuess) {
   const Eigen::Isometry3d to_gt = gt[1].inverse() * *r.pose;
   const Eigen::Isometry3d to_fine = from_gt.pose.inverse() * *r.pose;
   std::printf(
-      "fitness %.2f (runner-up %.2f); %.3f m %.3f deg from GT, %.4f m %.4f deg from the "
-      "fine registration\n",
-      r.fitness, r.runner_up, to_gt.translation().norm(), degrees(to_gt),
+      "fitness %.2f free %.2f (runner-up %.2f); %.3f m %.3f deg from GT, %.4f m %.4f deg from "
+      "the fine registration\n",
+      r.fitness, r.free, r.runner_up, to_gt.translation().norm(), degrees(to_gt),
       to_fine.translation().norm(), degrees(to_fine));
   EXPECT_LT(to_gt.translation().norm(), 1.5);
   EXPECT_LT(degrees(to_gt), 3.0);

@@ -2,10 +2,11 @@
 // The places a searching robot might be at, followed from scan to scan by its odometry, and the
 // rule that accepts one (docs/relocalization.md "Confirmation"). A place is accepted only after
 // it has led on confirm_scans consecutive scans: each time verified against the map, explaining
-// at least min_fitness of the stacked scans, and ahead of every other place still verified by
-// margin. Places once found stay rivals as long as they keep verifying (moved by odometry, not
-// searched again), so a lookalike cannot win on a scan whose search happened to miss the true
-// place, and a place whose lead rests on one scan's luck is not taken.
+// at least min_fitness of the stacked scans net of the share it puts into free space, and ahead of
+// every other place still verified by margin. Places once found stay rivals as long as they keep
+// verifying (moved by odometry, not searched again), so a lookalike cannot win on a scan whose
+// search happened to miss the true place, and a place whose lead rests on one scan's luck is not
+// taken.
 #include <Eigen/Geometry>
 #include <optional>
 #include <string>

@@ -2,11 +2,11 @@
 // Finding the robot in the shared map without a pose (odom_client --relocalize, recovery after
 // LOST, --resume after an outage; docs/relocalization.md). The server proposes candidate poses
 // for the scan (LOCALIZE: FPFH + RANSAC over its whole map); each is verified here by SOCC-ICP
-// against the map around it. A pose is accepted only when its registration is healthy, it
-// explains at least relocalize_min_fitness of the scan, puts at most relocalize_max_free of its
-// points where the map's rays passed freely (the server's free-space check: a scan seen from the
-// wrong place sees through the map's walls), and its evidence (the share it explains minus the
-// share it puts into free space) exceeds any other such place's by relocalize_margin: a place
+// against the map around it. A pose is accepted only when its registration is healthy, it puts
+// at most relocalize_max_free of its points where the map's rays passed freely (the server's
+// free-space check: a scan seen from the wrong place sees through the map's walls), and its
+// evidence (the share it explains minus the share it puts into free space) is at least
+// relocalize_min_fitness and exceeds any other such place's by relocalize_margin: a place
 // that only looks like another is left unlocalized rather than guessed, and the caller tries the
 // next scan.
 #include <Eigen/Geometry>
