@@ -315,9 +315,7 @@ std::vector<std::string> splitList(const std::string& list) {
 
 // A segment of KITTI GT trajectory seq in the LiDAR frame: frames long, its start picked by seed.
 socc::Poses kittiSegment(const Options& o, const std::string& seq, std::uint64_t seed) {
-  const std::string calib = o.kitti_gt + (seq <= "02" ? "/calib_00-02.txt" : "/calib_04-10_Tr.txt");
-  const socc::Poses all = socc::cameraToLidarPoses(
-      socc::readKittiPoses(o.kitti_gt + "/poses/" + seq + ".txt"), socc::readKittiCalibTr(calib));
+  const socc::Poses all = socc::readKittiGtLidarPoses(o.kitti_gt, std::stoi(seq));
   const std::size_t n = static_cast<std::size_t>(o.route_frames);
   if (all.size() < n + 1) throw std::runtime_error("KITTI " + seq + " is shorter than the segment");
   const std::size_t start = (seed * 7919u) % (all.size() - n);

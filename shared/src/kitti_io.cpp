@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -234,6 +235,17 @@ Poses cameraToLidarPoses(const Poses& camera_poses, const Eigen::Isometry3d& tr)
 Poses readKittiLidarPoses(const fs::path& root) {
   return cameraToLidarPoses(readKittiPoses(root / "poses.txt"),
                             readKittiCalibTr(root / "calib.txt"));
+}
+
+Poses readKittiGtLidarPoses(const fs::path& gt_dir, int sequence) {
+  if (sequence < 0 || sequence > 10 || sequence == 3)
+    throw std::runtime_error("KITTI sequence " + std::to_string(sequence) +
+                             ": no LiDAR calibration in " + gt_dir.string() +
+                             " (00-02 and 04-10 only)");
+  char name[16];
+  std::snprintf(name, sizeof(name), "%02d.txt", sequence);
+  const fs::path calib = gt_dir / (sequence <= 2 ? "calib_00-02.txt" : "calib_04-10_Tr.txt");
+  return cameraToLidarPoses(readKittiPoses(gt_dir / "poses" / name), readKittiCalibTr(calib));
 }
 
 }  // namespace socc

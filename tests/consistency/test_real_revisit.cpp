@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "../kitti_pairs.hpp"
 #include "keyframe_reduction.hpp"
 #include "place_recognition.hpp"
 #include "socc/kitti_io.hpp"
@@ -22,14 +23,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kData = SOCC_SHARED_DATA_DIR;
-
 LabeledCloud scan(const std::string& sequence, int frame) {
-  char name[16];
-  std::snprintf(name, sizeof(name), "%06d.bin", frame);
-  LabeledCloud cloud;
-  cloud.points = readKittiBin(kData / "kitti_pairs" / sequence / "velodyne" / name);
-  return cloud;
+  return test::kittiPairScan(sequence, frame);
 }
 
 // As the service makes a keyframe of an integrated cloud (consistency_service.cpp, process).
@@ -55,12 +50,11 @@ struct Revisit {
 };
 
 Revisit kitti08() {
-  const Poses cam = readKittiPoses(kData / "kitti_gt" / "poses" / "08.txt");
-  const Eigen::Isometry3d tr = readKittiCalibTr(kData / "kitti_gt" / "calib_04-10_Tr.txt");
+  const Poses lidar = readKittiGtLidarPoses(test::sharedData() / "kitti_gt", 8);
   Revisit r;
-  r.gt = cameraToLidarPoses({cam.at(720), cam.at(1500)}, tr);
+  r.gt = {lidar.at(720), lidar.at(1500)};
   for (std::size_t i = 721; i <= 1500; ++i)
-    r.travelled += (cam.at(i).translation() - cam.at(i - 1).translation()).norm();
+    r.travelled += (lidar.at(i).translation() - lidar.at(i - 1).translation()).norm();
   return r;
 }
 
@@ -86,7 +80,7 @@ std::optional<Closure> close(const std::vector<Keyframe>& keyframes,
 }
 
 TEST(RealRevisit, Kitti08ReverseRevisitClosesByPositionAndByDescriptorAlone) {
-  if (!fs::exists(kData / "kitti_pairs" / "08")) GTEST_SKIP() << "shared data folder absent";
+  if (!fs::exists(test::kittiPairsDir("08"))) GTEST_SKIP() << "shared data folder absent";
   const Revisit revisit = kitti08();
   const ConsistencyParams params;
   const std::vector<Keyframe> keyframes = {
@@ -122,7 +116,7 @@ TEST(RealRevisit, Kitti08ReverseRevisitClosesByPositionAndByDescriptorAlone) {
 }
 
 TEST(RealRevisit, RealScansOfOtherPlacesNeverClose) {
-  if (!fs::exists(kData / "kitti_pairs" / "08")) GTEST_SKIP() << "shared data folder absent";
+  if (!fs::exists(test::kittiPairsDir("08"))) GTEST_SKIP() << "shared data folder absent";
   const Revisit revisit = kitti08();
   const ConsistencyParams params;
   // KITTI 00 scans claimed to be at KITTI 08's revisit, in both directions of travel: each is

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "../kitti_pairs.hpp"
 #include "global_localizer.hpp"
 #include "socc/kitti_io.hpp"
 
@@ -14,14 +15,8 @@ using namespace socc::localization;
 
 namespace {
 
-const fs::path kSharedData = SOCC_SHARED_DATA_DIR;
-
 socc::LabeledCloud kittiScan(int frame) {
-  char name[16];
-  std::snprintf(name, sizeof(name), "%06d.bin", frame);
-  socc::LabeledCloud c;
-  c.points = socc::readKittiBin(kSharedData / "kitti_pairs" / "08" / "velodyne" / name);
-  return c;
+  return socc::test::kittiPairScan("08", frame);
 }
 
 double degrees(const Eigen::Isometry3d& d) {
@@ -32,12 +27,9 @@ double degrees(const Eigen::Isometry3d& d) {
 
 // KITTI 08 frames 720 and 1500: the same place driven in opposite directions (148.5 deg).
 TEST(GlobalLocalizer, KittiReverseRevisitIsAmongTheCandidates) {
-  const fs::path dir = kSharedData / "kitti_pairs" / "08" / "velodyne";
+  const fs::path dir = socc::test::kittiPairsDir("08");
   if (!fs::exists(dir)) GTEST_SKIP() << "shared data folder absent: " << dir;
-  const socc::Poses cam = socc::readKittiPoses(kSharedData / "kitti_gt" / "poses" / "08.txt");
-  const Eigen::Isometry3d tr =
-      socc::readKittiCalibTr(kSharedData / "kitti_gt" / "calib_04-10_Tr.txt");
-  const socc::Poses gt = socc::cameraToLidarPoses({cam.at(720), cam.at(1500)}, tr);
+  const socc::Poses gt = socc::test::kittiGt(8, {720, 1500});
 
   socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
   map.integrate(gt[0], kittiScan(720));

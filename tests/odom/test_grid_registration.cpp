@@ -8,49 +8,36 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "../kitti_pairs.hpp"
 #include "closed_loop_harness.hpp"
 #include "socc/kitti_io.hpp"
 
 namespace fs = std::filesystem;
 using namespace socc::odom;
 
-namespace {
-
-const fs::path kSharedData = SOCC_SHARED_DATA_DIR;
-
-socc::LabeledCloud kittiScan(const fs::path& dir, int frame) {
-  char name[16];
-  std::snprintf(name, sizeof(name), "%06d.bin", frame);
-  socc::LabeledCloud c;
-  c.points = socc::readKittiBin(dir / name);
-  return c;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 // KITTI seq 00 pairs (GT agrees with ICP to 5 / 18 mm). Not kitti_pairs/08: a reverse revisit
 // 148.5 deg apart, beyond what one odometry step with an identity prior is meant to catch.
 class KittiPairOnServerGrid : public ::testing::TestWithParam<std::pair<int, int>> {};
 
 TEST_P(KittiPairOnServerGrid, MatchesGroundTruthWithin5cmAnd0p1deg) {
-  const fs::path dir = kSharedData / "kitti_pairs" / "00" / "velodyne";
+  const fs::path dir = socc::test::kittiPairsDir("00");
   if (!fs::exists(dir)) GTEST_SKIP() << "shared data folder absent: " << dir;
   const auto [a, b] = GetParam();
-  const socc::Poses cam = socc::readKittiPoses(kSharedData / "kitti_gt" / "poses" / "00.txt");
-  const Eigen::Isometry3d tr = socc::readKittiCalibTr(kSharedData / "kitti_gt" / "calib_00-02.txt");
-  const socc::Poses gt = socc::cameraToLidarPoses({cam.at(a), cam.at(b)}, tr);
+  const socc::Poses gt = socc::test::kittiGt(0, {a, b});
 
   const OdomConfig cfg;
   socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
   Odometry odom(cfg, gt[0], true);  // as --initial-pose: the first scan is integrated there
-  const PreparedScan first = odom.prepare(kittiScan(dir, a), 0, 0);
+  const PreparedScan first = odom.prepare(socc::test::kittiPairScan("00", a), 0, 0);
   const FrameEstimate e0 =
       odom.registerFrame(first, harness::chunkAround(map, gt[0].translation(), cfg));
   ASSERT_FALSE(e0.registered);
   ASSERT_LT((gt[0].inverse() * e0.pose).translation().norm(), 1e-6);
   map.integrate(e0.pose, e0.cloud);
 
-  const PreparedScan second = odom.prepare(kittiScan(dir, b), 1, 100000);
+  const PreparedScan second = odom.prepare(socc::test::kittiPairScan("00", b), 1, 100000);
   const Eigen::Isometry3d prior = odom.predictedPose(second);
   ASSERT_LT((gt[0].inverse() * prior).translation().norm(), 1e-6) << "no motion known yet";
   const LocalMap chunk = harness::chunkAround(map, prior.translation(), cfg);

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <random>
 
+#include "../kitti_pairs.hpp"
 #include "socc/kitti_io.hpp"
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/point_cloud_file.hpp"
@@ -182,22 +183,14 @@ TEST(Registration, EmptyInputsKeepTheInitialGuess) {
 class KittiPair : public ::testing::TestWithParam<std::pair<int, int>> {};
 
 TEST_P(KittiPair, MatchesGroundTruthWithin5cmAnd0p1deg) {
-  const fs::path dir = kData / "kitti_pairs" / "00" / "velodyne";
-  if (!fs::exists(dir)) GTEST_SKIP() << "shared data folder absent: " << dir;
+  if (!fs::exists(socc::test::kittiPairsDir("00")))
+    GTEST_SKIP() << "shared data folder absent: " << socc::test::kittiPairsDir("00");
   const auto [a, b] = GetParam();
-  const auto name = [](int f) {
-    char buf[16];
-    std::snprintf(buf, sizeof(buf), "%06d.bin", f);
-    return std::string(buf);
-  };
-  const socc::Poses cam = socc::readKittiPoses(kData / "kitti_gt" / "poses" / "00.txt");
-  const Eigen::Isometry3d tr = socc::readKittiCalibTr(kData / "kitti_gt" / "calib_00-02.txt");
-  const socc::Poses lidar = socc::cameraToLidarPoses({cam.at(a), cam.at(b)}, tr);
+  const socc::Poses lidar = socc::test::kittiGt(0, {a, b});
   const Eigen::Isometry3d truth = lidar[0].inverse() * lidar[1];
 
-  socc::LabeledCloud target, source;
-  target.points = socc::readKittiBin(dir / name(a));
-  source.points = socc::readKittiBin(dir / name(b));
+  const socc::LabeledCloud target = socc::test::kittiPairScan("00", a);
+  const socc::LabeledCloud source = socc::test::kittiPairScan("00", b);
   const LocalMap map = buildScanMap(rangeFilter(target, 5.0, 100.0), 0.5);
   const socc::LabeledCloud down = registrationCloud(source, 5.0);
   const RegistrationResult r =

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 
+#include "../kitti_pairs.hpp"
 #include "closed_loop_harness.hpp"
 #include "in_process_map.hpp"
 #include "socc/kitti_io.hpp"
@@ -138,12 +139,7 @@ TEST(Relocalizer, AcceptsAfterConfirmationAndNotElsewhere) {
 namespace {
 
 socc::LabeledCloud kitti08(int frame) {
-  char name[16];
-  std::snprintf(name, sizeof(name), "%06d.bin", frame);
-  socc::LabeledCloud c;
-  c.points =
-      socc::readKittiBin(fs::path(SOCC_SHARED_DATA_DIR) / "kitti_pairs" / "08" / "velodyne" / name);
-  return c;
+  return socc::test::kittiPairScan("08", frame);
 }
 
 // Issue 12 item 4, real data: KITTI 08 frames 720 and 1500 are the same place driven in opposite
@@ -151,11 +147,8 @@ socc::LabeledCloud kitti08(int frame) {
 // The GT is good to about 1 m there: the pose must lie within 1.5 m / 3 deg of it, and within
 // 0.1 m / 0.5 deg of a fine registration started from the GT.
 TEST(Relocalize, KittiReverseRevisitWithoutAGuess) {
-  const fs::path data = SOCC_SHARED_DATA_DIR;
-  if (!fs::exists(data / "kitti_pairs" / "08")) GTEST_SKIP() << "shared data folder absent";
-  const socc::Poses cam = socc::readKittiPoses(data / "kitti_gt" / "poses" / "08.txt");
-  const Eigen::Isometry3d tr = socc::readKittiCalibTr(data / "kitti_gt" / "calib_04-10_Tr.txt");
-  const socc::Poses gt = socc::cameraToLidarPoses({cam.at(720), cam.at(1500)}, tr);
+  if (!fs::exists(socc::test::kittiPairsDir("08"))) GTEST_SKIP() << "shared data folder absent";
+  const socc::Poses gt = socc::test::kittiGt(8, {720, 1500});
 
   const OdomConfig cfg;
   socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};

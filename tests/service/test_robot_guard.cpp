@@ -183,10 +183,9 @@ TEST(RobotGuard, DefaultLimitsAcceptEveryKittiTrajectory) {
   for (int seq = 0; seq <= 10; ++seq) {
     char name[16];
     std::snprintf(name, sizeof(name), "%02d.txt", seq);
-    Poses poses = readKittiPoses(gt / "poses" / name);
-    if (seq != 3)  // seq 03's calibration is not in the data folder: camera frame
-      poses = cameraToLidarPoses(
-          poses, readKittiCalibTr(gt / (seq < 3 ? "calib_00-02.txt" : "calib_04-10_Tr.txt")));
+    // seq 03's calibration is not in the data folder: camera frame
+    const Poses poses =
+        seq == 3 ? readKittiPoses(gt / "poses" / name) : readKittiGtLidarPoses(gt, seq);
     for (std::size_t i = 1; i < poses.size(); ++i)
       ASSERT_EQ(implausibleMotion(toLcm(poses[i - 1]), static_cast<std::int64_t>(i - 1) * 100'000,
                                   toLcm(poses[i]), static_cast<std::int64_t>(i) * 100'000, limits),

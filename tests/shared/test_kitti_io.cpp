@@ -89,5 +89,26 @@ TEST(KittiIo, RealKittiData) {
   EXPECT_GT((lidar[0].inverse() * lidar[10]).translation().x(), 5.0);
 }
 
+// The data folder's GT: sequence 00 in the LiDAR frame agrees with kitti_00_first16's poses
+// read through its own calib.txt; sequences without a calibration there are a clear error.
+TEST(KittiIo, GtOfASequenceInTheLidarFrame) {
+  const fs::path data = SOCC_SHARED_DATA_DIR;
+  if (!fs::exists(data / "kitti_gt")) GTEST_SKIP() << "../shared/data not present: " << data;
+  const Poses gt = readKittiGtLidarPoses(data / "kitti_gt", 0);
+  const Poses first16 = readKittiLidarPoses(data / "kitti_00_first16");
+  ASSERT_GE(gt.size(), first16.size());
+  for (std::size_t i = 0; i < first16.size(); ++i)
+    EXPECT_TRUE(gt[i].isApprox(first16[i], 1e-6)) << "frame " << i;
+  EXPECT_GT(readKittiGtLidarPoses(data / "kitti_gt", 8).size(), 1500u);
+  for (const int sequence : {-1, 3, 11}) {
+    try {
+      readKittiGtLidarPoses(data / "kitti_gt", sequence);
+      ADD_FAILURE() << sequence << " was read";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("no LiDAR calibration"), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace socc

@@ -63,5 +63,10 @@ KittiSequence listKittiSequence(const std::filesystem::path& root);
 Poses cameraToLidarPoses(const Poses& camera_poses, const Eigen::Isometry3d& tr);
 /// root/poses.txt (KITTI GT, camera frame) in the LiDAR frame, using root/calib.txt's Tr.
 Poses readKittiLidarPoses(const std::filesystem::path& root);
+/// KITTI odometry sequence `sequence`'s GT in the LiDAR frame from a folder of the benchmark's
+/// GT as it is published (gt_dir/poses/NN.txt and the two calibrations the sequences share:
+/// gt_dir/calib_00-02.txt for 00-02, gt_dir/calib_04-10_Tr.txt for 04-10). Throws for other
+/// sequences (03's calibration is not among them) and on missing files.
+Poses readKittiGtLidarPoses(const std::filesystem::path& gt_dir, int sequence);
 
 }  // namespace socc
