@@ -113,9 +113,8 @@ Relocalization relocalize(const OdomConfig& config, const PreparedScan& scan, Ma
   out.free = places[0].free;
   out.evidence = places[0].evidence();
   out.runner_up = places.size() > 1 ? places[1].evidence() : 0.0;
-  if (out.evidence < config.relocalize_min_fitness)  // net of the free space, as in PlaceTracker
-    out.problem = "best candidate explains " + percentText(out.evidence) +
-                  " of the scan net of the free space it contradicts (< " +
+  if (out.fitness < config.relocalize_min_fitness)
+    out.problem = "best candidate explains " + percentText(out.fitness) + " of the scan (< " +
                   percentText(config.relocalize_min_fitness) + ")";
   else if (out.evidence - out.runner_up < config.relocalize_margin)
     out.problem = "ambiguous: two places explain " + percentText(out.evidence) + " and " +

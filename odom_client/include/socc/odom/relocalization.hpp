@@ -6,7 +6,8 @@
 // at most relocalize_max_free of its points where the map's rays passed freely (the server's
 // free-space check: a scan seen from the wrong place sees through the map's walls), and its
 // evidence (the share it explains minus the share it puts into free space) is at least
-// relocalize_min_fitness and exceeds any other such place's by relocalize_margin: a place
+// relocalize_min_fitness (relocalize(): the share explained alone) and exceeds any other such
+// place's by relocalize_margin: a place
 // that only looks like another is left unlocalized rather than guessed, and the caller tries the
 // next scan.
 #include <Eigen/Geometry>
@@ -89,7 +90,11 @@ std::vector<VerifiedPlace> verifyPlaces(const OdomConfig& config, const Prepared
 std::string percentText(double share);
 
 /// One attempt on one scan, accepted at once (no confirmation by later scans; the server's
-/// loop-closure check). A robot searching its pose uses Relocalizer (relocalizer.hpp).
+/// loop-closure and odometry-edge checks). Its relocalize_min_fitness holds the share explained
+/// alone, not net of the free share as a searching robot's (PlaceTracker): against a submap of
+/// a few keyframe scans, whose free voxels were each crossed by few rays, the net share refused
+/// the scan-to-scan edge that corrects a snap (OdometryEdge.ASnapAtTheRevisit...), and the
+/// closures were measured with 0 wrong on it. A robot searching its pose uses Relocalizer.
 Relocalization relocalize(const OdomConfig& config, const PreparedScan& scan, MapAccess& map,
                           const std::optional<PoseHint>& hint);
 
