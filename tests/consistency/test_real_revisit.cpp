@@ -23,10 +23,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-LabeledCloud scan(const std::string& sequence, int frame) {
-  return test::kittiPairScan(sequence, frame);
-}
-
 // As the service makes a keyframe of an integrated cloud (consistency_service.cpp, process).
 Keyframe keyframe(int id, int robot_kf, double travelled, const LabeledCloud& cloud,
                   const ConsistencyParams& params) {
@@ -84,8 +80,8 @@ TEST(RealRevisit, Kitti08ReverseRevisitClosesByPositionAndByDescriptorAlone) {
   const Revisit revisit = kitti08();
   const ConsistencyParams params;
   const std::vector<Keyframe> keyframes = {
-      keyframe(0, 0, 0.0, scan("08", 720), params),
-      keyframe(1, 250, revisit.travelled, scan("08", 1500), params)};
+      keyframe(0, 0, 0.0, test::kittiPairScan("08", 720), params),
+      keyframe(1, 250, revisit.travelled, test::kittiPairScan("08", 1500), params)};
   const Eigen::Isometry3d truth = revisit.gt[0].inverse() * revisit.gt[1];
   // Near: 0.6 % drift of the path between, within the search radius. Far: 100 m off, beyond
   // any radius; only the descriptor can find the place.
@@ -124,8 +120,8 @@ TEST(RealRevisit, RealScansOfOtherPlacesNeverClose) {
   for (const int frame : {94, 198}) {
     for (int side = 0; side < 2; ++side) {
       const std::vector<Keyframe> keyframes = {
-          keyframe(0, 0, 0.0, scan("08", side == 0 ? 720 : 1500), params),
-          keyframe(1, 250, revisit.travelled, scan("00", frame), params)};
+          keyframe(0, 0, 0.0, test::kittiPairScan("08", side == 0 ? 720 : 1500), params),
+          keyframe(1, 250, revisit.travelled, test::kittiPairScan("00", frame), params)};
       const std::vector<Eigen::Isometry3d> estimates = {revisit.gt[side], revisit.gt[1 - side]};
       std::vector<Candidate> found;
       const std::optional<Closure> c = close(keyframes, estimates, params, &found);

@@ -15,10 +15,6 @@ using namespace socc::localization;
 
 namespace {
 
-socc::LabeledCloud kittiScan(int frame) {
-  return socc::test::kittiPairScan("08", frame);
-}
-
 double degrees(const Eigen::Isometry3d& d) {
   return Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI;
 }
@@ -32,10 +28,11 @@ TEST(GlobalLocalizer, KittiReverseRevisitIsAmongTheCandidates) {
   const socc::Poses gt = socc::test::kittiGt(8, {720, 1500});
 
   socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
-  map.integrate(gt[0], kittiScan(720));
+  map.integrate(gt[0], socc::test::kittiPairScan("08", 720));
   GlobalLocalizer localizer;
   const auto start = std::chrono::steady_clock::now();
-  const LocalizeAnswer answer = localizer.localize(map, kittiScan(1500).points, std::nullopt, 4);
+  const LocalizeAnswer answer =
+      localizer.localize(map, socc::test::kittiPairScan("08", 1500).points, std::nullopt, 4);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ASSERT_FALSE(answer.candidates.empty());

@@ -15,8 +15,6 @@
 namespace fs = std::filesystem;
 using namespace socc::odom;
 
-namespace {}  // namespace
-
 // KITTI seq 00 pairs (GT agrees with ICP to 5 / 18 mm). Not kitti_pairs/08: a reverse revisit
 // 148.5 deg apart, beyond what one odometry step with an identity prior is meant to catch.
 class KittiPairOnServerGrid : public ::testing::TestWithParam<std::pair<int, int>> {};

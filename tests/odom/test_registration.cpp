@@ -183,8 +183,8 @@ TEST(Registration, EmptyInputsKeepTheInitialGuess) {
 class KittiPair : public ::testing::TestWithParam<std::pair<int, int>> {};
 
 TEST_P(KittiPair, MatchesGroundTruthWithin5cmAnd0p1deg) {
-  if (!fs::exists(socc::test::kittiPairsDir("00")))
-    GTEST_SKIP() << "shared data folder absent: " << socc::test::kittiPairsDir("00");
+  const fs::path dir = socc::test::kittiPairsDir("00");
+  if (!fs::exists(dir)) GTEST_SKIP() << "shared data folder absent: " << dir;
   const auto [a, b] = GetParam();
   const socc::Poses lidar = socc::test::kittiGt(0, {a, b});
   const Eigen::Isometry3d truth = lidar[0].inverse() * lidar[1];

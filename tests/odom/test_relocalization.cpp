@@ -134,14 +134,6 @@ TEST(Relocalizer, AcceptsAfterConfirmationAndNotElsewhere) {
   }
 }
 
-}  // namespace
-
-namespace {
-
-socc::LabeledCloud kitti08(int frame) {
-  return socc::test::kittiPairScan("08", frame);
-}
-
 // Issue 12 item 4, real data: KITTI 08 frames 720 and 1500 are the same place driven in opposite
 // directions (148.5 deg apart). 1500 is localized in a map built from 720 alone, with no guess.
 // The GT is good to about 1 m there: the pose must lie within 1.5 m / 3 deg of it, and within
@@ -152,10 +144,10 @@ TEST(Relocalize, KittiReverseRevisitWithoutAGuess) {
 
   const OdomConfig cfg;
   socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
-  map.integrate(gt[0], kitti08(720));
+  map.integrate(gt[0], socc::test::kittiPairScan("08", 720));
   InProcessMap access(map, cfg);
   Odometry odom(cfg, Eigen::Isometry3d::Identity());
-  const PreparedScan scan = odom.prepare(kitti08(1500), 1500, 0);
+  const PreparedScan scan = odom.prepare(socc::test::kittiPairScan("08", 1500), 1500, 0);
 
   const Relocalization r = relocalize(cfg, scan, access, {});
   ASSERT_TRUE(r.pose) << r.problem;

@@ -116,11 +116,10 @@ struct OdomConfig {
 
   // Relocalization (--relocalize, and recovery after LOST; docs/relocalization.md): the server's
   // candidate poses are each verified by registration; one is accepted only when it is healthy,
-  // puts at most relocalize_max_free of the scan into the map's free space, its evidence (fitness
-  // minus free share) is at least relocalize_min_fitness, and its evidence (fitness minus free
-  // share) exceeds any other such place's by relocalize_margin, on relocalize_confirm_scans
-  // consecutive scans (the last relocalize_stack_scans scans stacked by the robot's own odometry
-  // and matched as one).
+  // puts at most relocalize_max_free of the scan into the map's free space, and its evidence
+  // (fitness minus free share) is at least relocalize_min_fitness and exceeds any other such
+  // place's by relocalize_margin, on relocalize_confirm_scans consecutive scans (the last
+  // relocalize_stack_scans scans stacked by the robot's own odometry and matched as one).
   int relocalize_candidates = 5;        // candidates verified per scan
   double relocalize_min_fitness = 0.5;  // share within 0.5 m of the map, net of the free share
   double relocalize_max_free = 0.2;     // share of (observed) scan points in the map's free space

@@ -7,9 +7,8 @@
 // free-space check: a scan seen from the wrong place sees through the map's walls), and its
 // evidence (the share it explains minus the share it puts into free space) is at least
 // relocalize_min_fitness (relocalize(): the share explained alone) and exceeds any other such
-// place's by relocalize_margin: a place
-// that only looks like another is left unlocalized rather than guessed, and the caller tries the
-// next scan.
+// place's by relocalize_margin: a place that only looks like another is left unlocalized rather
+// than guessed, and the caller tries the next scan.
 #include <Eigen/Geometry>
 #include <cmath>
 #include <optional>
