@@ -60,6 +60,7 @@ TEST(ServerConfig, ShippedFileStatesTheLocalizationBudget) {
       loadServerConfig(shipped / "server.yaml").localization.search;
   EXPECT_EQ(read.max_iterations, defaults.max_iterations);
   EXPECT_EQ(read.max_inlier_tests, defaults.max_inlier_tests);
+  EXPECT_EQ(read.correspondence_randomness, defaults.correspondence_randomness);
 }
 
 TEST(ServerConfig, ErrorsNameTheFileAndTheKey) {
@@ -92,6 +93,8 @@ TEST(ServerConfig, ErrorsNameTheFileAndTheKey) {
   EXPECT_EQ(error("consistency:\n  gravity_sigma_floor: 0\n"),
             at + "consistency.gravity_sigma_floor must be > 0");
   EXPECT_EQ(error("localization:\n  max_draws: 0\n"), at + "localization.max_draws must be > 0");
+  EXPECT_EQ(error("localization:\n  feature_candidates: 0\n"),
+            at + "localization.feature_candidates must be > 0");
   EXPECT_EQ(error("localization:\n  max_draws: 5000\n  max_inlier_tests: 100000\n"), "accepted");
   EXPECT_EQ(error("limits:\n  max_robots: many\n"),
             at + "key 'limits.max_robots': bad value 'many' (expected an integer)");

@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <random>
 
 namespace socc::localization {
@@ -156,24 +157,22 @@ class Search {
     return false;
   }
 
-  bool isInlier(const Eigen::Matrix4f& m, std::size_t i, pcl::Indices& nearest,
-                std::vector<float>& distance) const {
-    Point p;
-    p.getVector3fMap() =
+  // The map keypoint a scan keypoint lands within inlier_distance of at pose m, if any.
+  std::optional<KeypointIndex::Nearest> inlier(const Eigen::Matrix4f& m, std::size_t i) const {
+    const Eigen::Vector3f p =
         m.topLeftCorner<3, 3>() * scan_[i].getVector3fMap() + m.topRightCorner<3, 1>();
     const auto max2 = static_cast<float>(params_.inlier_distance * params_.inlier_distance);
-    return map_.positions.nearestKSearch(p, 1, nearest, distance) == 1 && distance[0] <= max2;
+    return map_.positions.nearestWithin(p, max2);
   }
 
   // All inliers of a pose, with their nearest map keypoints when matches is given.
   int inliers(const Eigen::Matrix4f& m, pcl::Correspondences* matches = nullptr) const {
-    pcl::Indices nearest(1);
-    std::vector<float> distance(1);
     int count = 0;
     for (std::size_t i = 0; i < scan_.size(); ++i) {
-      if (!isInlier(m, i, nearest, distance)) continue;
+      const auto near = inlier(m, i);
+      if (!near) continue;
       ++count;
-      if (matches) matches->emplace_back(static_cast<int>(i), nearest[0], distance[0]);
+      if (matches) matches->emplace_back(static_cast<int>(i), near->index, near->squared_distance);
     }
     return count;
   }
@@ -181,14 +180,12 @@ class Search {
   // The inliers of a pose counted in blocks of the shuffled keypoints; -1 as soon as the share
   // so far lies kSigmas standard deviations below need (most poses are given up after a block).
   int inliersAbove(const Eigen::Matrix4f& m, double need) {
-    pcl::Indices nearest(1);
-    std::vector<float> distance(1);
     int count = 0;
     for (std::size_t done = 0; done < order_.size();) {
       const std::size_t end = std::min(order_.size(), done + kBlock);
       stats_.inlier_tests += static_cast<long long>(end - done);
       for (; done < end; ++done)
-        if (isInlier(m, order_[done], nearest, distance)) ++count;
+        if (inlier(m, order_[done])) ++count;
       if (done == order_.size()) break;
       const double n = static_cast<double>(done);
       if (count / n < need - kSigmas * std::sqrt(need * (1.0 - need) / n)) return -1;
@@ -253,7 +250,7 @@ class Search {
 
 IndexedFeatures::IndexedFeatures(FeatureCloud c) : cloud(std::move(c)) {
   if (cloud.size() == 0) return;
-  positions.setInputCloud(cloud.keypoints);
+  positions = KeypointIndex(cloud.keypoints);
   features.setInputCloud(cloud.features);
 }
 

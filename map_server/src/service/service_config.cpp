@@ -23,6 +23,8 @@ std::string validate(const ServerConfig& c) {
       {"localization.max_draws", static_cast<double>(c.localization.search.max_iterations)},
       {"localization.max_inlier_tests",
        static_cast<double>(c.localization.search.max_inlier_tests)},
+      {"localization.feature_candidates",
+       static_cast<double>(c.localization.search.correspondence_randomness)},
       {"plausibility.max_linear_speed", p.max_linear_speed},
       {"plausibility.max_angular_speed", p.max_angular_speed},
   };
@@ -99,6 +101,7 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
   const YamlFields localization = {
       {"max_draws", &search.max_iterations},
       {"max_inlier_tests", &search.max_inlier_tests},
+      {"feature_candidates", &search.correspondence_randomness},
   };
   // Paths are kept as given until the file is read, so relative ones resolve against it.
   std::optional<std::string> map_config, file_dir, key_file;

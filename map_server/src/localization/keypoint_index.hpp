@@ -1,0 +1,36 @@
+#pragma once
+// The map keypoints' positions for the search's inlier tests: the nearest keypoint of a point
+// (nanoflann's k-d tree). These lookups are most of a search's work (millions per request), and
+// PCL's FLANN wrapper spends more on each call than nanoflann spends on the search itself.
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <memory>
+#include <optional>
+
+namespace socc::localization {
+
+class KeypointIndex {
+ public:
+  KeypointIndex();
+  /// Indexes keypoints (kept alive by the index).
+  explicit KeypointIndex(pcl::PointCloud<pcl::PointNormal>::ConstPtr keypoints);
+  ~KeypointIndex();
+  KeypointIndex(KeypointIndex&&) noexcept;
+  KeypointIndex& operator=(KeypointIndex&&) noexcept;
+
+  struct Nearest {
+    int index = -1;
+    float squared_distance = 0.f;
+  };
+  /// The keypoint nearest to p when it lies within squared distance radius2 of it.
+  std::optional<Nearest> nearestWithin(const Eigen::Vector3f& p, float radius2) const;
+
+ private:
+  struct Tree;
+  std::unique_ptr<Tree> tree_;  // on the heap: nanoflann holds a reference to its adaptor
+};
+
+}  // namespace socc::localization
