@@ -1,7 +1,8 @@
 #pragma once
 // The map keypoints' positions for the search's inlier tests: the nearest keypoint of a point
-// (nanoflann's k-d tree). These lookups are most of a search's work (millions per request), and
-// PCL's FLANN wrapper spends more on each call than nanoflann spends on the search itself.
+// (nanoflann's k-d tree). These lookups are most of a search's work (0.4-1.4 M per request on
+// the street benchmark); on nanoflann instead of PCL's KdTreeFLANN the same lookups took a
+// search from 2.00 to 1.14 s (docs/relocalization.md "200 candidates per keypoint").
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
