@@ -20,10 +20,13 @@ Relocalization PlaceTracker::update(const Eigen::Isometry3d& motion,
     // One place per location: the better evidence (first) stands for it.
     const auto same = [&v](const Place& p) { return samePlace(p.verified.pose, v.pose); };
     if (std::any_of(next.begin(), next.end(), same)) continue;
-    int lead = 0;  // its lead before this scan
+    Place followed{v, 0, 0.0};  // its lead before this scan, where the odometry takes one
     for (const Place& p : places_)
-      if (samePlace(p.verified.pose * motion, v.pose)) lead = std::max(lead, p.lead);
-    next.push_back({v, lead});
+      if (samePlace(p.verified.pose * motion, v.pose) && p.lead > followed.lead) {
+        followed.lead = p.lead;
+        followed.summed = p.summed;
+      }
+    next.push_back(followed);
   }
   Relocalization out;
   if (next.empty()) {
@@ -38,11 +41,17 @@ Relocalization PlaceTracker::update(const Eigen::Isometry3d& motion,
   out.runner_up = next.size() > 1 ? next[1].verified.evidence() : 0.0;
   // The share explained must stand net of the points the place contradicts: a lookalike that
   // explains 64 % of the scans but puts 20 % of them into free space explains 44 %.
-  const bool leads =
-      out.evidence >= rules_.min_fitness && out.evidence - out.runner_up >= rules_.margin;
-  for (std::size_t i = 1; i < next.size(); ++i) next[i].lead = 0;
+  const double gap = out.evidence - out.runner_up;
+  const bool leads = out.evidence >= rules_.min_fitness && gap >= rules_.margin / 2;
+  for (std::size_t i = 1; i < next.size(); ++i) next[i] = {next[i].verified, 0, 0.0};
   best.lead = leads ? best.lead + 1 : 0;
+  best.summed = leads ? best.summed + gap : 0.0;
   out.confirmed = best.lead;
+  out.lead = best.summed;
+  // Leads add up over the confirming scans: a place 9 points ahead on each of three scans is
+  // taken as one 10 points ahead on two is. Consecutive stacks share scans, so the sum is not of
+  // independent tests; the floor of half the margin on every scan keeps a faint one from adding up.
+  const double needed = rules_.margin * rules_.confirm_scans;
   if (out.evidence < rules_.min_fitness)
     out.problem = "best place explains " + percentText(out.evidence) +
                   " of the scans net of the free space it contradicts (< " +
@@ -51,9 +60,11 @@ Relocalization PlaceTracker::update(const Eigen::Isometry3d& motion,
     out.problem = "ambiguous: two places explain " + percentText(out.evidence) + " and " +
                   percentText(out.runner_up) +
                   " of the scans net of the free space they contradict";
-  else if (best.lead < rules_.confirm_scans)
-    out.problem = "confirming: the best place led on " + std::to_string(best.lead) + " of " +
-                  std::to_string(rules_.confirm_scans) + " consecutive scans";
+  else if (best.lead < rules_.confirm_scans || best.summed < needed - 1e-9)
+    out.problem = "confirming: the best place led on " + std::to_string(best.lead) +
+                  " consecutive scans by " + percentText(best.summed) +
+                  " of the scans in all (needs " + std::to_string(rules_.confirm_scans) +
+                  " scans and " + percentText(needed) + ")";
   else
     out.pose = best.verified.pose;
   if (next.size() > rules_.keep) next.resize(rules_.keep);

@@ -59,7 +59,8 @@ struct Relocalization {
   double free = 0.0;                      // free-space share of the best verified candidate
   double evidence = 0.0;                  // fitness - free of the best verified candidate
   double runner_up = 0.0;                 // evidence of the next distinct verified candidate
-  int confirmed = 0;  // consecutive scans the best place has led by the margin (Relocalizer)
+  int confirmed = 0;                      // consecutive scans the best place has led (Relocalizer)
+  double lead = 0.0;  // its evidence above the runner-up's, summed over them (Relocalizer)
   int stacked = 1;    // scans accumulated by odometry into the matched cloud (Relocalizer)
 };
 
