@@ -70,6 +70,7 @@ YamlFields fields(OdomConfig& c) {
       {"relocalize_min_fitness", &c.relocalize_min_fitness},
       {"relocalize_max_free", &c.relocalize_max_free},
       {"relocalize_margin", &c.relocalize_margin},
+      {"relocalize_scan_lead", &c.relocalize_scan_lead},
       {"relocalize_timeout", &c.relocalize_timeout},
       {"relocalize_voxel_size", &c.relocalize_voxel_size},
       {"relocalize_hint_radius", &c.relocalize_hint_radius},
@@ -181,6 +182,8 @@ std::string validate(const OdomConfig& c) {
   if (!unit(c.relocalize_min_fitness)) return "relocalize_min_fitness must be within [0, 1]";
   if (!unit(c.relocalize_max_free)) return "relocalize_max_free must be within [0, 1]";
   if (!unit(c.relocalize_margin)) return "relocalize_margin must be within [0, 1]";
+  if (!(c.relocalize_scan_lead > 0.0 && c.relocalize_scan_lead <= c.relocalize_margin))
+    return "relocalize_scan_lead must be within (0, relocalize_margin]";
   if (!finite_pos(c.relocalize_timeout)) return "relocalize_timeout must be > 0";
   if (!finite_pos(c.relocalize_voxel_size)) return "relocalize_voxel_size must be > 0";
   if (!finite_pos(c.relocalize_hint_radius)) return "relocalize_hint_radius must be > 0";

@@ -7,6 +7,7 @@ PlaceRules rulesOf(const OdomConfig& c) {
   PlaceRules r;
   r.min_fitness = c.relocalize_min_fitness;
   r.margin = c.relocalize_margin;
+  r.scan_lead = c.relocalize_scan_lead;
   r.confirm_scans = c.relocalize_confirm_scans;
   r.keep = static_cast<std::size_t>(c.relocalize_candidates);
   return r;

@@ -109,6 +109,8 @@ TEST(OdomConfig, RejectsUnknownKeysWrongTypesAndBadValues) {
   expectError("refine_initial_pose: maybe\n", "refine_initial_pose");
   expectError("vertical_angle_correction_deg: 90\n", "vertical_angle_correction_deg");
   expectError("min_range: 50\nmax_range: 10\n", "max_range");
+  expectError("relocalize_scan_lead: 0.2\n", "relocalize_scan_lead");  // above the margin
+  expectError("relocalize_scan_lead: 0\n", "relocalize_scan_lead");
   expectError("[1, 2]\n", "map");
   expectError("a: [\n", "YAML");
   EXPECT_THROW(socc::odom::loadOdomConfig("/nonexistent/odom.yaml"), std::runtime_error);

@@ -1,5 +1,5 @@
 // PlaceTracker (relocalization's confirmation rule, docs/relocalization.md): a place is accepted
-// only after leading on consecutive scans by the margin on average (at least half of it on each);
+// only after leading on consecutive scans by the margin on average (by scan_lead on each);
 // rivals once found are followed by the odometry and keep counting against it.
 #include <gtest/gtest.h>
 
@@ -24,6 +24,7 @@ PlaceRules twoScans() {
   r.min_fitness = 0.5;
   r.margin = 0.1;
   r.confirm_scans = 2;
+  r.scan_lead = 0.08;
   return r;
 }
 
@@ -100,7 +101,7 @@ TEST(PlaceTracker, FreeSpaceCountsAgainstAPlaceAndTooLittleFitnessNeverLeads) {
       tracker.update(kStep, {place(at(10.0), 0.9, 0.3), place(at(50.0), 0.7, 0.07)});
   EXPECT_NEAR(r.evidence, 0.63, 1e-9);
   EXPECT_NEAR(r.runner_up, 0.6, 1e-9);
-  EXPECT_EQ(r.confirmed, 0);  // within half the margin
+  EXPECT_EQ(r.confirmed, 0);  // less than scan_lead ahead
   PlaceTracker weak(twoScans());
   for (int k = 0; k < 4; ++k) {
     const Relocalization w = weak.update(kStep, {place(at(10.0 + k), 0.45)});
@@ -125,7 +126,7 @@ TEST(PlaceTracker, ASmallLeadOnEveryScanAddsUp) {
   ASSERT_TRUE(third.pose);
   EXPECT_EQ(third.confirmed, 3);
   EXPECT_NEAR(third.lead, 0.27, 1e-9);
-  // One scan within half the margin starts the sum over.
+  // One scan less than scan_lead ahead starts the sum over.
   PlaceTracker reset(twoScans());
   reset.update(kStep, {place(at(10.0), 0.99), place(at(30.0), 0.9)});
   reset.update(kStep, {place(at(11.0), 0.99), place(at(31.0), 0.96)});

@@ -100,8 +100,8 @@ TEST(Relocalize, AnUnmappedPlaceIsNotLocalized) {
 }
 
 // A searching robot (Relocalizer): its scans stacked by its own odometry, the place accepted
-// once it led on at least relocalize_confirm_scans consecutive scans, never before; a robot in a world
-// that is not in the map is never accepted.
+// once it led on at least relocalize_confirm_scans consecutive scans, never before; a robot in a
+// world that is not in the map is never accepted.
 TEST(Relocalizer, AcceptsAfterConfirmationAndNotElsewhere) {
   socc::sim::SceneOptions street;
   street.frames = 40;

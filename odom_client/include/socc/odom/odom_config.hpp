@@ -118,12 +118,14 @@ struct OdomConfig {
   // candidate poses are each verified by registration; one is accepted only when it is healthy,
   // puts at most relocalize_max_free of the scan into the map's free space, and its evidence
   // (fitness minus free share) is at least relocalize_min_fitness and exceeds any other such
-  // place's by relocalize_margin, on relocalize_confirm_scans consecutive scans (the last
+  // place's by relocalize_margin on average over at least relocalize_confirm_scans consecutive
+  // scans, by relocalize_scan_lead on each of them (the last
   // relocalize_stack_scans scans stacked by the robot's own odometry and matched as one).
   int relocalize_candidates = 5;        // candidates verified per scan
   double relocalize_min_fitness = 0.5;  // share within 0.5 m of the map, net of the free share
   double relocalize_max_free = 0.2;     // share of (observed) scan points in the map's free space
   double relocalize_margin = 0.1;       // over the next distinct candidate's evidence
+  double relocalize_scan_lead = 0.08;   // ... at least this much on each confirming scan
   double relocalize_timeout = 10.0;     // [s of scan time] without success: exit 4 (or 3: lost)
   double relocalize_voxel_size = 0.5;   // [m] the scan is downsampled to this for LOCALIZE
   // [m] --resume --relocalize, recovery: around the last pose

@@ -2,8 +2,8 @@
 // The places a searching robot might be at, followed from scan to scan by its odometry, and the
 // rule that accepts one (docs/relocalization.md "Confirmation"). A place leads on a scan when it
 // is verified against the map, explains at least min_fitness of the stacked scans net of the share
-// it puts into free space, and is ahead of every other place still verified by at least half the
-// margin. It is accepted once it led on at least confirm_scans consecutive scans and its leads
+// it puts into free space, and is ahead of every other place still verified by at least scan_lead.
+// It is accepted once it led on at least confirm_scans consecutive scans and its leads
 // over them add up to confirm_scans * margin (a sequential test: a small lead seen again and
 // again is as much evidence as a large one seen twice). Places once found stay rivals as long as
 // they keep verifying (moved by odometry, not searched again), so a lookalike cannot win on a scan
@@ -21,6 +21,7 @@ namespace socc::odom {
 struct PlaceRules {
   double min_fitness = 0.5;  // relocalize_min_fitness
   double margin = 0.1;       // relocalize_margin, on evidence (fitness - free), per scan on average
+  double scan_lead = 0.08;   // relocalize_scan_lead: on each scan at least (margin: every scan)
   int confirm_scans = 2;     // relocalize_confirm_scans
   std::size_t keep = 5;      // places followed at most (best evidence first)
 };
@@ -45,7 +46,7 @@ class PlaceTracker {
  private:
   struct Place {
     VerifiedPlace verified;
-    int lead = 0;         // consecutive scans it led by at least half the margin, this one included
+    int lead = 0;         // consecutive scans it led by at least scan_lead, this one included
     double summed = 0.0;  // its evidence above the runner-up's, summed over those scans
   };
   std::vector<Place> places_;
