@@ -143,9 +143,10 @@ void diagnose(double when, const Eigen::Isometry3d& truth, const harness::InProc
     std::fprintf(stderr, " [%.2f-%.2f %.1fm]", c.inlier_fraction, c.conflict,
                  metresOff(truth, c.pose));
   }
-  std::fprintf(stderr, " -> %s (%d stacked, led %d, fitness %.2f free %.2f next %.2f)\n",
-               r.pose ? "localized" : r.problem.c_str(), r.stacked, r.confirmed, r.fitness, r.free,
-               r.runner_up);
+  std::fprintf(stderr,
+               " -> %s (%d stacked, led %d by %.2f in all, fitness %.2f free %.2f next %.2f)\n",
+               r.pose ? "localized" : r.problem.c_str(), r.stacked, r.confirmed, r.lead, r.fitness,
+               r.free, r.runner_up);
 }
 
 // One robot dropped at time t: its scans t, t + 0.1, ... go to one search (Relocalizer: stacked
@@ -206,9 +207,13 @@ Tally runScene(const SceneRun& run, const Options& o) {
   options.body_motion = realism.motion;
   const socc::sim::Scene scene = socc::sim::buildScene(options);
   // The robots drive the mapped route, or (--elsewhere) the same route through another layout.
-  socc::sim::SceneOptions dropped_options = options;
-  dropped_options.seed = o.elsewhere ? o.elsewhere : options.seed;
-  const socc::sim::Scene dropped = o.elsewhere ? socc::sim::buildScene(dropped_options) : scene;
+  std::optional<socc::sim::Scene> elsewhere;
+  if (o.elsewhere) {
+    socc::sim::SceneOptions other = options;
+    other.seed = o.elsewhere;
+    elsewhere = socc::sim::buildScene(other);
+  }
+  const socc::sim::Scene& dropped = elsewhere ? *elsewhere : scene;
   const socc::sim::Scene reversed = reversedScene(dropped, run.map_frames);
   const socc::sim::LidarModel lidar = socc::sim::lidarPreset(run.sensor);
   const OdomConfig cfg = o.client;
