@@ -511,7 +511,9 @@ void ConsistencyService::write(const std::filesystem::path& dir) const {
       const Keyframe& k = keyframes_[static_cast<std::size_t>(id)];
       ed << robot_names_[static_cast<std::size_t>(k.robot)] << ' ' << k.seq << ' '
          << (c.registered ? 1 : 0) << ' ' << (c.snap ? 1 : 0) << ' ' << c.jump_t << ' ' << c.jump_r
-         << ' ' << c.seconds << '\n';
+         << ' ' << c.seconds;
+      if (c.registered) writePose(ed, c.measured);
+      ed << '\n';
     }
   }
   const ConsistencyStats s = stats();

@@ -131,7 +131,8 @@ class ConsistencyService {
 
   /// Writes keyframes.txt (robot seq odom[12] optimized[12]), closures.txt (robot seq robot seq
   /// relative[12] fitness free), odometry_edges.txt (robot seq registered snap jump_t jump_r
-  /// seconds: the scan-to-scan check of the edge to that keyframe) and stats.txt into dir.
+  /// seconds, and when registered the scan-to-scan relative pose[12]: the check of the edge to
+  /// that keyframe) and stats.txt into dir.
   void write(const std::filesystem::path& dir) const;
 
  private:

@@ -66,6 +66,7 @@ PoseEdge odometryEdge(const Keyframe& previous, const Keyframe& current, double 
   if (measured) {
     const Eigen::Isometry3d d = edge.relative.inverse() * *measured;
     c.registered = true;
+    c.measured = *measured;
     c.jump_t = d.translation().norm();
     c.jump_r = Eigen::AngleAxisd(d.linear()).angle();
     c.snap = differs(edge.relative, *measured, params.snap_min_t, params.snap_min_r);

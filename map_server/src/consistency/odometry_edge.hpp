@@ -27,7 +27,9 @@ struct OdometryEdgeCheck {
   bool snap = false;        // it disagreed with the integrated pose: the edge measures it
   double jump_t = 0.0;      // [m] integrated vs scan-to-scan relative pose (when registered)
   double jump_r = 0.0;      // [rad]
-  double seconds = 0.0;     // spent registering
+  // The scan-to-scan relative pose (previous_T_current) when registered (odometry_edges.txt).
+  Eigen::Isometry3d measured = Eigen::Isometry3d::Identity();
+  double seconds = 0.0;  // spent registering
 };
 
 struct OdometryEdgeTally {
