@@ -270,9 +270,10 @@ int main(int argc, char** argv) {
           stats["gravity_keyframes"], stats["keyframes"]);
     if (stats.count("edge_checks"))
       std::printf(
-          "| odometry edges scan to scan: registered / snaps of checked, s per keyframe (max) | "
-          "| %.0f / %.0f of %.0f, %.3f s (%.2f s) | |\n",
-          stats["edge_registered"], stats["edge_snaps"], stats["edge_checks"],
+          "| odometry edges scan to scan: registered / snaps (of them no closure: integrated) of "
+          "checked, s per keyframe (max) | | %.0f / %.0f (%.0f) of %.0f, %.3f s (%.2f s) | |\n",
+          stats["edge_registered"], stats["edge_snaps"], stats["edge_snaps_unclosed"],
+          stats["edge_checks"],
           stats["edge_checks"] > 0.0 ? stats["edge_s"] / stats["edge_checks"] : 0.0,
           stats["edge_max_s"]);
     double client_gain = 0.0;

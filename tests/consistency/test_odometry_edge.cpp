@@ -100,6 +100,17 @@ TEST(OdometryEdge, AJumpTheScansDoNotShowIsMeasuredScanToScan) {
   EXPECT_LT(check.jump_t, params.snap_min_t);
   EXPECT_TRUE(kept.relative.isApprox(truth, 1e-9));
 
+  // A tilt alone (1 deg of pitch: the noise of the two measurements in roll and pitch reaches
+  // 0.8 deg on the realistic preset) is no snap: the integrated edge stays.
+  const Keyframe tilted =
+      keyframeOf(d, 2, d.truth[2] * Eigen::AngleAxisd(0.0175, Eigen::Vector3d::UnitY()));
+  const PoseEdge untouched =
+      odometryEdge(previous, tilted, 7.2, motion, params, map::MapConfig{}, {}, &check);
+  EXPECT_TRUE(check.registered);
+  EXPECT_GT(check.jump_r, params.snap_min_r);
+  EXPECT_FALSE(check.snap);
+  EXPECT_TRUE(untouched.relative.isApprox(d.truth[1].inverse() * tilted.odom_pose, 1e-9));
+
   // A predecessor kept as a pose only (no scan): the integrated edge, unchecked.
   Keyframe pose_only = previous;
   pose_only.points.clear();
@@ -123,6 +134,7 @@ double keyframeAte(const ConsistencyService& service, const SnapDrive& d, bool o
 
 TEST(OdometryEdge, ASnapAtTheRevisitIsSpreadOverTheLoopInsteadOfKept) {
   // 1.1 laps; the odometry snaps back onto the truth at the first keyframe of the second lap.
+  // With a closure there the snap is measured scan to scan; without one it stays integrated.
   constexpr int kFrames = 196;
   // 900 columns (0.4 deg, denser than the 0.4 m keyframe grid up to 57 m): half the rays to
   // simulate (the test's cost under ASan).
@@ -154,6 +166,16 @@ TEST(OdometryEdge, ASnapAtTheRevisitIsSpreadOverTheLoopInsteadOfKept) {
   EXPECT_EQ(spread.odometry_edges.checked, spread.keyframes - 1);
   ASSERT_GE(spread.recognition.verified, 1);
   EXPECT_LT(spread_after, kept_after / 3.0);
+  EXPECT_EQ(spread.odometry_edges.snaps_unclosed, 0) << "the snapped keyframe closes at once";
+  // No closure possible: the snap falls back to its integrated edge, so the graph keeps the
+  // revisit the client's snap made (the chain as integrated) instead of losing it.
+  params.min_loop_travel = 1e9;
+  double unclosed_before = 0.0, unclosed_after = 0.0;
+  const ConsistencyStats unclosed = run(true, unclosed_before, unclosed_after);
+  EXPECT_EQ(unclosed.recognition.verified, 0);
+  EXPECT_GE(unclosed.odometry_edges.snaps, 1);
+  EXPECT_EQ(unclosed.odometry_edges.snaps_unclosed, unclosed.odometry_edges.snaps);
+  EXPECT_NEAR(unclosed_after, unclosed_before, 1e-6);
   std::cerr << "keyframe ATE " << kept_before << " m: integrated edges -> " << kept_after
             << " m, scan-to-scan where snapped -> " << spread_after << " m; "
             << spread.odometry_edges.snaps << " snaps in " << spread.odometry_edges.checked

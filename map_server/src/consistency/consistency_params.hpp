@@ -58,7 +58,10 @@ struct ConsistencyParams {
   // registered against its predecessor's; where the result differs from the integrated relative
   // pose by more than snap_min_t or snap_min_r (the registration's noise), the edge measures the
   // scan-to-scan pose (the client snapped onto the old map), else it keeps the integrated one.
-  // Noise measured on the KITTI-00 shape (HDL-64, 368 edges): at most 0.09 m and 0.007 rad.
+  // snap_min_r is on the heading (rotation about the sensor's z): roll and pitch disagree by
+  // noise alone. Noise measured on the KITTI-00 shape (HDL-64, 368 edges): at most 0.09 m and
+  // 0.007 rad; on the realistic preset (1076 edges) heading 0.10 deg at the 99th percentile,
+  // roll and pitch 0.38 / 0.56 deg (single ones beyond 0.8).
   bool scan_to_scan_edges = true;
   double snap_min_t = 0.15;    // [m]
   double snap_min_r = 0.01;    // [rad]

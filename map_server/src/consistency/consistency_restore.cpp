@@ -103,7 +103,7 @@ std::vector<std::pair<RecordType, std::string>> ConsistencyService::waitingRecor
 }
 
 void ConsistencyService::storeKeyframe(const std::string& robot, std::size_t first_edge,
-                                       std::size_t first_prior) {
+                                       std::size_t end_edge, std::size_t first_prior) {
   if (!store_) return;
   // Only the worker changes keyframes_, estimates_ and graph_: read unlocked.
   StoredKeyframe record;
@@ -112,7 +112,8 @@ void ConsistencyService::storeKeyframe(const std::string& robot, std::size_t fir
   record.keyframe.descriptor = ScanContext();  // recomputed from the points
   record.estimate = estimates_.back();
   const std::vector<PoseEdge>& edges = graph_.edges();
-  record.edges.assign(edges.begin() + static_cast<std::ptrdiff_t>(first_edge), edges.end());
+  record.edges.assign(edges.begin() + static_cast<std::ptrdiff_t>(first_edge),
+                      edges.begin() + static_cast<std::ptrdiff_t>(end_edge));
   const std::vector<PosePrior>& priors = graph_.priors();
   record.priors.assign(priors.begin() + static_cast<std::ptrdiff_t>(first_prior), priors.end());
   store_->add(RecordType::kKeyframe, encodeKeyframe(record));

@@ -174,7 +174,12 @@ void ConsistencyService::process(Pending pending) {
   const bool matchable = !kf.points.empty();  // not a pose only (an old store's waiting one)
   if (matchable) kf.descriptor = ScanContext(kf.points, params_.descriptor);
   kf.id = static_cast<int>(keyframes_.size());  // only this thread adds keyframes
-  const std::optional<PoseEdge> odometry = measureOdometry(kf, pending.robot);
+  bool snap = false;
+  const std::optional<PoseEdge> odometry = measureOdometry(kf, pending.robot, snap);
+  const Eigen::Isometry3d integrated =
+      odometry
+          ? keyframes_[static_cast<std::size_t>(odometry->from)].odom_pose.inverse() * kf.odom_pose
+          : Eigen::Isometry3d::Identity();
   int query = 0;
   double travelled = 0.0;
   double next_attempt = 0.0;
@@ -196,15 +201,45 @@ void ConsistencyService::process(Pending pending) {
     travelled = keyframes_.back().travelled;
     next_attempt = track.next_attempt_travel;
   }
-  storeKeyframe(pending.robot, first_edge, first_prior);
+  const std::size_t end_edge = graph_.edges().size();
+  std::optional<std::pair<Closure, PoseEdge>> closed;
+  if (snap && matchable)
+    closed = closeSnap(query, first_edge, integrated, pending.robot, travelled, pending.arrived);
+  storeKeyframe(pending.robot, first_edge, end_edge, first_prior);
   {
     std::lock_guard<std::mutex> lock(mutex_);
     in_flight_.reset();  // durable: a checkpoint need not write it
   }
   // Only this thread changes keyframes_ and estimates_: reading them unlocked is safe here.
-  if (!matchable || travelled < next_attempt) return;
+  if (!closed && !snap && matchable && travelled >= next_attempt)
+    closed = attemptClosure(query, pending.robot, travelled, pending.arrived);
+  if (!closed) return;
+  storeClosure(closed->first, closed->second);
+  if (params_.correct_grid) maybeRebuild();
+}
+
+std::optional<std::pair<Closure, PoseEdge>> ConsistencyService::closeSnap(
+    int query, std::size_t edge_index, const Eigen::Isometry3d& integrated,
+    const std::string& robot, double travelled, std::chrono::steady_clock::time_point arrived) {
+  // A snap (the client pulled onto walls it mapped before) is measured scan to scan so that a
+  // closure of the revisit spreads the loop's error; a snap no closure ties would lose the
+  // revisit, which the integrated edge keeps (the client's own closure against the map).
+  auto closed = attemptClosure(query, robot, travelled, arrived);
+  if (closed) return closed;
+  PoseEdge edge = graph_.edges()[edge_index];
+  edge.relative = integrated;
+  graph_.replaceEdge(edge_index, edge);
+  std::lock_guard<std::mutex> lock(mutex_);
+  robots_.at(robot).last_motion = integrated;
+  ++stats_.odometry_edges.snaps_unclosed;
+  return std::nullopt;
+}
+
+std::optional<std::pair<Closure, PoseEdge>> ConsistencyService::attemptClosure(
+    int query, const std::string& robot, double travelled,
+    std::chrono::steady_clock::time_point arrived) {
   const std::vector<Candidate> candidates = findCandidates(keyframes_, query, estimates_, params_);
-  if (candidates.empty()) return;
+  if (candidates.empty()) return std::nullopt;
   const auto verify_start = std::chrono::steady_clock::now();
   const std::optional<Closure> closure = verifyCandidate(keyframes_, query, candidates, estimates_,
                                                          params_, map_config_, odom_config_);
@@ -221,29 +256,27 @@ void ConsistencyService::process(Pending pending) {
     // graph_ is the worker's alone: optimized without holding the lock.
     consistent = graph_.addConsistentEdge(edge, params_.max_closure_chi2, nullptr, &summary);
   }
-  std::unique_lock<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(mutex_);
   ++stats_.recognition.attempts;
   stats_.recognition.seconds += verify_seconds;
   if (!closure) {
     ++stats_.recognition.refused;
-    return;
+    return std::nullopt;
   }
   if (!consistent) {
     ++stats_.recognition.inconsistent;
-    return;
+    return std::nullopt;
   }
   ++stats_.recognition.verified;
   closures_.push_back(*closure);
-  robots_.at(pending.robot).next_attempt_travel = travelled + params_.closure_spacing;
+  robots_.at(robot).next_attempt_travel = travelled + params_.closure_spacing;
   for (std::size_t i = 0; i < graph_.size(); ++i) estimates_[i] = graph_.pose(static_cast<int>(i));
   ++stats_.optimizations;
   stats_.last_optimization_s = summary.seconds;
-  stats_.max_correction_s = std::max(
-      stats_.max_correction_s,
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - pending.arrived).count());
-  lock.unlock();
-  storeClosure(*closure, edge);
-  if (params_.correct_grid) maybeRebuild();
+  stats_.max_correction_s =
+      std::max(stats_.max_correction_s,
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - arrived).count());
+  return std::make_pair(*closure, edge);
 }
 
 void ConsistencyService::maybeRebuild() {
@@ -345,7 +378,8 @@ std::unique_ptr<RebuiltGrid> ConsistencyService::takeRebuild() {
 }
 
 std::optional<PoseEdge> ConsistencyService::measureOdometry(const Keyframe& kf,
-                                                            const std::string& robot) {
+                                                            const std::string& robot, bool& snap) {
+  snap = false;
   int previous_id = -1;
   // The edge into previous as the graph measures it: the robot's motion before, a guess without
   // the jump when this edge holds one.
@@ -365,6 +399,7 @@ std::optional<PoseEdge> ConsistencyService::measureOdometry(const Keyframe& kf,
   std::lock_guard<std::mutex> lock(mutex_);
   tallyEdge(stats_.odometry_edges, check);
   if (check.checked) edge_checks_.emplace_back(kf.id, check);
+  snap = check.snap;
   return edge;
 }
 
@@ -528,7 +563,8 @@ void ConsistencyService::write(const std::filesystem::path& dir) const {
      << "\nscan_bytes " << s.scan_bytes << "\nrebuilds " << s.rebuilds << "\nmax_rebuild_s "
      << s.max_rebuild_s << "\nrebuild_keyframes " << s.rebuild_keyframes << "\nedge_checks "
      << s.odometry_edges.checked << "\nedge_registered " << s.odometry_edges.registered
-     << "\nedge_snaps " << s.odometry_edges.snaps << "\nedge_s " << s.odometry_edges.seconds
+     << "\nedge_snaps " << s.odometry_edges.snaps << "\nedge_snaps_unclosed "
+     << s.odometry_edges.snaps_unclosed << "\nedge_s " << s.odometry_edges.seconds
      << "\nedge_max_s " << s.odometry_edges.max_seconds << "\ngravity_keyframes "
      << s.gravity_keyframes << '\n';
   if (!kf || !cl || !ed || !st) throw std::runtime_error("cannot write " + dir.string());

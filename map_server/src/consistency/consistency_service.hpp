@@ -175,8 +175,19 @@ class ConsistencyService {
                   const std::optional<PoseEdge>& odometry);
   /// kf's gravity prior, when it has a reference and the priors are on; true when added.
   bool addGravityPrior(const Keyframe& kf);
-  /// The odometry edge from the robot's previous keyframe to kf (scan to scan where it snapped).
-  std::optional<PoseEdge> measureOdometry(const Keyframe& kf, const std::string& robot);
+  /// The odometry edge from the robot's previous keyframe to kf (scan to scan where it snapped;
+  /// snap: whether it did).
+  std::optional<PoseEdge> measureOdometry(const Keyframe& kf, const std::string& robot, bool& snap);
+  /// A verified closure of keyframe query, added to the graph (the estimates updated, the
+  /// robot's next attempt spaced) when it is consistent with it; counted either way.
+  /// The closure attempt of a snapped keyframe (query, its odometry edge at edge_index measured
+  /// scan to scan), made at once: when it does not close, the edge goes back to integrated.
+  std::optional<std::pair<Closure, PoseEdge>> closeSnap(
+      int query, std::size_t edge_index, const Eigen::Isometry3d& integrated,
+      const std::string& robot, double travelled, std::chrono::steady_clock::time_point arrived);
+  std::optional<std::pair<Closure, PoseEdge>> attemptClosure(
+      int query, const std::string& robot, double travelled,
+      std::chrono::steady_clock::time_point arrived);
   /// After a correcting closure: rebuilds the grid when a keyframe moved far enough.
   void maybeRebuild();
   void rebuild(double max_shift);
@@ -194,7 +205,9 @@ class ConsistencyService {
   /// tail's scans into grid at their robots' corrections.
   void integrateTail(RebuiltGrid& grid, const std::vector<TailScan>& tail) const;
   // Durability (consistency_restore.cpp): writing the store, and starting from its contents.
-  void storeKeyframe(const std::string& robot, std::size_t first_edge, std::size_t first_prior);
+  /// The last keyframe with graph edges [first_edge, end_edge) and the priors from first_prior.
+  void storeKeyframe(const std::string& robot, std::size_t first_edge, std::size_t end_edge,
+                     std::size_t first_prior);
   void storeClosure(const Closure& closure, const PoseEdge& edge);
   void storeRebuild(const RebuiltGrid& grid);
   void restore(const StoreContents& contents, int grid_serial);

@@ -33,9 +33,10 @@ struct OdometryEdgeCheck {
 };
 
 struct OdometryEdgeTally {
-  int checked = 0;     // edges with both scans
-  int registered = 0;  // of those, registered scan to scan
-  int snaps = 0;       // of those, measured scan to scan (disagreement beyond the noise)
+  int checked = 0;         // edges with both scans
+  int registered = 0;      // of those, registered scan to scan
+  int snaps = 0;           // of those, measured scan to scan (disagreement beyond the noise)
+  int snaps_unclosed = 0;  // of the snaps, back to the integrated edge: no closure tied them
   double seconds = 0.0;
   double max_seconds = 0.0;
 };

@@ -59,6 +59,11 @@ class PoseGraph {
   /// Adds a node; returns its index.
   int addNode(const Eigen::Isometry3d& pose);
   void addEdge(const PoseEdge& edge) { edges_.push_back(edge); }
+  /// Replaces edge index (its nodes stay). Throws std::out_of_range on an index not in edges().
+  void replaceEdge(std::size_t index, const PoseEdge& edge) {
+    edges_.at(index) = edge;
+    optimum_.reset();
+  }
   void addPrior(const PosePrior& prior) { priors_.push_back(prior); }
   /// The first one sets the graph frame's up direction to its node's rotation times its up (so
   /// it holds exactly); later ones leave it to the optimization. Throws std::logic_error on a
