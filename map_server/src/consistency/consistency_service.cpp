@@ -176,10 +176,6 @@ void ConsistencyService::process(Pending pending) {
   kf.id = static_cast<int>(keyframes_.size());  // only this thread adds keyframes
   bool snap = false;
   const std::optional<PoseEdge> odometry = measureOdometry(kf, pending.robot, snap);
-  const Eigen::Isometry3d integrated =
-      odometry
-          ? keyframes_[static_cast<std::size_t>(odometry->from)].odom_pose.inverse() * kf.odom_pose
-          : Eigen::Isometry3d::Identity();
   int query = 0;
   double travelled = 0.0;
   double next_attempt = 0.0;
@@ -204,7 +200,7 @@ void ConsistencyService::process(Pending pending) {
   const std::size_t end_edge = graph_.edges().size();
   std::optional<std::pair<Closure, PoseEdge>> closed;
   if (snap && matchable)
-    closed = closeSnap(query, first_edge, integrated, pending.robot, travelled, pending.arrived);
+    closed = closeSnap(query, first_edge, pending.robot, travelled, pending.arrived);
   storeKeyframe(pending.robot, first_edge, end_edge, first_prior);
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -219,18 +215,19 @@ void ConsistencyService::process(Pending pending) {
 }
 
 std::optional<std::pair<Closure, PoseEdge>> ConsistencyService::closeSnap(
-    int query, std::size_t edge_index, const Eigen::Isometry3d& integrated,
-    const std::string& robot, double travelled, std::chrono::steady_clock::time_point arrived) {
+    int query, std::size_t edge_index, const std::string& robot, double travelled,
+    std::chrono::steady_clock::time_point arrived) {
   // A snap (the client pulled onto walls it mapped before) is measured scan to scan so that a
   // closure of the revisit spreads the loop's error; a snap no closure ties would lose the
   // revisit, which the integrated edge keeps (the client's own closure against the map).
   auto closed = attemptClosure(query, robot, travelled, arrived);
   if (closed) return closed;
   PoseEdge edge = graph_.edges()[edge_index];
-  edge.relative = integrated;
+  edge.relative = keyframes_[static_cast<std::size_t>(edge.from)].odom_pose.inverse() *
+                  keyframes_[static_cast<std::size_t>(edge.to)].odom_pose;
   graph_.replaceEdge(edge_index, edge);
   std::lock_guard<std::mutex> lock(mutex_);
-  robots_.at(robot).last_motion = integrated;
+  robots_.at(robot).last_motion = edge.relative;
   ++stats_.odometry_edges.snaps_unclosed;
   return std::nullopt;
 }

@@ -181,10 +181,11 @@ class ConsistencyService {
   /// A verified closure of keyframe query, added to the graph (the estimates updated, the
   /// robot's next attempt spaced) when it is consistent with it; counted either way.
   /// The closure attempt of a snapped keyframe (query, its odometry edge at edge_index measured
-  /// scan to scan), made at once: when it does not close, the edge goes back to integrated.
+  /// scan to scan), made at once: when it does not close, the edge goes back to the integrated
+  /// relative pose of its two keyframes.
   std::optional<std::pair<Closure, PoseEdge>> closeSnap(
-      int query, std::size_t edge_index, const Eigen::Isometry3d& integrated,
-      const std::string& robot, double travelled, std::chrono::steady_clock::time_point arrived);
+      int query, std::size_t edge_index, const std::string& robot, double travelled,
+      std::chrono::steady_clock::time_point arrived);
   std::optional<std::pair<Closure, PoseEdge>> attemptClosure(
       int query, const std::string& robot, double travelled,
       std::chrono::steady_clock::time_point arrived);
