@@ -18,6 +18,11 @@
 # --client-config FILE: odom_client's --config (both runs), e.g. odom_client/config/kitti.yaml,
 # the simulated HDL-64's vertical-angle correction, for a --realism kitti sequence.
 #
+# --rate R: the clients replay the sequence at R times its pace (times.txt), 1 by default: as the
+# robot drove, so that the service works beside it as on a robot (its time to correct a loop,
+# its backlog); 0: as fast as the odometry goes (a 10 Hz HDL-64 drive at about 2.5x on 2 cores,
+# which leaves the service that much further behind the drive).
+#
 # --robots 2: two clients at the same time, each on half of the frames: robot 1 from the
 # sequence's start (its GT frame), robot 2 from the middle with --own-frame and no initial pose
 # (maps in its own frame until it enters robot 1's map, docs/relocalization.md "Own frame"; its
@@ -28,16 +33,17 @@
 # Usage: scripts/bench_consistency.sh SEQ_DIR [--build BUILD] [--out OUT] [--frames N]
 #                                     [--first-frame N] [--min-gain G] [--no-targets]
 #                                     [--no-alone] [--client-config FILE] [--robots 1|2]
+#                                     [--rate R]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,36p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 [ $# -ge 1 ] || usage 2
 case "$1" in -h|--help) usage 0 ;; esac
 [ -d "$1" ] || { echo "bench_consistency: $1 is not a directory" >&2; exit 2; }
 dir="$(cd "$1" && pwd)"; shift
 build="$root/build"; out=""; client_args=(); eval_args=(); judge=1; alone=1; robots=1
-first=0; frames=0
+first=0; frames=0; rate=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
@@ -49,10 +55,12 @@ while [ $# -gt 0 ]; do
     --no-targets) judge=0; shift ;;
     --no-alone) alone=0; shift ;;
     --client-config) client_args+=(--config "$2"); shift 2 ;;
+    --rate) rate=$2; shift 2 ;;
     -h|--help) usage 0 ;;
     *) echo "bench_consistency: unknown argument $1" >&2; usage 2 ;;
   esac
 done
+[[ $rate == 0 ]] || client_args+=(--rate "$rate")
 [ -f "$dir/poses.txt" ] || { echo "bench_consistency: $dir/poses.txt missing" >&2; exit 2; }
 [[ $robots == 1 || $robots == 2 ]] || { echo "bench_consistency: --robots must be 1 or 2" >&2; exit 2; }
 total=$(find "$dir/velodyne" -name '*.bin' | wc -l)

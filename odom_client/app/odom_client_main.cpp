@@ -45,6 +45,7 @@ struct Args {
   double frame_period = 0.0;  // --frame-period; 0: the config's frame_period
   std::int64_t first = 0, last = -1;
   double idle_timeout_s = 5.0;
+  double rate = 0.0;  // --rate; 0: files as fast as the odometry reads them
   // --pcap / --bag: a recording read through socc_sensors (docs/sensors.md).
   std::string pcap, bag, topic, imu_topic, sensor, calibration, sensor_address;
   std::uint16_t port = 0;
@@ -98,6 +99,12 @@ void addOptions(CLI::App& app, Args& a) {
                    "read socc::scan_t from SOCC/SCAN/<robot-id> over LCM (e.g. lcm-logplayer)");
   in_opt->excludes(pcd_opt, live_opt);
   pcd_opt->excludes(live_opt);
+  app.add_option("--rate", a.rate,
+                 "replay a directory or recording at this many times the pace of its scans' "
+                 "time stamps, as the sensor delivered them (1: real time; scans the loop "
+                 "takes late are counted, not dropped); default: as fast as the odometry goes")
+      ->check(CLI::Range(0.001, 1000.0))
+      ->excludes(live_opt);
   const std::vector<CLI::Option*> recording = addRecordingOptions(app, a);
   for (CLI::Option* r : recording) r->excludes(in_opt)->excludes(pcd_opt)->excludes(live_opt);
   recording[0]->excludes(recording[1]);
@@ -277,7 +284,7 @@ ImuAttitude imuAttitude(const fs::path& bag, const std::string& topic, const Odo
   return imu;
 }
 
-std::unique_ptr<ScanSource> openSource(const Args& a, const OdomConfig& config) {
+std::unique_ptr<ScanSource> openFiles(const Args& a, const OdomConfig& config) {
   if (!a.input.empty())
     return readAhead(openKittiDirectory(a.input, {a.first, a.last}, config.frame_period));
   if (!a.pcap.empty() || !a.bag.empty()) {
@@ -293,8 +300,14 @@ std::unique_ptr<ScanSource> openSource(const Args& a, const OdomConfig& config) 
       scans = withImuAttitude(std::move(scans), imuAttitude(a.bag, a.imu_topic, config));
     return readAhead(std::move(scans));
   }
-  if (!a.pcd_dir.empty())
-    return readAhead(openPointCloudDirectory(a.pcd_dir, {a.first, a.last}, config.frame_period));
+  return readAhead(openPointCloudDirectory(a.pcd_dir, {a.first, a.last}, config.frame_period));
+}
+
+std::unique_ptr<ScanSource> openSource(const Args& a, const OdomConfig& config) {
+  if (!a.live) {
+    std::unique_ptr<ScanSource> files = openFiles(a, config);
+    return a.rate > 0.0 ? atRecordedPace(std::move(files), a.rate) : std::move(files);
+  }
   auto source = openLcmScans(a.scan_lcm_url.empty() ? a.lcm_url : a.scan_lcm_url, a.robot_id,
                              std::chrono::milliseconds(static_cast<int>(a.idle_timeout_s * 1000)));
   // Scans published before this line are not received: start lcm-logplayer after it.

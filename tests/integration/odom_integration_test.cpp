@@ -114,6 +114,19 @@ TEST_F(OdomEndToEnd, SixteenKittiFramesWriteEveryOutput) {
   EXPECT_EQ(stats.reply->stats.robots[0].last_seq, 15);
 }
 
+// --rate 1: the frames come at the pace of their times (no times.txt here: 0.1 s apart), so the
+// 16 frames take at least the 1.5 s they span, and are all integrated.
+TEST_F(OdomEndToEnd, FilesReplayedAtTheirRecordedPace) {
+  const fs::path out = work_ / "paced";
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_EQ(runClient("robot1", out, {"--rate", "1"}), 0);
+  EXPECT_GE(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.5);
+  EXPECT_EQ(socc::readKittiPoses(out / "poses_kitti.txt").size(), 16u);
+  const auto stats = client_->getStats();
+  ASSERT_TRUE(stats.ok());
+  EXPECT_EQ(stats.reply->stats.robots[0].last_seq, 15);
+}
+
 // A real recording mapped in one command: odom_client reads the VLP-16 capture (VeloView's test
 // data, about 50 turns at 20 Hz) through socc_sensors, with the sensor's per-point times, and
 // every complete sweep is registered and integrated healthy.

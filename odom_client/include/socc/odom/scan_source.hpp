@@ -90,6 +90,13 @@ std::unique_ptr<ScanSource> withImuAttitude(std::unique_ptr<ScanSource> source, 
 /// is registered. For directories; a live source buffers what arrives anyway.
 std::unique_ptr<ScanSource> readAhead(std::unique_ptr<ScanSource> source);
 
+/// source replayed at rate times the pace of its scans' time stamps (--rate): scan k is handed
+/// out no earlier than (utime_k - utime_0) / rate after the first, as a sensor would deliver it;
+/// a scan the loop asks for late is given at once, not dropped (the count and the largest delay
+/// are reported on stderr). live() is true: what blocks the scan loop does not stop the clock.
+/// Throws std::invalid_argument unless rate > 0.
+std::unique_ptr<ScanSource> atRecordedPace(std::unique_ptr<ScanSource> source, double rate);
+
 /// Subscribes to SOCC/SCAN/<robot_id>; next() waits up to idle_timeout for a scan. Scans are
 /// not signed: lcm_url must stay on this machine (ttl=0 or memq://; throws otherwise).
 /// Malformed scans (sizes, labels) are reported on stderr and skipped.
