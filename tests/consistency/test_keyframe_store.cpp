@@ -276,7 +276,10 @@ TEST(KeyframeStore, ARestoredServiceHoldsTheSameKeyframesAndGraph) {
     EXPECT_EQ(after[i].robot, before[i].robot);
     EXPECT_EQ(after[i].seq, before[i].seq);
     EXPECT_TRUE(after[i].odom_pose.isApprox(before[i].odom_pose, 1e-12));
-    EXPECT_TRUE(after[i].optimized.isApprox(before[i].optimized, 1e-9));
+    // 1e-7: robot b meets no keyframe of a, so only its gauge prior holds it and the solver's
+    // stopping tolerance shows (1e-8 m).
+    EXPECT_TRUE(after[i].optimized.isApprox(before[i].optimized, 1e-7))
+        << (after[i].optimized.matrix() - before[i].optimized.matrix()).norm();
   }
   // A journal replay shows the stored integrations again: no second keyframe of them.
   for (int seq = 5; seq < 8; ++seq)

@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <vector>
 
+#include "consistency_params.hpp"
 #include "pose_graph.hpp"
 
 namespace socc::consistency {
@@ -117,6 +121,58 @@ TEST(PoseGraph, AClosureAfterAChainedNodeGetsTheSameResultFromTheReusedOptimum) 
   EXPECT_FALSE(g.addConsistentEdge(
       {0, 20, planar(1.0, 0.0, 0.0), isotropicInformation(0.05, 0.005)}, 30.0, &increase));
   EXPECT_GT(increase, 30.0);
+}
+
+// A robot merged from its own frame (or joined elsewhere) enters the graph at a first pose that
+// is only as good as what placed it: a merged robot's first kept keyframe carries the drift of
+// its whole own-frame stretch (3.5 m and 0.5 deg on a full KITTI-00-shaped drive). Its
+// closures with the first robot say where it really is; its joined prior must only hold it
+// until they do. As a measurement (1 m, 0.05 rad) it had turned the first robot's map by 0.46
+// deg about its anchor, 3 m at 400 m, because the odometry edges near the anchor are soft.
+TEST(PoseGraph, AJoinedRobotsFirstPoseDoesNotPullTheMapItJoined) {
+  const ConsistencyParams params;
+  const auto odometry = [&](double metres) {
+    return isotropicInformation(params.odometry_sigma_t + params.odometry_sigma_t_per_m * metres,
+                                params.odometry_sigma_r + params.odometry_sigma_r_per_m * metres);
+  };
+  // Robot a: 100 keyframes 3 m apart along a gentle curve; robot b drives its second half again.
+  std::vector<Eigen::Isometry3d> a, b;
+  for (int i = 0; i < 100; ++i) a.push_back(planar(3.0 * i, 0.002 * i * i, 0.004 * i));
+  for (int i = 50; i < 100; ++i) b.push_back(a[static_cast<std::size_t>(i)] * planar(0.5, 1.0, 0));
+  PoseGraph g;
+  for (const auto& p : a) g.addNode(p);
+  for (int i = 1; i < 100; ++i)
+    g.addEdge({i - 1, i,
+               a[static_cast<std::size_t>(i - 1)].inverse() * a[static_cast<std::size_t>(i)],
+               odometry(3.0)});
+  g.addPrior({0, a[0], Matrix6d::Identity(), true});
+  // b's chain as merged: placed 3.5 m and 0.5 deg off, its own steps exact.
+  const Eigen::Isometry3d off = planar(-1.0, 3.35, 0.5 * M_PI / 180.0);
+  for (const auto& p : b) g.addNode(off * p);
+  for (int i = 1; i < 50; ++i)
+    g.addEdge({99 + i, 100 + i,
+               b[static_cast<std::size_t>(i - 1)].inverse() * b[static_cast<std::size_t>(i)],
+               odometry(3.0)});
+  g.addPrior({100, off * b[0],
+              isotropicInformation(params.joined_prior_sigma_t, params.joined_prior_sigma_r),
+              false});
+  for (int i = 0; i < 50; i += 5)  // closures b_i - a_(50+i), exact
+    g.addEdge({50 + i, 100 + i,
+               a[static_cast<std::size_t>(50 + i)].inverse() * b[static_cast<std::size_t>(i)],
+               isotropicInformation(params.loop_sigma_t, params.loop_sigma_r)});
+  g.optimize();
+  double worst_a = 0.0, worst_b = 0.0;
+  for (int i = 0; i < 100; ++i)
+    worst_a = std::max(
+        worst_a, (g.pose(i).translation() - a[static_cast<std::size_t>(i)].translation()).norm());
+  for (int i = 0; i < 50; ++i)
+    worst_b = std::max(
+        worst_b,
+        (g.pose(100 + i).translation() - b[static_cast<std::size_t>(i)].translation()).norm());
+  std::printf("joined 3.5 m / 0.5 deg off: robot a moved up to %.3f m, robot b is %.3f m off\n",
+              worst_a, worst_b);
+  EXPECT_LT(worst_a, 0.05);
+  EXPECT_LT(worst_b, 0.05);
 }
 
 TEST(PoseGraph, BadNodeThrows) {
