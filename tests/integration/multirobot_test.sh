@@ -419,19 +419,21 @@ lost() {
   [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
   local sim=("$sim_bin" --sensor vlp32 --distortion --quiet)
   "${sim[@]}" --frames 40 --out "$work/here" --seed 7 >/dev/null || fail "socc-sim failed"
-  # 30 frames: the lost robot ends at frame 26 (5 unhealthy scans, then 1.1 s of scans searched),
+  # 30 frames: the lost robot ends at frame 21 (5 unhealthy scans, then 0.6 s of scans searched),
   # so frames 30-39 were simulated for nothing (the indoor world's frames do not depend on
   # --frames: frames 0-29 are byte-identical to a 40-frame run's). ASan socc-sim: 8.7 s CPU
   # instead of 11.9 s; the whole test 194 s CPU instead of 199 s (same output; 2026-12-03). Most
   # of the rest is what the test checks: 10 unhealthy frames of foreign scans (~200 ICP
-  # iterations each) and 13 relocalization searches, 11 of which must fail.
+  # iterations each) and 8 relocalization searches, 6 of which must fail.
   "${sim[@]}" --frames 30 --out "$work/elsewhere" --scene indoor --seed 8 >/dev/null ||
     fail "socc-sim failed"
   # Frames 10-29 of the sequence are scans of the other world: no recovery is possible.
   copy_frames "$work/here" 0 0 9 "$work/foreign"
   copy_frames "$work/elsewhere" 10 10 29 "$work/foreign"
   cp "$work/here/times.txt" "$work/foreign/times.txt"
-  printf 'relocalize_timeout: 1.0\n' >"$work/quick.yaml"  # gives up after 1 s of scans
+  # Gives up after 0.5 s of scans: 6 searches, near the last good pose, then the whole map (each
+  # search is several seconds under the sanitizers; 1 s of scans had taken 11).
+  printf 'relocalize_timeout: 0.5\n' >"$work/quick.yaml"
   map_digest() { cli chunk --sphere 0 0 0 150 --fields features stats free index --digest | sed -n 's/^digest=//p'; }
 
   start_server reference
@@ -512,7 +514,7 @@ relocalize() {
   # instead of 11.2 s (2026-12-03); the test's output is unchanged (150 s CPU in all).
   "${sim[@]}" --frames 20 --out "$work/elsewhere" --scene indoor --seed 8 >/dev/null ||
     fail "socc-sim failed"
-  printf 'relocalize_timeout: 1.0\n' >"$work/quick.yaml"  # the unmapped robot gives up after 10 scans
+  printf 'relocalize_timeout: 0.5\n' >"$work/quick.yaml"  # the unmapped robot gives up after 5 scans
   map_digest() { cli chunk --sphere 0 0 0 200 --fields features stats free index --digest | sed -n 's/^digest=//p'; }
 
   start_server shared
