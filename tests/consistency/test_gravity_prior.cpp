@@ -147,10 +147,11 @@ TEST(GravityPrior, TheMapsUpIsEstimatedNotAssumed) {
 }
 
 TEST(GravityPrior, ASecondRobotIsLevelledAgainstTheSameUp) {
-  // Robot b joins the shared frame at a relocalized pose tilted 0.03 rad (its first keyframe's
-  // weak prior, 0.05 rad) and its odometry pitches 0.001 rad a keyframe too much; it meets no
-  // keyframe of robot a. Its references tie it to the up direction robot a's set: every node of
-  // the graph is in the shared frame (docs/consistency.md "Gravity reference").
+  // Robot b joins the shared frame at a relocalized pose tilted 0.03 rad (held there by a prior
+  // of 0.05 rad, firmer than the service's gauge-only one) and its odometry pitches 0.001 rad a
+  // keyframe too much; it meets no keyframe of robot a. Its references tie it to the up direction
+  // robot a's set: every node of the graph is in the shared frame (docs/consistency.md "Gravity
+  // reference").
   const Drive a = drive(30, 0.0), b = drive(30, 0.001);
   const auto run = [&](double sigma) {
     PoseGraph g = chainGraph(a, sigma);
