@@ -178,14 +178,14 @@ class ConsistencyService {
   /// The odometry edge from the robot's previous keyframe to kf (scan to scan where it snapped;
   /// snap: whether it did).
   std::optional<PoseEdge> measureOdometry(const Keyframe& kf, const std::string& robot, bool& snap);
-  /// A verified closure of keyframe query, added to the graph (the estimates updated, the
-  /// robot's next attempt spaced) when it is consistent with it; counted either way.
   /// The closure attempt of a snapped keyframe (query, its odometry edge at edge_index measured
   /// scan to scan), made at once: when it does not close, the edge goes back to the integrated
   /// relative pose of its two keyframes.
   std::optional<std::pair<Closure, PoseEdge>> closeSnap(
       int query, std::size_t edge_index, const std::string& robot, double travelled,
       std::chrono::steady_clock::time_point arrived);
+  /// A verified closure of keyframe query, added to the graph (the estimates updated, the
+  /// robot's next attempt spaced) when it is consistent with it; counted either way.
   std::optional<std::pair<Closure, PoseEdge>> attemptClosure(
       int query, const std::string& robot, double travelled,
       std::chrono::steady_clock::time_point arrived);
