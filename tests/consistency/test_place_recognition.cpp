@@ -168,11 +168,13 @@ std::size_t occupiedNear(const map::SemanticOccupancyMap& map, const Eigen::Vect
 TEST(MapCorrection, AWorkerFarBehindKeepsEveryKeyframeScanButBoundsTheQueuedClouds) {
   // The whole drive arrives while the worker is held, with room for one queued cloud: every
   // later keyframe's cloud is reduced on arrival to what the worker keeps of it. Each is still
-  // matched (the loop closes between reduced keyframes) and in every rebuild.
+  // matched (the loop closes between reduced keyframes) and in every rebuild; the closures of
+  // the backlog share one rebuild.
   const Drive d = correctionDrive();
   const int n = static_cast<int>(d.scans.size());
   ConsistencyParams p = correctionParams();
   p.max_pending_scans = 1;
+  p.closure_spacing = 3.0;  // several closures in the backlog
   ConsistencyService service(p, map::MapConfig{});
   service.hold(true);
   for (std::size_t i = 0; i < d.scans.size(); ++i)
@@ -185,7 +187,9 @@ TEST(MapCorrection, AWorkerFarBehindKeepsEveryKeyframeScanButBoundsTheQueuedClou
   service.flush();
   stats = service.stats();
   EXPECT_EQ(stats.keyframes, n);
-  EXPECT_GE(stats.recognition.verified, 1);
+  EXPECT_GE(stats.recognition.verified, 2);
+  // Every closure of the backlog made a rebuild due; it waited for the queue to drain.
+  EXPECT_EQ(stats.rebuilds, 1);
   // Two more keyframes, far from the drive, while the rebuilt grid waits to be taken (its
   // tail): a cloud and, behind it, one reduced on arrival. The swap integrates both.
   const auto far = [&](double x) {
@@ -207,7 +211,8 @@ TEST(MapCorrection, AWorkerFarBehindKeepsEveryKeyframeScanButBoundsTheQueuedClou
   service.hold(false);
   service.flush();
   std::cerr << n - 1 << " of " << n << " clouds reduced on arrival, " << stats.recognition.verified
-            << " closures, last rebuild " << grid->keyframes << " scans\n";
+            << " closures, " << stats.rebuilds << " rebuild(s), last " << grid->keyframes
+            << " scans\n";
 }
 
 TEST(MapCorrection, AClosureRebuildsTheGridFromTheKeyframeScansAtTheOptimizedPoses) {

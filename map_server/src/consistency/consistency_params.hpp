@@ -20,6 +20,10 @@ struct ConsistencyParams {
   // The correction a robot is told fits its keyframes within this much of its path before the
   // last (correction_fit.hpp): the grid it registers against next.
   double correction_window = 30.0;  // [m]
+  // While keyframes wait for the worker (a merged robot's kept keyframes arrive as a burst), a
+  // rebuild a closure made due waits for the queue to drain, at most this long: one rebuild
+  // then takes the closures of the whole backlog instead of one per closure.
+  double rebuild_max_wait = 10.0;  // [s]
 
   // Keyframes: a robot's integration becomes one when it moved or turned this much since its
   // last keyframe.

@@ -142,6 +142,11 @@ void ConsistencyService::run() {
     } catch (const std::exception&) {
       // A keyframe that cannot be processed is dropped; the map and the graph stay as they were.
     }
+    try {
+      rebuildWhenDue();
+    } catch (const std::exception&) {
+      // As a failed keyframe: the grid stays as it is until the next closure.
+    }
     {
       std::lock_guard<std::mutex> lock(mutex_);
       in_flight_.reset();
@@ -211,7 +216,7 @@ void ConsistencyService::process(Pending pending) {
     closed = attemptClosure(query, pending.robot, travelled, pending.arrived);
   if (!closed) return;
   storeClosure(closed->first, closed->second);
-  if (params_.correct_grid) maybeRebuild();
+  if (params_.correct_grid && !rebuild_due_) rebuild_due_ = std::chrono::steady_clock::now();
 }
 
 std::optional<std::pair<Closure, PoseEdge>> ConsistencyService::closeSnap(
@@ -274,6 +279,18 @@ std::optional<std::pair<Closure, PoseEdge>> ConsistencyService::attemptClosure(
       std::max(stats_.max_correction_s,
                std::chrono::duration<double>(std::chrono::steady_clock::now() - arrived).count());
   return std::make_pair(*closure, edge);
+}
+
+void ConsistencyService::rebuildWhenDue() {
+  if (!rebuild_due_) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const double waited =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - *rebuild_due_).count();
+    if (!queue_.empty() && waited < params_.rebuild_max_wait) return;
+  }
+  rebuild_due_.reset();  // a rebuild that fails waits for the next closure
+  maybeRebuild();
 }
 
 void ConsistencyService::maybeRebuild() {

@@ -191,6 +191,8 @@ class ConsistencyService {
       std::chrono::steady_clock::time_point arrived);
   /// After a correcting closure: rebuilds the grid when a keyframe moved far enough.
   void maybeRebuild();
+  /// The rebuild a closure made due, once no keyframe waits or it waited rebuild_max_wait.
+  void rebuildWhenDue();
   void rebuild(double max_shift);
   /// The correction a rebuild tells the robot: fitted to its last correction_window metres of
   /// keyframes (correction_fit.hpp). Worker thread.
@@ -251,6 +253,8 @@ class ConsistencyService {
   int grid_serial_ = 0;                   // the rebuild whose grid was last taken (0: none)
   std::unique_ptr<KeyframeStore> store_;  // null: not durable
   bool resume_rebuild_ = false;  // restored: the worker first rebuilds if the grid is behind
+  // The worker's alone: since when a closure's rebuild waits (none: no rebuild due).
+  std::optional<std::chrono::steady_clock::time_point> rebuild_due_;
 
   std::thread worker_;  // last: started after everything it uses
 };

@@ -45,6 +45,7 @@ std::string validate(const ServerConfig& c) {
   if (!(k.rebuild_voxel > 0.0)) return "consistency.rebuild_voxel must be > 0";
   if (!(k.rebuild_min_shift >= 0.0)) return "consistency.rebuild_min_shift must be >= 0";
   if (!(k.correction_window >= 0.0)) return "consistency.correction_window must be >= 0";
+  if (!(k.rebuild_max_wait >= 0.0)) return "consistency.rebuild_max_wait must be >= 0";
   if (!(k.snap_min_t >= 0.0) || !(k.snap_min_r >= 0.0))
     return "consistency.snap_min_t and snap_min_r must be >= 0";
   if (!(k.gravity_sigma_floor > 0.0)) return "consistency.gravity_sigma_floor must be > 0";
@@ -91,6 +92,7 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
       {"rebuild_voxel", &k.rebuild_voxel},
       {"rebuild_min_shift", &k.rebuild_min_shift},
       {"correction_window", &k.correction_window},
+      {"rebuild_max_wait", &k.rebuild_max_wait},
       {"scan_to_scan_edges", &k.scan_to_scan_edges},
       {"snap_min_t", &k.snap_min_t},
       {"snap_min_r", &k.snap_min_r},
