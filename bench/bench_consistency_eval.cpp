@@ -11,7 +11,9 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "consistency_output.hpp"
@@ -129,6 +131,201 @@ std::vector<double> readTimes(const std::string& file) {
   return times;
 }
 
+// The ground truth by seq, which must cover every seq scored.
+class Truth {
+ public:
+  explicit Truth(socc::Poses poses) : poses_(std::move(poses)) {}
+  const Eigen::Isometry3d& operator()(long seq) const {
+    if (seq < 0 || static_cast<std::size_t>(seq) >= poses_.size())
+      throw std::runtime_error("seq " + std::to_string(seq) + " beyond the ground truth");
+    return poses_[static_cast<std::size_t>(seq)];
+  }
+  const socc::Poses& poses() const { return poses_; }
+
+ private:
+  socc::Poses poses_;
+};
+
+// Each keyframe against the truth: as integrated (before) and optimized (after).
+struct KeyframeErrors {
+  std::vector<double> before, after;  // position error [m]
+  std::vector<double> z_before, z_after, xy_before, xy_after;
+  std::vector<Eigen::Vector3d> truth_positions, odom_positions, optimized_positions;
+  std::vector<double> travelled;  // along its robot's true path since its first keyframe [m]
+};
+
+KeyframeErrors scoreKeyframes(const std::vector<KeyframeRow>& keyframes, const Truth& truth) {
+  KeyframeErrors e;
+  e.travelled.assign(keyframes.size(), 0.0);
+  for (std::size_t i = 0; i < keyframes.size(); ++i) {
+    const KeyframeRow& k = keyframes[i];
+    const Eigen::Vector3d before = k.odom.translation() - truth(k.seq).translation();
+    const Eigen::Vector3d after = k.optimized.translation() - truth(k.seq).translation();
+    e.before.push_back(before.norm());
+    e.after.push_back(after.norm());
+    e.z_before.push_back(before.z());
+    e.z_after.push_back(after.z());
+    e.xy_before.push_back(before.head<2>().norm());
+    e.xy_after.push_back(after.head<2>().norm());
+    e.truth_positions.push_back(truth(k.seq).translation());
+    e.odom_positions.push_back(k.odom.translation());
+    e.optimized_positions.push_back(k.optimized.translation());
+    if (i > 0 && keyframes[i - 1].robot == k.robot)
+      e.travelled[i] =
+          e.travelled[i - 1] +
+          (truth(k.seq).translation() - truth(keyframes[i - 1].seq).translation()).norm();
+  }
+  return e;
+}
+
+int countWrongClosures(const std::vector<ClosureRow>& closures, const Truth& truth, double wrong_m,
+                       double wrong_deg) {
+  int wrong = 0;
+  for (const ClosureRow& c : closures) {
+    const Eigen::Isometry3d error =
+        (truth(c.seq_a).inverse() * truth(c.seq_b)).inverse() * c.relative;
+    if (error.translation().norm() > wrong_m || angle(error) * 180.0 / M_PI > wrong_deg) {
+      ++wrong;
+      std::fprintf(stderr, "wrong closure %s %ld -> %s %ld: %.2f m %.2f deg\n", c.robot_a.c_str(),
+                   c.seq_a, c.robot_b.c_str(), c.seq_b, error.translation().norm(),
+                   angle(error) * 180.0 / M_PI);
+    }
+  }
+  return wrong;
+}
+
+// Revisits: keyframe pairs the truth puts within revisit_m of each other after at least
+// revisit_travel of path (or of two robots). Their surfaces are mapped twice when the estimate's
+// relative pose errs by more than doubled_m.
+struct Revisits {
+  int count = 0, doubled_before = 0, doubled_after = 0;
+  double max_before = 0.0;  // the largest contradiction a closure could observe [m]
+  double shareBefore() const { return count ? static_cast<double>(doubled_before) / count : 0.0; }
+  double shareAfter() const { return count ? static_cast<double>(doubled_after) / count : 0.0; }
+};
+
+Revisits scoreRevisits(const std::vector<KeyframeRow>& keyframes,
+                       const std::vector<double>& travelled, const Truth& truth, double revisit_m,
+                       double revisit_travel, double doubled_m) {
+  Revisits r;
+  for (std::size_t j = 0; j < keyframes.size(); ++j)
+    for (std::size_t i = 0; i < j; ++i) {
+      const KeyframeRow& a = keyframes[i];
+      const KeyframeRow& b = keyframes[j];
+      if (a.robot == b.robot && travelled[j] - travelled[i] < revisit_travel) continue;
+      const Eigen::Isometry3d truth_ab = truth(a.seq).inverse() * truth(b.seq);
+      if (truth_ab.translation().norm() > revisit_m) continue;
+      ++r.count;
+      const auto err = [&truth_ab](const Eigen::Isometry3d& pa, const Eigen::Isometry3d& pb) {
+        return (truth_ab.inverse() * (pa.inverse() * pb)).translation().norm();
+      };
+      r.max_before = std::max(r.max_before, err(a.odom, b.odom));
+      r.doubled_before += err(a.odom, b.odom) > doubled_m ? 1 : 0;
+      r.doubled_after += err(a.optimized, b.optimized) > doubled_m ? 1 : 0;
+    }
+  return r;
+}
+
+double maxOf(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
+}
+
+// The map-frame rows: ATE (per robot too), its vertical and horizontal parts, the map's tilt,
+// its inner and scale errors.
+void printMapRows(const std::vector<KeyframeRow>& keyframes, const KeyframeErrors& e,
+                  double min_gain) {
+  const double ate_before = rmse(e.before), ate_after = rmse(e.after);
+  std::printf("| map-frame ATE RMSE (keyframes) | %.3f m | %.3f m (%.1fx lower) | >= %.0fx |\n",
+              ate_before, ate_after, ate_after > 0.0 ? ate_before / ate_after : INFINITY, min_gain);
+  printRobotRows(keyframes, e.before, e.after);
+  std::printf("| map-frame ATE max | %.3f m | %.3f m | |\n", maxOf(e.before), maxOf(e.after));
+  std::printf("| of it vertical / horizontal (RMSE) | %.3f / %.3f m | %.3f / %.3f m | |\n",
+              rmse(e.z_before), rmse(e.xy_before), rmse(e.z_after), rmse(e.xy_after));
+  const TiltFit tilt = socc::bench::fitTilt(e.truth_positions, e.z_before);
+  const TiltFit tilt_after = socc::bench::fitTilt(e.truth_positions, e.z_after);
+  std::printf(
+      "| vertical error as a tilted map: tilt, residual (RMSE) | %.2f deg, %.3f m | %.2f deg, "
+      "%.3f m | |\n",
+      tilt.degrees, tilt.residual, tilt_after.degrees, tilt_after.residual);
+  std::printf(
+      "| ATE RMSE after a rigid fit to the truth (the map's inner error) | %.3f m | %.3f m | |\n",
+      fitToTruth(e.odom_positions, e.truth_positions, false).rmse,
+      fitToTruth(e.optimized_positions, e.truth_positions, false).rmse);
+  const FitResult scaled_before = fitToTruth(e.odom_positions, e.truth_positions, true);
+  const FitResult scaled_after = fitToTruth(e.optimized_positions, e.truth_positions, true);
+  // The map's size against the truth's: 1 / the fitted scale.
+  std::printf(
+      "| the map's scale error (no closure observes it), ATE RMSE after a fit with scale | "
+      "%+.3f %%, %.3f m | %+.3f %%, %.3f m | |\n",
+      100.0 * (1.0 / scaled_before.scale - 1.0), scaled_before.rmse,
+      100.0 * (1.0 / scaled_after.scale - 1.0), scaled_after.rmse);
+}
+
+// The service's own figures (stats.txt); rows of counters older runs did not write are left out.
+void printServiceRows(std::map<std::string, double>& stats, double km) {
+  std::printf("| time to correct a loop (max) | | %.2f s | |\n", stats["max_correction_s"]);
+  std::printf("| keyframe memory (of it, scans for rebuilds) | | %.1f MB/km (%.1f MB/km) | |\n",
+              km > 0.0 ? stats["keyframe_bytes"] / 1e6 / km : 0.0,
+              km > 0.0 ? stats["scan_bytes"] / 1e6 / km : 0.0);
+  std::printf("| grid rebuilds (longest) | | %.0f (%.2f s, %.0f scans) | |\n", stats["rebuilds"],
+              stats["max_rebuild_s"], stats["rebuild_keyframes"]);
+  // Runs before reduction on arrival wrote scans_dropped: those keyframes lost their scans.
+  if (stats.count("scans_reduced_on_arrival"))
+    std::printf(
+        "| keyframes reduced on arrival (worker max_pending_scans behind) | | %.0f of %.0f "
+        "| |\n",
+        stats["scans_reduced_on_arrival"], stats["keyframes"]);
+  else if (stats.count("scans_dropped"))
+    std::printf("| keyframes whose scans were dropped (worker behind) | | %.0f of %.0f | |\n",
+                stats["scans_dropped"], stats["keyframes"]);
+  // Runs before gravity references (docs/consistency.md "Gravity reference") wrote no count.
+  if (stats.count("gravity_keyframes"))
+    std::printf(
+        "| keyframes with a gravity reference (INTEGRATE gravity_sigma > 0) | | %.0f of %.0f "
+        "| |\n",
+        stats["gravity_keyframes"], stats["keyframes"]);
+  if (stats.count("edge_checks"))
+    std::printf(
+        "| odometry edges scan to scan: registered / snaps (of them no closure: integrated) of "
+        "checked, s per keyframe (max) | | %.0f / %.0f (%.0f) of %.0f, %.3f s (%.2f s) | |\n",
+        stats["edge_registered"], stats["edge_snaps"], stats["edge_snaps_unclosed"],
+        stats["edge_checks"],
+        stats["edge_checks"] > 0.0 ? stats["edge_s"] / stats["edge_checks"] : 0.0,
+        stats["edge_max_s"]);
+}
+
+struct ClientFiles {
+  std::string with_tum, alone_tum, revised_tum, times;
+};
+
+// The client's output rows; returns how many times lower its ATE is with the service than
+// alone (0: not both scored).
+double printClientRows(const ClientFiles& files, const socc::Poses& gt) {
+  if (files.with_tum.empty() || files.times.empty()) return 0.0;
+  const std::vector<double> times = readTimes(files.times);
+  const ClientScore with = scoreClient(files.with_tum, times, gt);
+  ClientScore alone;
+  if (!files.alone_tum.empty()) alone = scoreClient(files.alone_tum, times, gt);
+  std::printf(
+      "| client output: map-frame ATE RMSE / max (frames output of %zu) | %s | %.3f / "
+      "%.3f m (%zu) | |\n",
+      gt.size(),
+      alone.frames
+          ? (std::to_string(alone.ate).substr(0, 5) + " / " +
+             std::to_string(alone.max).substr(0, 5) + " m (" + std::to_string(alone.frames) + ")")
+                .c_str()
+          : "not run",
+      with.ate, with.max, with.frames);
+  if (!files.revised_tum.empty()) {
+    const ClientScore revised = scoreClient(files.revised_tum, times, gt);
+    std::printf(
+        "| client output revised by the graph: map-frame ATE RMSE / max (frames of %zu) | "
+        "| %.3f / %.3f m (%zu) | |\n",
+        gt.size(), revised.ate, revised.max, revised.frames);
+  }
+  return with.ate > 0.0 && alone.frames > 0 ? alone.ate / with.ate : 0.0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -152,189 +349,55 @@ int main(int argc, char** argv) {
   app.add_option("--doubled-m", doubled_m,
                  "a revisit whose relative pose errs by more than this maps its surfaces twice [m]")
       ->capture_default_str();
-  std::string client_tum, alone_tum, revised_tum, times_file;
-  app.add_option("--client-tum", client_tum,
+  ClientFiles client;
+  app.add_option("--client-tum", client.with_tum,
                  "the client's poses_tum.txt with the consistency service (map correction on)");
-  app.add_option("--alone-tum", alone_tum, "the client's poses_tum.txt without it");
-  app.add_option("--revised-tum", revised_tum,
+  app.add_option("--alone-tum", client.alone_tum, "the client's poses_tum.txt without it");
+  app.add_option("--revised-tum", client.revised_tum,
                  "the client's poses_revised_tum.txt (its output revised by the pose graph at "
                  "the end of the run, docs/consistency.md \"The revised trajectory\")");
-  app.add_option("--times", times_file, "the sequence's times.txt (stamps of the frames)");
+  app.add_option("--times", client.times, "the sequence's times.txt (stamps of the frames)");
   CLI11_PARSE(app, argc, argv);
   try {
-    const socc::Poses gt = socc::readKittiPoses(gt_file);
+    const Truth truth(socc::readKittiPoses(gt_file));
     const std::vector<KeyframeRow> keyframes = socc::bench::readKeyframes(dir + "/keyframes.txt");
     const std::vector<ClosureRow> closures = socc::bench::readClosures(dir + "/closures.txt");
     std::map<std::string, double> stats = readStats(dir + "/stats.txt");
-    const auto truth = [&gt](long seq) -> const Eigen::Isometry3d& {
-      if (seq < 0 || static_cast<std::size_t>(seq) >= gt.size())
-        throw std::runtime_error("seq " + std::to_string(seq) + " beyond the ground truth");
-      return gt[static_cast<std::size_t>(seq)];
-    };
-    std::vector<double> before, after;
-    // Vertical and horizontal parts of the error, before and after.
-    std::vector<double> z_before, z_after, xy_before, xy_after;
-    std::vector<Eigen::Vector3d> truth_positions, odom_positions, optimized_positions;
-    std::vector<double> travelled(keyframes.size(), 0.0);
-    for (std::size_t i = 0; i < keyframes.size(); ++i) {
-      const KeyframeRow& k = keyframes[i];
-      const Eigen::Vector3d e_before = k.odom.translation() - truth(k.seq).translation();
-      const Eigen::Vector3d e_after = k.optimized.translation() - truth(k.seq).translation();
-      before.push_back(e_before.norm());
-      after.push_back(e_after.norm());
-      z_before.push_back(e_before.z());
-      z_after.push_back(e_after.z());
-      xy_before.push_back(e_before.head<2>().norm());
-      xy_after.push_back(e_after.head<2>().norm());
-      truth_positions.push_back(truth(k.seq).translation());
-      odom_positions.push_back(k.odom.translation());
-      optimized_positions.push_back(k.optimized.translation());
-      if (i > 0 && keyframes[i - 1].robot == k.robot)
-        travelled[i] =
-            travelled[i - 1] +
-            (truth(k.seq).translation() - truth(keyframes[i - 1].seq).translation()).norm();
-    }
-    int wrong = 0;
-    for (const ClosureRow& c : closures) {
-      const Eigen::Isometry3d error =
-          (truth(c.seq_a).inverse() * truth(c.seq_b)).inverse() * c.relative;
-      if (error.translation().norm() > wrong_m || angle(error) * 180.0 / M_PI > wrong_deg) {
-        ++wrong;
-        std::fprintf(stderr, "wrong closure %s %ld -> %s %ld: %.2f m %.2f deg\n", c.robot_a.c_str(),
-                     c.seq_a, c.robot_b.c_str(), c.seq_b, error.translation().norm(),
-                     angle(error) * 180.0 / M_PI);
-      }
-    }
-    // Revisits: keyframe pairs the truth puts within revisit_m of each other after at least
-    // revisit_travel of path (or of two robots). Their surfaces are mapped twice when the
-    // estimate's relative pose errs by more than doubled_m.
-    int revisits = 0, doubled_before = 0, doubled_after = 0;
-    double revisit_max_before = 0.0;  // the largest contradiction a closure could observe
-    for (std::size_t j = 0; j < keyframes.size(); ++j)
-      for (std::size_t i = 0; i < j; ++i) {
-        const KeyframeRow& a = keyframes[i];
-        const KeyframeRow& b = keyframes[j];
-        const bool same = a.robot == b.robot;
-        if (same && travelled[j] - travelled[i] < revisit_travel) continue;
-        const Eigen::Isometry3d truth_ab = truth(a.seq).inverse() * truth(b.seq);
-        if (truth_ab.translation().norm() > revisit_m) continue;
-        ++revisits;
-        const auto err = [&truth_ab](const Eigen::Isometry3d& pa, const Eigen::Isometry3d& pb) {
-          return (truth_ab.inverse() * (pa.inverse() * pb)).translation().norm();
-        };
-        revisit_max_before = std::max(revisit_max_before, err(a.odom, b.odom));
-        doubled_before += err(a.odom, b.odom) > doubled_m ? 1 : 0;
-        doubled_after += err(a.optimized, b.optimized) > doubled_m ? 1 : 0;
-      }
+    const KeyframeErrors errors = scoreKeyframes(keyframes, truth);
+    const int wrong = countWrongClosures(closures, truth, wrong_m, wrong_deg);
+    const Revisits revisits =
+        scoreRevisits(keyframes, errors.travelled, truth, revisit_m, revisit_travel, doubled_m);
     const double km = stats["travelled_m"] / 1000.0;
-    const double ate_before = rmse(before), ate_after = rmse(after);
-    const double gain = ate_after > 0.0 ? ate_before / ate_after : INFINITY;
-    const double share_before = revisits ? static_cast<double>(doubled_before) / revisits : 0.0;
-    const double share_after = revisits ? static_cast<double>(doubled_after) / revisits : 0.0;
     std::printf("| figure | odometry alone | with consistency | target |\n|---|---|---|---|\n");
     std::printf("| keyframes / path | %zu / %.2f km | | |\n", keyframes.size(), km);
-    std::printf("| map-frame ATE RMSE (keyframes) | %.3f m | %.3f m (%.1fx lower) | >= %.0fx |\n",
-                ate_before, ate_after, gain, min_gain);
-    printRobotRows(keyframes, before, after);
-    std::printf("| map-frame ATE max | %.3f m | %.3f m | |\n",
-                before.empty() ? 0.0 : *std::max_element(before.begin(), before.end()),
-                after.empty() ? 0.0 : *std::max_element(after.begin(), after.end()));
-    std::printf("| of it vertical / horizontal (RMSE) | %.3f / %.3f m | %.3f / %.3f m | |\n",
-                rmse(z_before), rmse(xy_before), rmse(z_after), rmse(xy_after));
-    const TiltFit tilt = socc::bench::fitTilt(truth_positions, z_before);
-    const TiltFit tilt_after = socc::bench::fitTilt(truth_positions, z_after);
-    std::printf(
-        "| vertical error as a tilted map: tilt, residual (RMSE) | %.2f deg, %.3f m | %.2f deg, "
-        "%.3f m | |\n",
-        tilt.degrees, tilt.residual, tilt_after.degrees, tilt_after.residual);
-    std::printf(
-        "| ATE RMSE after a rigid fit to the truth (the map's inner error) | %.3f m | %.3f m | |\n",
-        fitToTruth(odom_positions, truth_positions, false).rmse,
-        fitToTruth(optimized_positions, truth_positions, false).rmse);
-    const FitResult scaled_before = fitToTruth(odom_positions, truth_positions, true);
-    const FitResult scaled_after = fitToTruth(optimized_positions, truth_positions, true);
-    // The map's size against the truth's: 1 / the fitted scale.
-    std::printf(
-        "| the map's scale error (no closure observes it), ATE RMSE after a fit with scale | "
-        "%+.3f %%, %.3f m | %+.3f %%, %.3f m | |\n",
-        100.0 * (1.0 / scaled_before.scale - 1.0), scaled_before.rmse,
-        100.0 * (1.0 / scaled_after.scale - 1.0), scaled_after.rmse);
+    printMapRows(keyframes, errors, min_gain);
     std::printf(
         "| largest revisit relative pose error (what a closure can observe) | %.3f m | | |\n",
-        revisit_max_before);
+        revisits.max_before);
     std::printf(
         "| revisits mapped twice (> %.1f m) | %d of %d (%.0f %%) | %d of %d (%.0f %%) | <= %.0f %% "
         "|\n",
-        doubled_m, doubled_before, revisits, 100.0 * share_before, doubled_after, revisits,
-        100.0 * share_after, 100.0 * max_doubled);
+        doubled_m, revisits.doubled_before, revisits.count, 100.0 * revisits.shareBefore(),
+        revisits.doubled_after, revisits.count, 100.0 * revisits.shareAfter(), 100.0 * max_doubled);
     std::printf("| closures verified / attempts | | %d / %.0f | |\n",
                 static_cast<int>(closures.size()), stats["attempts"]);
     std::printf("| wrong closures (> %.1f m or %.0f deg) | | %d | 0 |\n", wrong_m, wrong_deg,
                 wrong);
-    std::printf("| time to correct a loop (max) | | %.2f s | |\n", stats["max_correction_s"]);
-    std::printf("| keyframe memory (of it, scans for rebuilds) | | %.1f MB/km (%.1f MB/km) | |\n",
-                km > 0.0 ? stats["keyframe_bytes"] / 1e6 / km : 0.0,
-                km > 0.0 ? stats["scan_bytes"] / 1e6 / km : 0.0);
-    std::printf("| grid rebuilds (longest) | | %.0f (%.2f s, %.0f scans) | |\n", stats["rebuilds"],
-                stats["max_rebuild_s"], stats["rebuild_keyframes"]);
-    // Runs before reduction on arrival wrote scans_dropped: those keyframes lost their scans.
-    if (stats.count("scans_reduced_on_arrival"))
-      std::printf(
-          "| keyframes reduced on arrival (worker max_pending_scans behind) | | %.0f of %.0f "
-          "| |\n",
-          stats["scans_reduced_on_arrival"], stats["keyframes"]);
-    else if (stats.count("scans_dropped"))
-      std::printf("| keyframes whose scans were dropped (worker behind) | | %.0f of %.0f | |\n",
-                  stats["scans_dropped"], stats["keyframes"]);
-    // Runs before gravity references (docs/consistency.md "Gravity reference") wrote no count.
-    if (stats.count("gravity_keyframes"))
-      std::printf(
-          "| keyframes with a gravity reference (INTEGRATE gravity_sigma > 0) | | %.0f of %.0f "
-          "| |\n",
-          stats["gravity_keyframes"], stats["keyframes"]);
-    if (stats.count("edge_checks"))
-      std::printf(
-          "| odometry edges scan to scan: registered / snaps (of them no closure: integrated) of "
-          "checked, s per keyframe (max) | | %.0f / %.0f (%.0f) of %.0f, %.3f s (%.2f s) | |\n",
-          stats["edge_registered"], stats["edge_snaps"], stats["edge_snaps_unclosed"],
-          stats["edge_checks"],
-          stats["edge_checks"] > 0.0 ? stats["edge_s"] / stats["edge_checks"] : 0.0,
-          stats["edge_max_s"]);
-    double client_gain = 0.0;
-    if (!client_tum.empty() && !times_file.empty()) {
-      const std::vector<double> times = readTimes(times_file);
-      const ClientScore with = scoreClient(client_tum, times, gt);
-      ClientScore alone;
-      if (!alone_tum.empty()) alone = scoreClient(alone_tum, times, gt);
-      client_gain = with.ate > 0.0 && alone.frames > 0 ? alone.ate / with.ate : 0.0;
-      std::printf(
-          "| client output: map-frame ATE RMSE / max (frames output of %zu) | %s | %.3f / "
-          "%.3f m (%zu) | |\n",
-          gt.size(),
-          alone.frames ? (std::to_string(alone.ate).substr(0, 5) + " / " +
-                          std::to_string(alone.max).substr(0, 5) + " m (" +
-                          std::to_string(alone.frames) + ")")
-                             .c_str()
-                       : "not run",
-          with.ate, with.max, with.frames);
-      if (!revised_tum.empty()) {
-        const ClientScore revised = scoreClient(revised_tum, times, gt);
-        std::printf(
-            "| client output revised by the graph: map-frame ATE RMSE / max (frames of %zu) | "
-            "| %.3f / %.3f m (%zu) | |\n",
-            gt.size(), revised.ate, revised.max, revised.frames);
-      }
-    }
+    printServiceRows(stats, km);
+    const double client_gain = printClientRows(client, truth.poses());
     // With both client runs scored, the target is on what the client output (map correction).
+    const double ate_before = rmse(errors.before), ate_after = rmse(errors.after);
+    const double gain = ate_after > 0.0 ? ate_before / ate_after : INFINITY;
     const double judged = client_gain > 0.0 ? client_gain : gain;
-    const bool pass = wrong == 0 && judged >= min_gain && share_after <= max_doubled;
-    char client[64] = "client output not run alone";
-    if (client_gain > 0.0) std::snprintf(client, sizeof client, "client output %.1fx", client_gain);
+    const bool pass = wrong == 0 && judged >= min_gain && revisits.shareAfter() <= max_doubled;
+    char client_text[64] = "client output not run alone";
+    if (client_gain > 0.0)
+      std::snprintf(client_text, sizeof client_text, "client output %.1fx", client_gain);
     std::printf(
         "%s: ATE %.3f -> %.3f m (%.1fx; %s), %d wrong closures, revisits mapped twice %.0f %% -> "
         "%.0f %%\n",
-        pass ? "PASS" : "FAIL", ate_before, ate_after, gain, client, wrong, 100.0 * share_before,
-        100.0 * share_after);
+        pass ? "PASS" : "FAIL", ate_before, ate_after, gain, client_text, wrong,
+        100.0 * revisits.shareBefore(), 100.0 * revisits.shareAfter());
     return pass ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_consistency_eval: %s\n", e.what());
