@@ -174,7 +174,8 @@ TEST(MapCorrection, AWorkerFarBehindKeepsEveryKeyframeScanButBoundsTheQueuedClou
   const int n = static_cast<int>(d.scans.size());
   ConsistencyParams p = correctionParams();
   p.max_pending_scans = 1;
-  p.closure_spacing = 3.0;  // several closures in the backlog
+  p.closure_spacing = 3.0;     // several closures in the backlog
+  p.rebuild_max_wait = 1.0e6;  // however slow the machine: the backlog drains first
   ConsistencyService service(p, map::MapConfig{});
   service.hold(true);
   for (std::size_t i = 0; i < d.scans.size(); ++i)
@@ -239,7 +240,7 @@ TEST(MapCorrection, AClosureRebuildsTheGridFromTheKeyframeScansAtTheOptimizedPos
   // The graph's frame is the first keyframe's, the truth's: the drifted grid has walls where
   // the truth saw free space (the loop's second copy), the rebuilt one hardly any.
   const double before = misplaced(drifted, truth), after = misplaced(grid->map, truth);
-  EXPECT_LT(after, 0.6 * before);  // 43 % -> 22 % (VLP-16, 49 keyframes, 3 rebuilds)
+  EXPECT_LT(after, 0.6 * before);  // 43 % -> 22 % (VLP-16, 49 keyframes, 1 rebuild)
   const ConsistencyStats stats = service.stats();
   EXPECT_GE(stats.rebuilds, 1);
   std::cerr << "last rebuild: " << grid->keyframes << " scans in " << grid->seconds << " s ("
