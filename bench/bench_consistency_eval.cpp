@@ -34,11 +34,6 @@ std::map<std::string, double> readStats(const std::string& file) {
   return stats;
 }
 
-// With several robots, one row each: its keyframes' map-frame ATE, integrated and optimized
-// (errors: before and after, per keyframe).
-void printRobotRows(const std::vector<KeyframeRow>& keyframes, const std::vector<double>& before,
-                    const std::vector<double>& after);
-
 double angle(const Eigen::Isometry3d& t) {
   return Eigen::AngleAxisd(t.linear()).angle();
 }
@@ -49,6 +44,8 @@ double rmse(const std::vector<double>& e) {
   return e.empty() ? 0.0 : std::sqrt(s / static_cast<double>(e.size()));
 }
 
+// With several robots, one row each: its keyframes' map-frame ATE, integrated and optimized
+// (errors: before and after, per keyframe).
 void printRobotRows(const std::vector<KeyframeRow>& keyframes, const std::vector<double>& before,
                     const std::vector<double>& after) {
   std::vector<std::string> order;  // as the robots first appear
@@ -232,11 +229,10 @@ double maxOf(const std::vector<double>& v) {
 
 // The map-frame rows: ATE (per robot too), its vertical and horizontal parts, the map's tilt,
 // its inner and scale errors.
-void printMapRows(const std::vector<KeyframeRow>& keyframes, const KeyframeErrors& e,
+void printMapRows(const std::vector<KeyframeRow>& keyframes, const KeyframeErrors& e, double gain,
                   double min_gain) {
-  const double ate_before = rmse(e.before), ate_after = rmse(e.after);
   std::printf("| map-frame ATE RMSE (keyframes) | %.3f m | %.3f m (%.1fx lower) | >= %.0fx |\n",
-              ate_before, ate_after, ate_after > 0.0 ? ate_before / ate_after : INFINITY, min_gain);
+              rmse(e.before), rmse(e.after), gain, min_gain);
   printRobotRows(keyframes, e.before, e.after);
   std::printf("| map-frame ATE max | %.3f m | %.3f m | |\n", maxOf(e.before), maxOf(e.after));
   std::printf("| of it vertical / horizontal (RMSE) | %.3f / %.3f m | %.3f / %.3f m | |\n",
@@ -269,21 +265,19 @@ void printServiceRows(std::map<std::string, double>& stats, double km) {
               km > 0.0 ? stats["scan_bytes"] / 1e6 / km : 0.0);
   std::printf("| grid rebuilds (longest) | | %.0f (%.2f s, %.0f scans) | |\n", stats["rebuilds"],
               stats["max_rebuild_s"], stats["rebuild_keyframes"]);
+  // Counts of keyframes; each row only when the run wrote its counter.
+  const auto ofKeyframes = [&stats](const char* figure, const char* key) {
+    if (!stats.count(key)) return false;
+    std::printf("| %s | | %.0f of %.0f | |\n", figure, stats[key], stats["keyframes"]);
+    return true;
+  };
   // Runs before reduction on arrival wrote scans_dropped: those keyframes lost their scans.
-  if (stats.count("scans_reduced_on_arrival"))
-    std::printf(
-        "| keyframes reduced on arrival (worker max_pending_scans behind) | | %.0f of %.0f "
-        "| |\n",
-        stats["scans_reduced_on_arrival"], stats["keyframes"]);
-  else if (stats.count("scans_dropped"))
-    std::printf("| keyframes whose scans were dropped (worker behind) | | %.0f of %.0f | |\n",
-                stats["scans_dropped"], stats["keyframes"]);
+  if (!ofKeyframes("keyframes reduced on arrival (worker max_pending_scans behind)",
+                   "scans_reduced_on_arrival"))
+    ofKeyframes("keyframes whose scans were dropped (worker behind)", "scans_dropped");
   // Runs before gravity references (docs/consistency.md "Gravity reference") wrote no count.
-  if (stats.count("gravity_keyframes"))
-    std::printf(
-        "| keyframes with a gravity reference (INTEGRATE gravity_sigma > 0) | | %.0f of %.0f "
-        "| |\n",
-        stats["gravity_keyframes"], stats["keyframes"]);
+  ofKeyframes("keyframes with a gravity reference (INTEGRATE gravity_sigma > 0)",
+              "gravity_keyframes");
   if (stats.count("edge_checks"))
     std::printf(
         "| odometry edges scan to scan: registered / snaps (of them no closure: integrated) of "
@@ -368,9 +362,11 @@ int main(int argc, char** argv) {
     const Revisits revisits =
         scoreRevisits(keyframes, errors.travelled, truth, revisit_m, revisit_travel, doubled_m);
     const double km = stats["travelled_m"] / 1000.0;
+    const double ate_before = rmse(errors.before), ate_after = rmse(errors.after);
+    const double gain = ate_after > 0.0 ? ate_before / ate_after : INFINITY;
     std::printf("| figure | odometry alone | with consistency | target |\n|---|---|---|---|\n");
     std::printf("| keyframes / path | %zu / %.2f km | | |\n", keyframes.size(), km);
-    printMapRows(keyframes, errors, min_gain);
+    printMapRows(keyframes, errors, gain, min_gain);
     std::printf(
         "| largest revisit relative pose error (what a closure can observe) | %.3f m | | |\n",
         revisits.max_before);
@@ -386,8 +382,6 @@ int main(int argc, char** argv) {
     printServiceRows(stats, km);
     const double client_gain = printClientRows(client, truth.poses());
     // With both client runs scored, the target is on what the client output (map correction).
-    const double ate_before = rmse(errors.before), ate_after = rmse(errors.after);
-    const double gain = ate_after > 0.0 ? ate_before / ate_after : INFINITY;
     const double judged = client_gain > 0.0 ? client_gain : gain;
     const bool pass = wrong == 0 && judged >= min_gain && revisits.shareAfter() <= max_doubled;
     char client_text[64] = "client output not run alone";
