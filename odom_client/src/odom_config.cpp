@@ -77,6 +77,8 @@ YamlFields fields(OdomConfig& c) {
       {"relocalize_stack_scans", &c.relocalize_stack_scans},
       {"relocalize_confirm_scans", &c.relocalize_confirm_scans},
       {"own_frame_search_period", &c.own_frame_search_period},
+      {"own_frame_look_back", &c.own_frame_look_back},
+      {"own_frame_look_back_gap", &c.own_frame_look_back_gap},
       {"timeout_ms", &c.timeout_ms},
       {"max_attempts", &c.max_attempts},
   };
@@ -192,6 +194,8 @@ std::string validate(const OdomConfig& c) {
   if (c.relocalize_confirm_scans < 1 || c.relocalize_confirm_scans > 20)
     return "relocalize_confirm_scans must be within [1, 20]";
   if (!finite_pos(c.own_frame_search_period)) return "own_frame_search_period must be > 0";
+  if (!(c.own_frame_look_back_gap >= 0.0 && std::isfinite(c.own_frame_look_back_gap)))
+    return "own_frame_look_back_gap must be >= 0";
   if (c.timeout_ms < 1) return "timeout_ms must be >= 1";
   if (c.max_attempts < 1) return "max_attempts must be >= 1";
   return {};

@@ -13,16 +13,19 @@
 namespace socc::odom {
 namespace {
 
-std::string mergeText(const Eigen::Isometry3d& shared_T_own, std::size_t keyframes,
-                      const OwnFrameMap& own) {
+std::string mergeText(const Eigen::Isometry3d& shared_T_own, const FrameBridge& bridge,
+                      std::size_t keyframes, const OwnFrameMap& own) {
   constexpr double kMiB = 1024.0 * 1024.0;
   std::ostringstream out;
   out.precision(2);
   out << std::fixed << "merged into the shared map (own frame moved "
       << shared_T_own.translation().norm() << " m, "
-      << Eigen::AngleAxisd(shared_T_own.linear()).angle() * 180.0 / M_PI << " deg; " << keyframes
-      << " kept scans integrated; kept " << own.keyframeBytes() / kMiB << " MiB of keyframes and "
-      << own.recentBytes() / kMiB << " MiB of recent scans)";
+      << Eigen::AngleAxisd(shared_T_own.linear()).angle() * 180.0 / M_PI << " deg; ";
+  if (bridge.bridgedPath() > 0.0)
+    out << "a drift of " << bridge.bridgedDrift() << " m bridged over " << bridge.bridgedPath()
+        << " m of own-frame path; ";
+  out << keyframes << " kept scans integrated; kept " << own.keyframeBytes() / kMiB
+      << " MiB of keyframes and " << own.recentBytes() / kMiB << " MiB of recent scans)";
   return out.str();
 }
 
@@ -35,6 +38,8 @@ void OdomRunner::startOwnFrame(Odometry& odometry, const PreparedScan& scan) {
   own_rows_begin_ = trajectory_.poses.size();
   own_since_utime_ = scan.utime;
   own_search_.emplace(config_, client_);
+  if (config_.own_frame_look_back)
+    own_sweep_.emplace(config_.relocalize_stack_scans, config_.own_frame_look_back_gap);
   std::cerr << "odom_client: mapping in its own frame while searching the shared map\n";
   // The server knows no pose of this robot yet (NOT_FOUND): the report is for SOCC/STATUS.
   sendStatus(robot_status_request_t::RELOCALIZING, "mapping in its own frame", scan.seq,
@@ -87,55 +92,174 @@ bool OdomRunner::ownSearchDue(std::int64_t utime) const {
 std::string OdomRunner::followSearch(Odometry& odometry, const FrameEstimate& newest, bool kept) {
   // Only a trusted frame is where the odometry goes on in the shared map, and what is stacked.
   if (!kept) return {};
-  std::optional<SearchOutcome> done = own_search_->poll();
-  if (!done && !own_search_->running() && ownSearchDue(newest.utime)) {
+  std::optional<SearchOutcome> done = ownSearchOutcome(false);
+  if (!done && !ownSearchRunning() && ownSearchDue(newest.utime)) {
     launchSearch(newest);
     // File input is not paced by a sensor: waiting keeps its searches one per due scan.
-    if (!live_input_) done = own_search_->wait();
+    if (!live_input_) done = ownSearchOutcome(true);
   }
   if (!done) return {};
-  if (!done->found.pose) return "searching the shared map: " + done->found.problem;
-  mergeOwnFrame(odometry, {newest.seq, newest.utime, newest.pose, newest.cloud, newest.gravity},
-                *done);
+  if (done->found.pose && done->looked_back) return holdKeptPlace(*done);
+  if (!done->found.pose) {
+    // A kept place found, the newest not (relocalize_confirm_scans + 1 searches near where the
+    // kept place puts it): the robot is where nobody mapped yet, and the kept place places it.
+    if (!kept_place_ || ++kept_place_checks_ <= config_.relocalize_confirm_scans)
+      return verdictText(*done);
+    mergeOwnFrame(odometry, {newest.seq, newest.utime, newest.pose, newest.cloud, newest.gravity},
+                  *std::exchange(kept_place_, std::nullopt), std::nullopt);
+  } else {
+    mergeOwnFrame(odometry, {newest.seq, newest.utime, newest.pose, newest.cloud, newest.gravity},
+                  *done, std::exchange(kept_place_, std::nullopt));
+  }
   return std::exchange(jump_, {});  // this frame's row says it (not the next frame's)
 }
 
+std::string OdomRunner::verdictText(const SearchOutcome& done) const {
+  const std::string what =
+      done.looked_back ? "searching the shared map (kept scan " + std::to_string(done.seq) + ")"
+                       : std::string("searching the shared map");
+  return what + (kept_place_ ? " near the kept place found: " : ": ") + done.found.problem;
+}
+
+std::string OdomRunner::holdKeptPlace(const SearchOutcome& found) {
+  // Merged at once, the robot's newest place would carry the own-frame drift since the kept
+  // scan; where the shared map holds it too, a search near where the kept place puts it finds
+  // it, and both places are kept (FrameBridge).
+  kept_place_ = found;
+  kept_place_checks_ = 0;
+  return "found kept scan " + std::to_string(found.seq) +
+         " in the shared map (looking back): searching near it for the newest place";
+}
+
 void OdomRunner::launchSearch(const FrameEstimate& newest) {
+  own_searched_utime_ = newest.utime;
+  if (kept_place_) {
+    launchForward(newest, nearKeptPlace(newest));
+    return;
+  }
+  // The first relocalize_timeout s search every scan for the robot's own place only (as
+  // --relocalize would); then every other search looks back.
+  const bool looking_back =
+      (newest.utime - own_since_utime_) * 1e-6 > config_.relocalize_timeout && own_sweep_;
+  if (looking_back && std::exchange(look_back_next_, false) && launchLookBack()) return;
+  look_back_next_ = looking_back;
+  launchForward(newest, hint_);
+}
+
+void OdomRunner::launchForward(const FrameEstimate& newest, const std::optional<PoseHint>& hint) {
   // The places followed since the last search move by the own-frame odometry in between.
   const Eigen::Isometry3d motion = own_searched_pose_.inverse() * newest.pose;
   own_searched_pose_ = newest.pose;
-  own_searched_utime_ = newest.utime;
   const std::size_t count = static_cast<std::size_t>(config_.relocalize_stack_scans);
   own_search_->start(own_->stacked(count, config_.deskew_reference_time),
-                     static_cast<int>(std::min(count, own_->frames())), motion, hint_, newest.seq,
+                     static_cast<int>(std::min(count, own_->frames())), motion, hint, newest.seq,
                      newest.pose);
+}
+
+PoseHint OdomRunner::nearKeptPlace(const FrameEstimate& newest) const {
+  // Where the kept place puts the newest scan, give or take the own-frame odometry's drift since
+  // the kept scan (kKeptPlaceDrift of its path) on top of the usual hint radius.
+  constexpr double kKeptPlaceDrift = 0.02;
+  PoseHint near;
+  near.position =
+      (sharedFromOwn(*kept_place_->found.pose, kept_place_->own_pose) * newest.pose).translation();
+  near.radius = config_.relocalize_hint_radius + kKeptPlaceDrift * ownPathSince(kept_place_->seq);
+  return near;
+}
+
+double OdomRunner::ownPathSince(std::int64_t seq) const {
+  double path = 0.0;
+  for (std::size_t i = own_rows_begin_ + 1; i < trajectory_.poses.size(); ++i)
+    if (trajectory_.seqs[i - 1] >= seq)
+      path += (trajectory_.poses[i].translation() - trajectory_.poses[i - 1].translation()).norm();
+  return path;
+}
+
+bool OdomRunner::launchLookBack() {
+  std::optional<KeptPlaceSearch> next =
+      own_sweep_->next(*own_, config_.deskew_reference_time, look_back_in_map_);
+  if (!next) return false;
+  startLookBack(std::move(*next));
+  return true;
+}
+
+void OdomRunner::startLookBack(KeptPlaceSearch search) {
+  // A new sweep starts from the oldest kept scan: the places the last one followed are stale.
+  if (search.sweep_start || !own_look_back_) own_look_back_.emplace(config_, client_);
+  const std::int64_t seq = search.stacked.seq;
+  own_look_back_->start(std::move(search.stacked), search.scans, search.motion, std::nullopt, seq,
+                        search.own_pose);
+}
+
+bool OdomRunner::ownSearchRunning() const {
+  return own_search_->running() || (own_look_back_ && own_look_back_->running());
+}
+
+std::optional<SearchOutcome> OdomRunner::ownSearchOutcome(bool wait) {
+  std::optional<SearchOutcome> done = wait ? own_search_->wait() : own_search_->poll();
+  if (done || !own_look_back_) return done;
+  done = wait ? own_look_back_->wait() : own_look_back_->poll();
+  if (!done) return done;
+  done->looked_back = true;
+  look_back_in_map_ = done->found.evidence >= config_.relocalize_min_fitness;
+  return done;
 }
 
 void OdomRunner::finishOwnSearch(Odometry& odometry) {
   // The input ended while a search ran: its answer still merges what the robot kept.
-  const std::optional<SearchOutcome> done = own_search_->wait();
-  if (!done || !done->found.pose || own_->keyframes().empty()) return;
-  mergeOwnFrame(odometry, own_->keyframes().back(), *done);
+  std::optional<SearchOutcome> done = ownSearchOutcome(true);
+  if (done && done->found.pose && done->looked_back) kept_place_ = std::exchange(done, {});
+  const bool newest_found = done && done->found.pose;
+  if (!newest_found && !kept_place_) kept_place_ = lookBackOnce();
+  if (own_->keyframes().empty()) return;
+  if (newest_found)
+    mergeOwnFrame(odometry, own_->keyframes().back(), *done, kept_place_);
+  else if (kept_place_)
+    mergeOwnFrame(odometry, own_->keyframes().back(), *kept_place_, std::nullopt);
+}
+
+std::optional<SearchOutcome> OdomRunner::lookBackOnce() {
+  // Nothing else to do: one whole sweep, a search after the other.
+  if (!own_sweep_) return std::nullopt;
+  own_sweep_->restart();
+  look_back_in_map_ = false;
+  std::cerr << "odom_client: the input ended in its own frame: looking back over its "
+            << own_->keyframes().size() << " kept scans\n";
+  for (bool first = true;; first = false) {
+    std::optional<KeptPlaceSearch> next =
+        own_sweep_->next(*own_, config_.deskew_reference_time, look_back_in_map_);
+    if (!next || (next->sweep_start && !first)) return std::nullopt;  // none, or swept once
+    startLookBack(std::move(*next));
+    std::optional<SearchOutcome> done = ownSearchOutcome(true);
+    if (done && done->found.pose) return done;
+    if (done) std::cerr << "odom_client: " << verdictText(*done) << "\n";
+  }
 }
 
 void OdomRunner::mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest,
-                               const SearchOutcome& search) {
+                               const SearchOutcome& search,
+                               const std::optional<SearchOutcome>& kept_place) {
   const Relocalization& found = search.found;
-  std::cerr << "odom_client: found the shared map at frame " << search.seq << " (answered at frame "
-            << newest.seq << "; confirmed on " << found.confirmed << " searches; explains "
-            << static_cast<int>(found.fitness * 100) << " % of the last " << found.stacked
-            << " scans, " << static_cast<int>(found.free * 100) << " % in free space; next place "
-            << static_cast<int>(found.runner_up * 100) << " % net)\n";
+  std::cerr << "odom_client: found the shared map at frame " << search.seq
+            << (search.looked_back ? " (a kept scan, looking back; answered" : " (answered")
+            << " at frame " << newest.seq << "; confirmed on " << found.confirmed
+            << " searches; explains " << static_cast<int>(found.fitness * 100) << " % of the last "
+            << found.stacked << " scans, " << static_cast<int>(found.free * 100)
+            << " % in free space; next place " << static_cast<int>(found.runner_up * 100)
+            << " % net)\n";
   const Eigen::Isometry3d shared_T_own = sharedFromOwn(*found.pose, search.own_pose);
-  const std::vector<OwnKeyframe> kept = mergedKeyframes(own_->keyframes(), newest, shared_T_own);
+  const FrameBridge bridge = kept_place && kept_place->seq < search.seq
+                                 ? bridgeTo(*kept_place, search.seq, shared_T_own)
+                                 : FrameBridge(shared_T_own);
+  const std::vector<OwnKeyframe> kept = mergedKeyframes(own_->keyframes(), newest, bridge);
   // The own-frame stretch reaches the shared map in order, before the robot's next frame: the
   // server sees a robot's first integration and then plausible steps.
   for (const OwnKeyframe& k : kept) integrateKept(k);
   for (std::size_t i = own_rows_begin_; i < trajectory_.poses.size(); ++i)
-    trajectory_.poses[i] = shared_T_own * trajectory_.poses[i];
+    trajectory_.poses[i] = bridge.at(trajectory_.seqs[i]) * trajectory_.poses[i];
   odometry.moveFrame(shared_T_own);  // as a map correction, the map's up turned too
   watch(odometry);
-  jump_ = mergeText(shared_T_own, kept.size(), *own_);
+  jump_ = mergeText(shared_T_own, bridge, kept.size(), *own_);
   std::cerr << "odom_client: " << jump_ << "\n";
   if (own_->droppedKeyframes() > 0)
     std::cerr << "odom_client: " << own_->droppedKeyframes()
@@ -146,8 +270,23 @@ void OdomRunner::mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest,
              newest.utime);
   own_.reset();
   own_search_.reset();
+  own_look_back_.reset();
+  own_sweep_.reset();
+  kept_place_.reset();
   localized_ = true;
   ++relocalizations_;
+}
+
+FrameBridge OdomRunner::bridgeTo(const SearchOutcome& kept_place, std::int64_t seq,
+                                 const Eigen::Isometry3d& shared_T_own) const {
+  std::vector<std::int64_t> seqs;
+  std::vector<Eigen::Vector3d> positions;
+  for (std::size_t i = own_rows_begin_; i < trajectory_.poses.size(); ++i) {
+    seqs.push_back(trajectory_.seqs[i]);
+    positions.push_back(trajectory_.poses[i].translation());
+  }
+  return FrameBridge(seqs, positions, kept_place.seq,
+                     sharedFromOwn(*kept_place.found.pose, kept_place.own_pose), seq, shared_T_own);
 }
 
 void OdomRunner::integrateKept(const OwnKeyframe& keyframe) {

@@ -35,11 +35,10 @@ Eigen::Isometry3d sharedFromOwn(const Eigen::Isometry3d& verified, const Eigen::
 }
 
 std::vector<OwnKeyframe> mergedKeyframes(const std::vector<OwnKeyframe>& keyframes,
-                                         const OwnKeyframe& newest,
-                                         const Eigen::Isometry3d& shared_T_own) {
+                                         const OwnKeyframe& newest, const FrameBridge& bridge) {
   std::vector<OwnKeyframe> out = keyframes;
   if (out.empty() || out.back().seq < newest.seq) out.push_back(newest);
-  for (OwnKeyframe& k : out) k.pose = shared_T_own * k.pose;
+  for (OwnKeyframe& k : out) k.pose = bridge.at(k.seq) * k.pose;
   return out;
 }
 

@@ -135,6 +135,12 @@ struct OdomConfig {
   // --own-frame: after relocalize_timeout (searches on every scan) the shared map is searched
   // once per this much scan time [s]: each search costs the server a LOCALIZE.
   double own_frame_search_period = 0.5;
+  // --own-frame, after relocalize_timeout: every other search looks back at the robot's kept
+  // scans (KeptPlaceSweep: another robot may since have mapped a place this one passed), pairs of
+  // windows of relocalize_stack_scans kept scans, own_frame_look_back_gap [m] of kept path apart;
+  // at the end of the input a robot never merged looks back over its whole path once.
+  bool own_frame_look_back = true;
+  double own_frame_look_back_gap = 40.0;
 
   // Map service.
   int timeout_ms = 2000;  // per attempt

@@ -22,6 +22,7 @@
 
 #include "socc/kitti_io.hpp"
 #include "socc/odom/frame_log.hpp"
+#include "socc/odom/kept_place_sweep.hpp"
 #include "socc/odom/map_pipeline.hpp"
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/odometry.hpp"
@@ -128,11 +129,33 @@ class OdomRunner {
   /// The shared-map search at frame newest: merges when a finished search found the map, else
   /// starts the next one when due; only at a kept (trusted) frame. The search's verdict.
   std::string followSearch(Odometry& odometry, const FrameEstimate& newest, bool kept);
+  /// The next search: every other one (after relocalize_timeout) looks back at a kept place.
   void launchSearch(const FrameEstimate& newest);
-  /// At the end of the input: waits for a running search and merges on its success.
+  void launchForward(const FrameEstimate& newest, const std::optional<PoseHint>& hint);
+  /// A kept place was found looking back: the next searches look for the newest place near
+  /// where it puts it (kept_place_checks_ of them at most); the row's verdict.
+  std::string holdKeptPlace(const SearchOutcome& found);
+  PoseHint nearKeptPlace(const FrameEstimate& newest) const;
+  /// Own-frame path travelled since the scan seq [m].
+  double ownPathSince(std::int64_t seq) const;
+  std::string verdictText(const SearchOutcome& done)
+      const;  /// Starts the sweep's next search of a kept place; false when there is none.
+  bool launchLookBack();
+  void startLookBack(KeptPlaceSearch search);
+  bool ownSearchRunning() const;
+  /// The finished search (forward or look back), waiting for it when wait is set.
+  std::optional<SearchOutcome> ownSearchOutcome(bool wait);
+  /// At the end of the input: waits for a running search, then looks back over the whole kept
+  /// path once; merges on the first success.
   void finishOwnSearch(Odometry& odometry);
-  /// Integrates the kept scans (newest last) where the search placed them; shared from here on.
-  void mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest, const SearchOutcome& search);
+  std::optional<SearchOutcome> lookBackOnce();
+  /// Integrates the kept scans (newest last) where the search placed them, bridged from the kept
+  /// place found looking back if there is one (FrameBridge); shared from here on.
+  void mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest, const SearchOutcome& search,
+                     const std::optional<SearchOutcome>& kept_place);
+  /// The own frame's move from the kept place's placement to shared_T_own at seq.
+  FrameBridge bridgeTo(const SearchOutcome& kept_place, std::int64_t seq,
+                       const Eigen::Isometry3d& shared_T_own) const;
   void integrateKept(const OwnKeyframe& keyframe);
   void sendStatus(std::int8_t wire, const std::string& reason, std::int64_t seq,
                   std::int64_t utime);
@@ -157,7 +180,13 @@ class OdomRunner {
   std::string jump_;  // the last correction, for the next frame's row
   // --own-frame, until the merge.
   std::optional<OwnFrameMap> own_;
-  std::optional<SharedMapSearch> own_search_;
+  std::optional<SharedMapSearch> own_search_;     // the newest scans'
+  std::optional<SharedMapSearch> own_look_back_;  // the kept scans' (a new one per sweep)
+  std::optional<KeptPlaceSweep> own_sweep_;       // none: own_frame_look_back off
+  bool look_back_next_ = false;
+  bool look_back_in_map_ = false;  // the last look back's best place explained enough of it
+  std::optional<SearchOutcome> kept_place_;  // found looking back, the newest place not yet
+  int kept_place_checks_ = 0;                // searches near it that did not find the newest
   bool live_input_ = false;  // searches beside the scan loop; file input waits for each answer
   std::size_t own_rows_begin_ = 0;        // first trajectory row in the own frame
   std::int64_t own_since_utime_ = -1;     // scan time it began mapping in its own frame

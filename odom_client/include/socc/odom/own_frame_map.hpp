@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "socc/gravity_reference.hpp"
+#include "socc/odom/frame_bridge.hpp"
 #include "socc/odom/odom_config.hpp"
 #include "socc/odom/posed_frames.hpp"
 
@@ -71,11 +72,10 @@ class OwnFrameMap {
 /// the inverse of its own-frame pose (shared_T_own).
 Eigen::Isometry3d sharedFromOwn(const Eigen::Isometry3d& verified, const Eigen::Isometry3d& own);
 
-/// The keyframes as they are integrated at the merge: in order, at shared_T_own * pose; the
-/// newest frame (newest, already registered) is appended when it is not the last keyframe, so the
-/// server's last pose of the robot is the one its odometry goes on from.
+/// The keyframes as they are integrated at the merge: in order, each at bridge.at(seq) * pose;
+/// the newest frame (newest, already registered) is appended when it is not the last keyframe, so
+/// the server's last pose of the robot is the one its odometry goes on from.
 std::vector<OwnKeyframe> mergedKeyframes(const std::vector<OwnKeyframe>& keyframes,
-                                         const OwnKeyframe& newest,
-                                         const Eigen::Isometry3d& shared_T_own);
+                                         const OwnKeyframe& newest, const FrameBridge& bridge);
 
 }  // namespace socc::odom

@@ -19,6 +19,7 @@ struct SearchOutcome {
   Relocalization found;  // found.pose: the frame's pose in the shared map
   std::int64_t seq = 0;
   Eigen::Isometry3d own_pose = Eigen::Isometry3d::Identity();  // the frame's own-frame pose
+  bool looked_back = false;  // a kept scan's search (KeptPlaceSweep), not the newest scans'
 };
 
 class SharedMapSearch {
