@@ -121,16 +121,6 @@ std::string OdomRunner::verdictText(const SearchOutcome& done) const {
   return what + (kept_place_ ? " near the kept place found: " : ": ") + done.found.problem;
 }
 
-std::string OdomRunner::holdKeptPlace(const SearchOutcome& found) {
-  // Merged at once, the robot's newest place would carry the own-frame drift since the kept
-  // scan; where the shared map holds it too, a search near where the kept place puts it finds
-  // it, and both places are kept (FrameBridge).
-  kept_place_ = found;
-  kept_place_checks_ = 0;
-  return "found kept scan " + std::to_string(found.seq) +
-         " in the shared map (looking back): searching near it for the newest place";
-}
-
 void OdomRunner::launchSearch(const FrameEstimate& newest) {
   own_searched_utime_ = newest.utime;
   if (kept_place_) {
@@ -154,41 +144,6 @@ void OdomRunner::launchForward(const FrameEstimate& newest, const std::optional<
   own_search_->start(own_->stacked(count, config_.deskew_reference_time),
                      static_cast<int>(std::min(count, own_->frames())), motion, hint, newest.seq,
                      newest.pose);
-}
-
-PoseHint OdomRunner::nearKeptPlace(const FrameEstimate& newest) const {
-  // Where the kept place puts the newest scan, give or take the own-frame odometry's drift since
-  // the kept scan (kKeptPlaceDrift of its path) on top of the usual hint radius.
-  constexpr double kKeptPlaceDrift = 0.02;
-  PoseHint near;
-  near.position =
-      (sharedFromOwn(*kept_place_->found.pose, kept_place_->own_pose) * newest.pose).translation();
-  near.radius = config_.relocalize_hint_radius + kKeptPlaceDrift * ownPathSince(kept_place_->seq);
-  return near;
-}
-
-double OdomRunner::ownPathSince(std::int64_t seq) const {
-  double path = 0.0;
-  for (std::size_t i = own_rows_begin_ + 1; i < trajectory_.poses.size(); ++i)
-    if (trajectory_.seqs[i - 1] >= seq)
-      path += (trajectory_.poses[i].translation() - trajectory_.poses[i - 1].translation()).norm();
-  return path;
-}
-
-bool OdomRunner::launchLookBack() {
-  std::optional<KeptPlaceSearch> next =
-      own_sweep_->next(*own_, config_.deskew_reference_time, look_back_in_map_);
-  if (!next) return false;
-  startLookBack(std::move(*next));
-  return true;
-}
-
-void OdomRunner::startLookBack(KeptPlaceSearch search) {
-  // A new sweep starts from the oldest kept scan: the places the last one followed are stale.
-  if (search.sweep_start || !own_look_back_) own_look_back_.emplace(config_, client_);
-  const std::int64_t seq = search.stacked.seq;
-  own_look_back_->start(std::move(search.stacked), search.scans, search.motion, std::nullopt, seq,
-                        search.own_pose);
 }
 
 bool OdomRunner::ownSearchRunning() const {
@@ -218,24 +173,6 @@ void OdomRunner::finishOwnSearch(Odometry& odometry) {
     mergeOwnFrame(odometry, own_->keyframes().back(), *kept_place_, std::nullopt);
 }
 
-std::optional<SearchOutcome> OdomRunner::lookBackOnce() {
-  // Nothing else to do: one whole sweep, a search after the other.
-  if (!own_sweep_) return std::nullopt;
-  own_sweep_->restart();
-  look_back_in_map_ = false;
-  std::cerr << "odom_client: the input ended in its own frame: looking back over its "
-            << own_->keyframes().size() << " kept scans\n";
-  for (bool first = true;; first = false) {
-    std::optional<KeptPlaceSearch> next =
-        own_sweep_->next(*own_, config_.deskew_reference_time, look_back_in_map_);
-    if (!next || (next->sweep_start && !first)) return std::nullopt;  // none, or swept once
-    startLookBack(std::move(*next));
-    std::optional<SearchOutcome> done = ownSearchOutcome(true);
-    if (done && done->found.pose) return done;
-    if (done) std::cerr << "odom_client: " << verdictText(*done) << "\n";
-  }
-}
-
 void OdomRunner::mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest,
                                const SearchOutcome& search,
                                const std::optional<SearchOutcome>& kept_place) {
@@ -262,8 +199,9 @@ void OdomRunner::mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest,
   jump_ = mergeText(shared_T_own, bridge, kept.size(), *own_);
   std::cerr << "odom_client: " << jump_ << "\n";
   if (own_->droppedKeyframes() > 0)
-    std::cerr << "odom_client: " << own_->droppedKeyframes()
-              << " older kept scans were dropped (max_keyframes): not merged\n";
+    std::cerr << "odom_client: the kept scans were thinned to one every "
+              << own_->keyframeDistance() << " m (max_keyframes; " << own_->droppedKeyframes()
+              << " left out)\n";
   tracking_ = TrackingMonitor(config_.max_unhealthy_frames);
   last_good_ = shared_T_own * newest.pose;
   sendStatus(robot_status_request_t::TRACKING, "merged into the shared map", newest.seq,
@@ -275,18 +213,6 @@ void OdomRunner::mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest,
   kept_place_.reset();
   localized_ = true;
   ++relocalizations_;
-}
-
-FrameBridge OdomRunner::bridgeTo(const SearchOutcome& kept_place, std::int64_t seq,
-                                 const Eigen::Isometry3d& shared_T_own) const {
-  std::vector<std::int64_t> seqs;
-  std::vector<Eigen::Vector3d> positions;
-  for (std::size_t i = own_rows_begin_; i < trajectory_.poses.size(); ++i) {
-    seqs.push_back(trajectory_.seqs[i]);
-    positions.push_back(trajectory_.poses[i].translation());
-  }
-  return FrameBridge(seqs, positions, kept_place.seq,
-                     sharedFromOwn(*kept_place.found.pose, kept_place.own_pose), seq, shared_T_own);
 }
 
 void OdomRunner::integrateKept(const OwnKeyframe& keyframe) {

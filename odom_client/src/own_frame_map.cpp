@@ -4,23 +4,30 @@
 
 namespace socc::odom {
 
-OwnFrameMap::OwnFrameMap(OwnFrameLimits limits) : limits_(limits), recent_(limits.recent_scans) {}
+OwnFrameMap::OwnFrameMap(OwnFrameLimits limits)
+    : limits_(limits), keyframe_distance_(limits.keyframe_distance), recent_(limits.recent_scans) {}
 
 void OwnFrameMap::add(const FrameEstimate& frame) {
   recent_.push(frame);
   if (!isKeyframe(frame.pose)) return;
   keyframes_.push_back({frame.seq, frame.utime, frame.pose,
                         thinnedCloud(frame.cloud, limits_.keyframe_spacing), frame.gravity});
-  if (keyframes_.size() > std::max<std::size_t>(1, limits_.max_keyframes)) {
-    keyframes_.erase(keyframes_.begin());
-    ++dropped_;
-  }
+  if (keyframes_.size() > std::max<std::size_t>(1, limits_.max_keyframes)) thin();
+}
+
+void OwnFrameMap::thin() {
+  std::vector<OwnKeyframe> kept;
+  for (std::size_t i = 0; i < keyframes_.size(); ++i)
+    if (i % 2 == 0 || i + 1 == keyframes_.size()) kept.push_back(std::move(keyframes_[i]));
+  dropped_ += keyframes_.size() - kept.size();
+  keyframes_ = std::move(kept);
+  keyframe_distance_ *= 2.0;
 }
 
 bool OwnFrameMap::isKeyframe(const Eigen::Isometry3d& pose) const {
   if (keyframes_.empty()) return true;
   const Eigen::Isometry3d step = keyframes_.back().pose.inverse() * pose;
-  return step.translation().norm() >= limits_.keyframe_distance ||
+  return step.translation().norm() >= keyframe_distance_ ||
          Eigen::AngleAxisd(step.linear()).angle() >= limits_.keyframe_angle;
 }
 

@@ -47,11 +47,14 @@ TEST(OwnFrameMap, KeepsAScanEveryFewMetresAndBoundsThem) {
   for (int k = 0; k < 21; ++k) own.add(frameAt(k, along(0.5 * k)));  // 10 m in 0.5 m steps
   EXPECT_EQ(own.frames(), 3u);
   EXPECT_GT(own.target().size(), 0u);
-  // Keyframes at 0, 2, ..., 10 m (seq 0, 4, ..., 20): the oldest two dropped beyond 4.
-  ASSERT_EQ(own.keyframes().size(), 4u);
+  // Keyframes at 0, 2, 4, 6, 8 m (seq 0, 4, ..., 16): beyond 4, every other one dropped and the
+  // spacing doubled, so the path from its start is still kept (0, 4, 8 m), and 10 m is not one.
+  ASSERT_EQ(own.keyframes().size(), 3u);
   EXPECT_EQ(own.droppedKeyframes(), 2u);
-  EXPECT_EQ(own.keyframes().front().seq, 8);
-  EXPECT_EQ(own.keyframes().back().seq, 20);
+  EXPECT_DOUBLE_EQ(own.keyframeDistance(), 4.0);
+  EXPECT_EQ(own.keyframes().front().seq, 0);
+  EXPECT_EQ(own.keyframes()[1].seq, 8);
+  EXPECT_EQ(own.keyframes().back().seq, 16);
   EXPECT_TRUE(own.newestPose().isApprox(along(10.0)));
   EXPECT_GT(own.keyframeBytes(), 0u);
   EXPECT_GT(own.recentBytes(), 0u);

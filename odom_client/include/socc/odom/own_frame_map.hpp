@@ -28,11 +28,13 @@ struct OwnKeyframe {
 
 /// Bounds of the own-frame map.
 struct OwnFrameLimits {
-  std::size_t recent_scans = 10;    // the registration target: the last scans
-  double keyframe_distance = 2.0;   // [m] of travel between kept keyframes
-  double keyframe_angle = 0.35;     // [rad] of turn between kept keyframes (about 20 deg)
-  double keyframe_spacing = 0.2;    // [m] a keyframe's points are thinned to this
-  std::size_t max_keyframes = 500;  // beyond: the oldest are dropped (that stretch is not merged)
+  std::size_t recent_scans = 10;   // the registration target: the last scans
+  double keyframe_distance = 2.0;  // [m] of travel between kept keyframes
+  double keyframe_angle = 0.35;    // [rad] of turn between kept keyframes (about 20 deg)
+  double keyframe_spacing = 0.2;   // [m] a keyframe's points are thinned to this
+  // Beyond: every other keyframe is dropped and the distance between keyframes doubled, so the
+  // whole own-frame path stays kept (and searchable, and merged) at a coarser spacing.
+  std::size_t max_keyframes = 500;
 };
 
 class OwnFrameMap {
@@ -52,8 +54,10 @@ class OwnFrameMap {
   std::size_t frames() const { return recent_.size(); }
   Eigen::Isometry3d newestPose() const { return recent_.newestPose(); }
   const std::vector<OwnKeyframe>& keyframes() const { return keyframes_; }
-  /// Keyframes dropped by max_keyframes.
+  /// Keyframes dropped by max_keyframes (thinning).
   std::size_t droppedKeyframes() const { return dropped_; }
+  /// [m] of travel between keyframes now: keyframe_distance, doubled at each thinning.
+  double keyframeDistance() const { return keyframe_distance_; }
   /// Memory of the keyframes [bytes] (what grows with the path; the target is bounded).
   std::size_t keyframeBytes() const;
   /// Memory of the last scans of the target [bytes].
@@ -61,8 +65,11 @@ class OwnFrameMap {
 
  private:
   bool isKeyframe(const Eigen::Isometry3d& pose) const;
+  /// Every other keyframe dropped (the newest kept), keyframe_distance_ doubled.
+  void thin();
 
   OwnFrameLimits limits_;
+  double keyframe_distance_;
   PosedFrames recent_;
   std::vector<OwnKeyframe> keyframes_;
   std::size_t dropped_ = 0;
