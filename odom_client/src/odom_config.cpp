@@ -78,6 +78,7 @@ YamlFields fields(OdomConfig& c) {
       {"relocalize_confirm_scans", &c.relocalize_confirm_scans},
       {"own_frame_search_period", &c.own_frame_search_period},
       {"own_frame_look_back", &c.own_frame_look_back},
+      {"own_frame_look_back_live", &c.own_frame_look_back_live},
       {"own_frame_look_back_gap", &c.own_frame_look_back_gap},
       {"timeout_ms", &c.timeout_ms},
       {"max_attempts", &c.max_attempts},

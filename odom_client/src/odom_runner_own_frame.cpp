@@ -128,9 +128,9 @@ void OdomRunner::launchSearch(const FrameEstimate& newest) {
     return;
   }
   // The first relocalize_timeout s search every scan for the robot's own place only (as
-  // --relocalize would); then every other search looks back.
-  const bool looking_back =
-      (newest.utime - own_since_utime_) * 1e-6 > config_.relocalize_timeout && own_sweep_;
+  // --relocalize would); then, with own_frame_look_back_live, every other search looks back.
+  const bool looking_back = config_.own_frame_look_back_live && own_sweep_ &&
+                            (newest.utime - own_since_utime_) * 1e-6 > config_.relocalize_timeout;
   if (looking_back && std::exchange(look_back_next_, false) && launchLookBack()) return;
   look_back_next_ = looking_back;
   launchForward(newest, hint_);

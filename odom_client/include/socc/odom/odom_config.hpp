@@ -135,11 +135,13 @@ struct OdomConfig {
   // --own-frame: after relocalize_timeout (searches on every scan) the shared map is searched
   // once per this much scan time [s]: each search costs the server a LOCALIZE.
   double own_frame_search_period = 0.5;
-  // --own-frame, after relocalize_timeout: every other search looks back at the robot's kept
-  // scans (KeptPlaceSweep: another robot may since have mapped a place this one passed), pairs of
-  // windows of relocalize_stack_scans kept scans, own_frame_look_back_gap [m] of kept path apart;
-  // at the end of the input a robot never merged looks back over its whole path once.
+  // --own-frame: at the end of the input a robot never merged looks back over its kept scans once
+  // (KeptPlaceSweep: another robot may since have mapped a place it passed); with
+  // own_frame_look_back_live also during the run, every other search after relocalize_timeout
+  // (off: on the KITTI-00 shape it delayed the merge, docs/relocalization.md "Look back"). Pairs
+  // of windows of relocalize_stack_scans kept scans, own_frame_look_back_gap [m] of path apart.
   bool own_frame_look_back = true;
+  bool own_frame_look_back_live = false;
   double own_frame_look_back_gap = 40.0;
 
   // Map service.
