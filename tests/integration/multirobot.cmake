@@ -65,7 +65,7 @@ if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
     add_test(NAME integration.own_frame
              COMMAND bash ${_socc_mr_script} own_frame ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>
                      ${_socc_mr_lcmlog})
-    set_tests_properties(integration.own_frame PROPERTIES LABELS integration TIMEOUT 300 COST 160)
+    set_tests_properties(integration.own_frame PROPERTIES LABELS integration TIMEOUT 600 COST 280)
     # Issue 27: a robot tracks with short round trips (no timeout, no unhealthy frame) while
     # another robot's LOCALIZE searches run on the server's search thread.
     add_test(NAME integration.busy_search

@@ -254,7 +254,7 @@ TEST(OwnFrame, LookingBackItFindsAPlaceAnotherRobotMappedAfterItPassed) {
 
   socc::sim::SceneOptions other = options;
   other.seed = 99;  // another street: its kept scans are nowhere in A's map
-  EXPECT_EQ(lookBack(cfg, keptScans(cfg, socc::sim::buildScene(other), 0, 20), access).merged_at,
+  EXPECT_EQ(lookBack(cfg, keptScans(cfg, socc::sim::buildScene(other), 0, 12), access).merged_at,
             -1);
 }
 
