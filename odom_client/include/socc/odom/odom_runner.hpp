@@ -138,8 +138,9 @@ class OdomRunner {
   PoseHint nearKeptPlace(const FrameEstimate& newest) const;
   /// Own-frame path travelled since the scan seq [m].
   double ownPathSince(std::int64_t seq) const;
-  std::string verdictText(const SearchOutcome& done)
-      const;  /// Starts the sweep's next search of a kept place; false when there is none.
+  /// A finished search's verdict for the frame's row.
+  std::string verdictText(const SearchOutcome& done) const;
+  /// Starts the sweep's next search of a kept place; false when there is none.
   bool launchLookBack();
   void startLookBack(KeptPlaceSearch search);
   bool ownSearchRunning() const;
