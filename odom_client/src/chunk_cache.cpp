@@ -106,7 +106,7 @@ LocalMap ChunkCache::build(const Eigen::Vector3d& center, double radius,
       const Eigen::Vector3d c = (voxelIndex(v.point, inv_size).cast<double>().array() + 0.5) * size;
       if ((c - center).squaredNorm() <= radius * radius) all.push_back(v);
     }
-  return LocalMap::fromVoxels(std::move(all), size, reply.p_hit);
+  return LocalMap::fromVoxels(std::move(all), size, reply.p_hit, reply.map_epoch);
 }
 
 }  // namespace socc::odom

@@ -308,15 +308,16 @@ LocalMap LocalMap::fromChunk(const chunk_reply_t& chunk, double occupancy_thresh
       std::remove_if(voxels.begin(), voxels.end(),
                      [&](const MapVoxel& v) { return !occupiedAt(v, occupancy_threshold); }),
       voxels.end());
-  return fromVoxels(std::move(voxels), chunk.voxel_size, chunk.p_hit);
+  return fromVoxels(std::move(voxels), chunk.voxel_size, chunk.p_hit, chunk.map_epoch);
 }
 
-LocalMap LocalMap::fromVoxels(std::vector<MapVoxel> voxels, double voxel_size,
-                              double hit_occupancy) {
+LocalMap LocalMap::fromVoxels(std::vector<MapVoxel> voxels, double voxel_size, double hit_occupancy,
+                              std::int64_t epoch) {
   LocalMap map;
   map.base_ = std::make_shared<const Layer>(std::move(voxels), 0, voxel_size);
   map.voxel_size_ = voxel_size;
   map.hit_occupancy_ = hit_occupancy;
+  map.epoch_ = epoch;
   return map;
 }
 double fractionNearMap(const std::vector<Eigen::Vector3f>& points, const LocalMap& map,

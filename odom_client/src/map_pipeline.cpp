@@ -45,6 +45,7 @@ LocalMap MapPipeline::target(const Eigen::Vector3d& center, FrameStats& stats) {
     t.map = std::move(next.map);
   }
   LocalMap map = t.map;
+  pose_epoch_ = t.epoch;
   stats.map_build_ms = msSince(build);
   stats.bytes_received = std::exchange(t.bytes, 0);  // counted once, by its first frame
   stats.chunk_ms = std::exchange(t.chunk_ms, 0.0);
@@ -76,9 +77,11 @@ LocalMap MapPipeline::fetchNow(const Eigen::Vector3d& center, FrameStats& stats)
   stats.chunk_ms = stats.fetch_ms;
   stats.chunk_voxels = static_cast<std::int64_t>(map.size());
   stats.bytes_received = chunk.bytes_received;
-  // Taken as it is: nothing else to register against (a swap between the Integrate and this
-  // chunk is not caught here, docs/consistency.md "Limits").
+  // Taken as it is: nothing else to register against. After a swap the robot was not told of
+  // yet, the frame registers into the corrected grid and its Integrate says so (pose_epoch_):
+  // the server does not move it a second time.
   frame_gate_.adopt(chunk.reply->map_epoch);
+  pose_epoch_ = chunk.reply->map_epoch;
   held_.reset();
   if (config_.pipelined_map)
     target_.emplace(Target{map, map, center, chunk.reply->map_epoch, 0, 0.0, {}, {}, {}});
@@ -111,9 +114,10 @@ void MapPipeline::integrate(FrameEstimate estimate, const FrameStats& stats,
   const bool fetch = config_.pipelined_map && ++integrates_ % config_.chunk_interval == 0;
   in_flight_.emplace();
   in_flight_->stats = row;
-  in_flight_->reply = std::async(std::launch::async, [this, ahead, fetch, frame]() {
-    return exchange(*frame, fetch ? std::optional(ahead) : std::nullopt);
-  });
+  in_flight_->reply =
+      std::async(std::launch::async, [this, ahead, fetch, frame, epoch = pose_epoch_]() {
+        return exchange(*frame, epoch, fetch ? std::optional(ahead) : std::nullopt);
+      });
 }
 
 void MapPipeline::startOverlay(std::shared_ptr<const FrameEstimate> frame) {
@@ -130,11 +134,12 @@ void MapPipeline::startOverlay(std::shared_ptr<const FrameEstimate> frame) {
       });
 }
 
-MapPipeline::Exchange MapPipeline::exchange(const FrameEstimate& frame,
+MapPipeline::Exchange MapPipeline::exchange(const FrameEstimate& frame, std::int64_t epoch,
                                             const std::optional<Eigen::Vector3d>& fetch_at) {
   Exchange x;
   integrate_request_t request =
       rpc::makeIntegrateRequest(frame.seq, frame.utime, frame.pose, frame.cloud, frame.gravity);
+  request.map_epoch = epoch;
   x.bytes_sent = static_cast<std::int64_t>(request.getEncodedSize());
   const Clock::time_point start = Clock::now();
   x.integrate = client_.integrate(std::move(request));
@@ -189,6 +194,7 @@ std::int64_t MapPipeline::finish() {
     // (a chunk fetched after this reply is of the new grid).
     const Eigen::Isometry3d correction = fromLcm(x.integrate.reply->correction);
     correction_ = correction_ ? correction * *correction_ : correction;
+    pose_epoch_ = x.integrate.reply->map_epoch;  // the frame the correction moves poses into
     target_.reset();
     if (!x.chunk) cache_.reset();
   }

@@ -191,7 +191,7 @@ void OdomRunner::mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest,
   const std::vector<OwnKeyframe> kept = mergedKeyframes(own_->keyframes(), newest, bridge);
   // The own-frame stretch reaches the shared map in order, before the robot's next frame: the
   // server sees a robot's first integration and then plausible steps.
-  for (const OwnKeyframe& k : kept) integrateKept(k);
+  for (const OwnKeyframe& k : kept) integrateKept(k, found.map_epoch);
   for (std::size_t i = own_rows_begin_; i < trajectory_.poses.size(); ++i)
     trajectory_.poses[i] = bridge.at(trajectory_.seqs[i]) * trajectory_.poses[i];
   odometry.moveFrame(shared_T_own);  // as a map correction, the map's up turned too
@@ -215,9 +215,11 @@ void OdomRunner::mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest,
   ++relocalizations_;
 }
 
-void OdomRunner::integrateKept(const OwnKeyframe& keyframe) {
-  const auto reply = client_.integrate(rpc::makeIntegrateRequest(
-      keyframe.seq, keyframe.utime, keyframe.pose, keyframe.cloud, keyframe.gravity));
+void OdomRunner::integrateKept(const OwnKeyframe& keyframe, std::int64_t epoch) {
+  integrate_request_t request = rpc::makeIntegrateRequest(
+      keyframe.seq, keyframe.utime, keyframe.pose, keyframe.cloud, keyframe.gravity);
+  request.map_epoch = epoch;
+  const auto reply = client_.integrate(std::move(request));
   if (reply.ok()) return;
   if (reply.error.status == reply_header_t::FAILED_PRECONDITION) {  // judged implausible
     std::cerr << "odom_client: warning: the server refused kept scan " << keyframe.seq << ": "

@@ -68,6 +68,7 @@ Relocalization PlaceTracker::update(const Eigen::Isometry3d& motion,
                   " scans and " + percentText(needed) + ")";
   else
     out.pose = best.verified.pose;
+  out.map_epoch = best.verified.map_epoch;
   if (next.size() > rules_.keep) next.resize(rules_.keep);
   places_ = std::move(next);
   return out;

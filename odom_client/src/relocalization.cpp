@@ -19,14 +19,17 @@ std::vector<VerifiedPlace> refinedPlaces(const OdomConfig& config, const Prepare
   std::vector<VerifiedPlace> places;
   for (const Eigen::Isometry3d& candidate : poses) {
     Odometry probe(config, candidate);
-    const FrameEstimate e = probe.registerAt(scan, map.chunk(candidate.translation()), candidate);
+    const LocalMap chunk = map.chunk(candidate.translation());
+    const FrameEstimate e = probe.registerAt(scan, chunk, candidate);
     if (!e.registered || !e.health.healthy()) continue;
+    VerifiedPlace place{e.pose, e.fitness};
+    place.map_epoch = chunk.epoch();
     const auto same = [&](const VerifiedPlace& v) { return samePlace(v.pose, e.pose); };
     const auto it = std::find_if(places.begin(), places.end(), same);
     if (it == places.end())
-      places.push_back({e.pose, e.fitness});
+      places.push_back(place);
     else if (e.fitness > it->fitness)
-      *it = {e.pose, e.fitness};
+      *it = place;
   }
   std::sort(places.begin(), places.end(),
             [](const VerifiedPlace& a, const VerifiedPlace& b) { return a.fitness > b.fitness; });
@@ -121,6 +124,7 @@ Relocalization relocalize(const OdomConfig& config, const PreparedScan& scan, Ma
                   percentText(out.runner_up) + " of the scan net of the free space they contradict";
   else
     out.pose = places[0].pose;
+  out.map_epoch = places[0].map_epoch;
   return out;
 }
 

@@ -366,9 +366,11 @@ TEST(MapCorrection, TheServiceSwapsTheGridInAndTellsTheRobotItsCorrectionOnce) {
   config.consistency = correctionParams();
   config.consistency.enabled = true;
   service::MapService server(config);
-  const auto send = [&](std::int64_t seq, const Eigen::Isometry3d& pose, const LabeledCloud& s) {
+  const auto send = [&](std::int64_t seq, const Eigen::Isometry3d& pose, const LabeledCloud& s,
+                        std::int64_t epoch = 0) {
     integrate_request_t request = rpc::makeIntegrateRequest(seq, seq * 400000, pose, s);
     request.header.client_id = "car";
+    request.map_epoch = epoch;  // the grid the pose is in (0: the frame last told)
     return server.integrate(request);
   };
   std::int64_t seq = 0;
@@ -381,21 +383,22 @@ TEST(MapCorrection, TheServiceSwapsTheGridInAndTellsTheRobotItsCorrectionOnce) {
   const std::int64_t epoch = server.map().epoch();
   // The robot's next scan, registered against the old grid: moved into the new one, and told.
   const Eigen::Isometry3d next = d.odometry.back();
-  const integrate_reply_t told = send(seq, next, d.scans.back());
+  const integrate_reply_t told = send(seq, next, d.scans.back(), epoch);
   ASSERT_EQ(told.header.status, +reply_header_t::OK) << told.header.message;
   ASSERT_TRUE(told.corrected);
   EXPECT_EQ(server.mapCorrections(), 1);
   EXPECT_GT(told.map_version, version);
-  EXPECT_NE(server.map().epoch(), epoch);  // cached chunks and deltas are stale
+  EXPECT_NE(server.map().epoch(), epoch);           // cached chunks and deltas are stale
+  EXPECT_EQ(told.map_epoch, server.map().epoch());  // the frame the robot is moved into
   const Eigen::Isometry3d correction = fromLcm(told.correction);
   EXPECT_LT(((correction * next).translation() - d.truth.back().translation()).norm(),
             (next.translation() - d.truth.back().translation()).norm() / 3.0);
   EXPECT_TRUE(fromLcm(server.robots().find("car")->last_pose).isApprox(correction * next, 1e-6));
   // A retry of that request is told again; the next request is in the corrected frame.
-  const integrate_reply_t again = send(seq, next, d.scans.back());
+  const integrate_reply_t again = send(seq, next, d.scans.back(), epoch);
   EXPECT_TRUE(again.duplicate);
   EXPECT_TRUE(again.corrected);
-  const integrate_reply_t after = send(seq + 1, correction * next, d.scans.back());
+  const integrate_reply_t after = send(seq + 1, correction * next, d.scans.back(), told.map_epoch);
   ASSERT_EQ(after.header.status, +reply_header_t::OK) << after.header.message;
   EXPECT_FALSE(after.corrected);
   EXPECT_TRUE(fromLcm(server.robots().find("car")->last_pose).isApprox(correction * next, 1e-6));

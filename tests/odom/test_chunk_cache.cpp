@@ -51,6 +51,7 @@ socc::chunk_reply_t answer(const socc::map::SemanticOccupancyMap& map,
 
 void expectSameMap(const LocalMap& a, const LocalMap& b) {
   ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(a.epoch(), b.epoch());  // a delta chunk keeps its map instance
   for (std::size_t i = 0; i < a.size(); ++i) {
     ASSERT_EQ(a.voxel(i).point, b.voxel(i).point) << "voxel " << i;
     EXPECT_EQ(a.voxel(i).normal, b.voxel(i).normal) << "voxel " << i;
@@ -195,6 +196,7 @@ TEST(PipelinedTarget, OwnPointsMergedIntoVoxelsOfFewPointsGiveTheServersFeatures
       answer(map, featureChunkRequest(center, kRadius, kThreshold, true));
   const LocalMap target = LocalMap::fromChunk(reply, kThreshold);
   ASSERT_GT(target.size(), 30u);
+  EXPECT_EQ(target.epoch(), map.epoch());  // the frame a pose registered against it is in
   ASSERT_EQ(reply.n_moments, static_cast<std::int32_t>(target.size()));  // all of few points
   std::size_t without_normal = 0;
   for (std::size_t i = 0; i < target.size(); ++i) {

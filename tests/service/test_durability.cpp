@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <type_traits>
 
 #include "service/journal.hpp"
 #include "service/journal_entry.hpp"
@@ -152,9 +153,11 @@ TEST(Durability, JournalKeepsTheReceivedBytes) {
   EXPECT_EQ(test::content(restored.getChunk(test::everything())), content);
 }
 
-// The request as a server before the gravity fields (docs/lcm.md "Gravity reference") encoded it.
-integrate_request_v1_t preGravity(const integrate_request_t& r) {
-  integrate_request_v1_t old{};
+// The request as an older server encoded it: before the gravity fields (v1, docs/lcm.md
+// "Gravity reference") or before map_epoch (v2, docs/lcm.md "Which frame a pose is in").
+template <class Older>
+Older olderForm(const integrate_request_t& r) {
+  Older old{};
   old.header = r.header;
   old.seq = r.seq;
   old.scan_utime = r.scan_utime;
@@ -166,31 +169,52 @@ integrate_request_v1_t preGravity(const integrate_request_t& r) {
   old.label = r.label;
   old.num_times = r.num_times;
   old.time = r.time;
+  if constexpr (std::is_same_v<Older, integrate_request_v2_t>) {
+    for (int i = 0; i < 3; ++i) old.gravity_up[i] = r.gravity_up[i];
+    old.gravity_sigma = r.gravity_sigma;
+  }
   return old;
 }
 
-TEST(Durability, PreGravityTypeHasTheOldFingerprint) {
-  // integrate_request_t's fingerprint before the gravity fields (lcm-gen 1.3.1 on the .lcm of
-  // the commit before them); a journal of such a server holds exactly these bytes.
-  EXPECT_EQ(static_cast<std::uint64_t>(integrate_request_v1_t::getHash()), 0x818a59ffcd162226ull);
-  EXPECT_NE(integrate_request_v1_t::getHash(), integrate_request_t::getHash());
-  // Neither form decodes as the other: the journal reader tells them apart by the fingerprint.
-  const integrate_request_t now = scan("robot1", 1);
+// integrate_request_t's fingerprint before the fields (lcm-gen 1.3.1 on the .lcm of the commit
+// before them): a journal of such a server holds exactly these bytes, which the journal reader
+// tells apart from the others by it.
+template <class Older>
+void expectTheOlderFormDecodes(std::uint64_t fingerprint) {
+  EXPECT_EQ(static_cast<std::uint64_t>(Older::getHash()), fingerprint);
+  EXPECT_NE(Older::getHash(), integrate_request_t::getHash());
+  const integrate_request_t now = scan("robot1", 1);  // map_epoch 0, no gravity reference
   const auto now_bytes = test::encode(now);
-  const auto old_bytes = test::encode(preGravity(now));
-  EXPECT_FALSE(rpc::safeDecode<integrate_request_v1_t>(now_bytes.data(),
-                                                       static_cast<int>(now_bytes.size())));
+  const auto old_bytes = test::encode(olderForm<Older>(now));
+  EXPECT_FALSE(rpc::safeDecode<Older>(now_bytes.data(), static_cast<int>(now_bytes.size())));
   EXPECT_FALSE(
       rpc::safeDecode<integrate_request_t>(old_bytes.data(), static_cast<int>(old_bytes.size())));
   const auto decoded = decodeJournalEntry(old_bytes.data(), old_bytes.size());
   ASSERT_TRUE(decoded);
   EXPECT_EQ(decoded->gravity_sigma, 0.f);
-  EXPECT_EQ(test::encode(*decoded), now_bytes);  // the same request, without a reference
+  EXPECT_EQ(decoded->map_epoch, 0);
+  EXPECT_EQ(test::encode(*decoded), now_bytes);  // the same request
   EXPECT_FALSE(decodeJournalEntry(old_bytes.data(), old_bytes.size() - 1));
 }
 
-TEST(Durability, PreGravityJournalReplays) {
-  // A journal written by a server before the gravity fields: its entries are the old encoding.
+TEST(Durability, OlderRequestTypesHaveTheOldFingerprints) {
+  expectTheOlderFormDecodes<integrate_request_v1_t>(0x818a59ffcd162226ull);  // pre-gravity
+  expectTheOlderFormDecodes<integrate_request_v2_t>(0x9444d59e41a31640ull);  // pre-epoch
+}
+
+TEST(Durability, APreEpochEntryKeepsItsGravityReference) {
+  integrate_request_t now = scan("robot1", 1);
+  now.gravity_up[2] = 1.f;
+  now.gravity_sigma = 0.02f;
+  const auto old_bytes = test::encode(olderForm<integrate_request_v2_t>(now));
+  const auto decoded = decodeJournalEntry(old_bytes.data(), old_bytes.size());
+  ASSERT_TRUE(decoded);
+  EXPECT_EQ(test::encode(*decoded), test::encode(now));
+}
+
+// A journal written by an older server: its entries are the old encoding.
+template <class Older>
+void expectAnOlderJournalReplays() {
   Files files;
   std::vector<std::uint8_t> content;
   {
@@ -198,7 +222,7 @@ TEST(Durability, PreGravityJournalReplays) {
     Journal old_server(files.dir.path() / "journal.lcmlog", 0);
     for (int seq = 1; seq <= 3; ++seq) {
       const integrate_request_t request = scan("robot1", seq, 0.4 * seq);
-      const auto bytes = test::encode(preGravity(request));
+      const auto bytes = test::encode(olderForm<Older>(request));
       old_server.append(bytes.data(), bytes.size());
       live.integrate(request);
     }
@@ -209,6 +233,11 @@ TEST(Durability, PreGravityJournalReplays) {
   EXPECT_EQ(restored.integrations(), 3);
   EXPECT_EQ(test::content(restored.getChunk(test::everything())), content);
   EXPECT_EQ(restored.robots().find("robot1")->last_seq, 3);
+}
+
+TEST(Durability, OlderJournalsReplay) {
+  expectAnOlderJournalReplays<integrate_request_v1_t>();
+  expectAnOlderJournalReplays<integrate_request_v2_t>();
 }
 
 TEST(Durability, ClearAndLoadRestartTheJournal) {

@@ -31,6 +31,7 @@ MapService::MapService(const ServerConfig& config)
   if (config.consistency.enabled)
     consistency_ =
         std::make_unique<consistency::ConsistencyService>(config.consistency, config.map);
+  corrections_.serving(map_.epoch());
 }
 
 integrate_reply_t MapService::integrate(const integrate_request_t& request,
@@ -39,6 +40,7 @@ integrate_reply_t MapService::integrate(const integrate_request_t& request,
   reply.seq = request.seq;
   setStatus(reply, applyIntegrate(request, reply, true, received, received_size));
   reply.map_version = map_.version();
+  reply.map_epoch = map_.epoch();
   return reply;
 }
 
@@ -63,7 +65,8 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
   const Eigen::Isometry3d sent = fromLcm(request.sensor_pose);
   if (const std::string why = map_.validate(sent, cloud); !why.empty()) return Status::invalid(why);
   // The pose as the robot sent it, in its first frame (for the pose graph) and in the grid's.
-  const RobotCorrections::Incoming at = corrections_.incoming(robot_id, request.seq, sent);
+  const RobotCorrections::Incoming at =
+      corrections_.incoming(robot_id, request.seq, sent, request.map_epoch);
   const Eigen::Isometry3d& pose = at.map;
   if (!at.map.isApprox(sent))
     if (const std::string why = map_.validate(pose, cloud); !why.empty())
@@ -125,7 +128,7 @@ void MapService::swapInRebuiltGrid() {
   if (!grid) return;
   grid->map.continueVersion(map_.version());
   map_ = std::move(grid->map);
-  for (const auto& [robot, correction] : grid->corrections) corrections_.offer(robot, correction);
+  corrections_.corrected(map_.epoch(), grid->corrections);
   ++map_corrections_;
   if (!journal_) return;
   try {

@@ -32,6 +32,7 @@ Status MapService::runCommand(const map_command_request_t& request, map_command_
     map_.clear();
     robots_.clear();
     corrections_.clear();
+    corrections_.serving(map_.epoch());
     restartConsistency();
     if (journal_) checkpoint();  // the journal must not replay pre-clear scans
     reply.detail = "map cleared";

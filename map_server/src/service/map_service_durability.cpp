@@ -35,6 +35,7 @@ void MapService::loadSnapshot(const std::filesystem::path& file) {
   map_ = std::move(loaded);
   robots_.assign(metadata->robots, metadata->histories);
   corrections_ = std::move(corrections);
+  corrections_.serving(map_.epoch());
   restartConsistency();
   integrations_ = metadata->journal_sequence;
   if (replay_guard_ != nullptr) replay_guard_->importCounters(metadata->auth_counters);

@@ -77,6 +77,7 @@ std::variant<localize_reply_t, MapService::PendingLocalize> MapService::beginLoc
     const localize_request_t& request, bool may_search) {
   localize_reply_t reply{};
   reply.map_version = map_.version();
+  reply.map_epoch = map_.epoch();
   if (Status s = checkLocalizeRequest(request, map_.config(), config_.limits); !s.ok())
     return setStatus(reply, s);
   const auto start = std::chrono::steady_clock::now();

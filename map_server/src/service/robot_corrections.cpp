@@ -1,11 +1,16 @@
 #include "robot_corrections.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
 
 namespace socc::service {
 namespace {
+
+// Map instances remembered: every restart, load, clear and correction makes one. A request of
+// an instance forgotten is taken in the frame its robot was last told.
+constexpr std::size_t kMaxEpochs = 64;
 
 void writeTransform(std::ostream& out, const Eigen::Isometry3d& t) {
   for (int r = 0; r < 3; ++r)
@@ -25,8 +30,44 @@ bool readTransform(std::istream& in, Eigen::Isometry3d& t) {
 
 }  // namespace
 
+void RobotCorrections::serving(std::int64_t epoch) {
+  epochs_.emplace(epoch, generation_);
+  if (epochs_.size() <= kMaxEpochs) return;
+  epochs_.erase(std::min_element(epochs_.begin(), epochs_.end(),
+                                 [](const auto& a, const auto& b) { return a.second < b.second; }));
+}
+
+void RobotCorrections::corrected(std::int64_t epoch,
+                                 const std::map<std::string, Eigen::Isometry3d>& raw_to_map) {
+  ++generation_;
+  for (const auto& [robot, correction] : raw_to_map)
+    robots_[robot].frames[generation_] = correction;
+  serving(epoch);
+}
+
+Eigen::Isometry3d RobotCorrections::frameAt(const Robot& robot, int generation) {
+  auto it = robot.frames.upper_bound(generation);
+  return it == robot.frames.begin() ? Eigen::Isometry3d::Identity() : (--it)->second;
+}
+
+int RobotCorrections::generationOf(const Robot& robot, std::int64_t epoch) const {
+  const auto it = epoch == 0 ? epochs_.end() : epochs_.find(epoch);
+  return it == epochs_.end() ? robot.generation : it->second;
+}
+
+void RobotCorrections::forgetOldFrames(Robot& robot) const {
+  // No request can name a generation before the oldest instance remembered, nor (unknown
+  // instance) before the robot's own: the frame in force then is all that must stay of them.
+  int oldest = robot.generation;
+  for (const auto& [epoch, generation] : epochs_) oldest = std::min(oldest, generation);
+  auto keep = robot.frames.upper_bound(oldest);
+  if (keep != robot.frames.begin()) --keep;
+  robot.frames.erase(robot.frames.begin(), keep);
+}
+
 RobotCorrections::Incoming RobotCorrections::incoming(const std::string& robot, std::int64_t seq,
-                                                      const Eigen::Isometry3d& pose) {
+                                                      const Eigen::Isometry3d& pose,
+                                                      std::int64_t pose_epoch) {
   Incoming out;
   const auto it = robots_.find(robot);
   if (it == robots_.end()) {  // never corrected: all its poses are raw and in the grid's frame
@@ -35,17 +76,20 @@ RobotCorrections::Incoming RobotCorrections::incoming(const std::string& robot, 
     return out;
   }
   Robot& r = it->second;
-  out.raw = r.frame.inverse() * pose;
-  out.map = pose;
-  if (r.offered) {
-    // Registered against the old grid: moved into the new one, and the robot is told.
-    out.map = *r.offered * out.raw;
-    r.told = *r.offered * r.frame.inverse();
+  const int sent_in = generationOf(r, pose_epoch);
+  const Eigen::Isometry3d sent_frame = frameAt(r, sent_in);
+  const Eigen::Isometry3d now = frameAt(r, generation_);
+  out.raw = sent_frame.inverse() * pose;
+  out.map = now * out.raw;
+  if (r.frames.upper_bound(sent_in) != r.frames.end()) {
+    // Registered against an older grid than this robot's last correction: moved into the
+    // current one, and the robot is told.
+    r.told = now * sent_frame.inverse();
     r.told_seq = seq;
-    r.frame = *r.offered;
-    r.offered.reset();
     out.told = r.told;
   }
+  r.generation = generation_;
+  forgetOldFrames(r);
   return out;
 }
 
@@ -58,49 +102,101 @@ std::optional<Eigen::Isometry3d> RobotCorrections::toldWith(const std::string& r
 
 Eigen::Isometry3d RobotCorrections::frame(const std::string& robot) const {
   const auto it = robots_.find(robot);
-  return it == robots_.end() ? Eigen::Isometry3d::Identity() : it->second.frame;
+  return it == robots_.end() ? Eigen::Isometry3d::Identity() : frameAt(it->second, generation_);
 }
 
-void RobotCorrections::offer(const std::string& robot, const Eigen::Isometry3d& raw_to_map) {
-  robots_[robot].offered = raw_to_map;
+int RobotCorrections::waiting() const {
+  int n = 0;
+  for (const auto& [name, r] : robots_)
+    n += r.frames.upper_bound(r.generation) != r.frames.end() ? 1 : 0;
+  return n;
 }
 
 std::string RobotCorrections::serialize() const {
+  if (generation_ == 0) return {};  // nothing corrected: instances all share the first frame
   std::ostringstream out;
   out.precision(17);
+  out << "generation " << generation_ << '\n';
+  for (const auto& [epoch, generation] : epochs_)
+    out << "epoch " << epoch << ' ' << generation << '\n';
   for (const auto& [name, r] : robots_) {
-    out << std::quoted(name) << ' ' << r.told_seq << ' ' << (r.offered ? 1 : 0);
-    writeTransform(out, r.frame);
-    writeTransform(out, r.offered.value_or(Eigen::Isometry3d::Identity()));
+    out << "robot " << std::quoted(name) << ' ' << r.generation << ' ' << r.told_seq;
     writeTransform(out, r.told);
+    out << ' ' << r.frames.size();
+    for (const auto& [generation, frame] : r.frames) {
+      out << ' ' << generation;
+      writeTransform(out, frame);
+    }
     out << '\n';
   }
   return out.str();
 }
 
 bool RobotCorrections::parse(const std::string& text) {
-  std::map<std::string, Robot> robots;
+  std::istringstream in(text);
+  std::string word;
+  if (!(in >> word)) {
+    clear();
+    return true;
+  }
+  if (word != "generation") return parseLegacy(text);
+  RobotCorrections parsed;
+  if (!(in >> parsed.generation_) || parsed.generation_ < 0) return false;
+  while (in >> word) {
+    if (word == "epoch") {
+      std::int64_t epoch = 0;
+      int generation = 0;
+      if (!(in >> epoch >> generation) || generation < 0 || generation > parsed.generation_)
+        return false;
+      parsed.epochs_[epoch] = generation;
+      continue;
+    }
+    std::string name;
+    Robot r;
+    std::size_t frames = 0;
+    if (word != "robot" || !(in >> std::quoted(name) >> r.generation >> r.told_seq) ||
+        !readTransform(in, r.told) || !(in >> frames) || frames > kMaxEpochs + 1)
+      return false;
+    for (std::size_t i = 0; i < frames; ++i) {
+      int generation = 0;
+      Eigen::Isometry3d frame;
+      if (!(in >> generation) || !readTransform(in, frame)) return false;
+      r.frames[generation] = frame;
+    }
+    parsed.robots_[name] = r;
+  }
+  if (!in.eof()) return false;
+  *this = std::move(parsed);
+  return true;
+}
+
+bool RobotCorrections::parseLegacy(const std::string& text) {
+  // Before map instances were named: per robot its told seq, whether a correction waited, the
+  // frame it was last told, the waiting correction and the last one told. Restored as a first
+  // generation (the frames told) and, when any robot waited, a second one (theirs).
+  RobotCorrections parsed;
+  parsed.generation_ = 1;
   std::istringstream in(text);
   std::string name;
   while (in >> std::quoted(name)) {
     Robot r;
     int offered = 0;
-    Eigen::Isometry3d offer = Eigen::Isometry3d::Identity();
-    if (!(in >> r.told_seq >> offered) || !readTransform(in, r.frame) ||
-        !readTransform(in, offer) || !readTransform(in, r.told))
+    Eigen::Isometry3d frame;
+    Eigen::Isometry3d offer;
+    if (!(in >> r.told_seq >> offered) || !readTransform(in, frame) || !readTransform(in, offer) ||
+        !readTransform(in, r.told))
       return false;
-    if (offered == 1) r.offered = offer;
-    robots[name] = r;
+    r.generation = 1;
+    r.frames[1] = frame;
+    if (offered == 1) {
+      r.frames[2] = offer;
+      parsed.generation_ = 2;
+    }
+    parsed.robots_[name] = r;
   }
   if (!in.eof()) return false;
-  robots_ = std::move(robots);
+  *this = std::move(parsed);
   return true;
-}
-
-int RobotCorrections::waiting() const {
-  int n = 0;
-  for (const auto& [name, r] : robots_) n += r.offered ? 1 : 0;
-  return n;
 }
 
 }  // namespace socc::service

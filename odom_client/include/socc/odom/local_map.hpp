@@ -72,9 +72,10 @@ class LocalMap {
   /// Decodes a chunk with FIELD_FEATURES, keeping voxels with p_occ >= occupancy_threshold.
   /// Throws std::invalid_argument on a malformed reply (sizes, non-finite values, labels).
   static LocalMap fromChunk(const chunk_reply_t& chunk, double occupancy_threshold);
-  /// The map of a chunk's decoded voxels (decodeChunkVoxels), with the chunk's voxel size and
-  /// p_hit (voxel_size > 0).
-  static LocalMap fromVoxels(std::vector<MapVoxel> voxels, double voxel_size, double hit_occupancy);
+  /// The map of a chunk's decoded voxels (decodeChunkVoxels), with the chunk's voxel size, p_hit
+  /// (voxel_size > 0) and map instance.
+  static LocalMap fromVoxels(std::vector<MapVoxel> voxels, double voxel_size, double hit_occupancy,
+                             std::int64_t epoch = 0);
 
   std::size_t size() const;
   bool empty() const { return size() == 0; }
@@ -83,6 +84,9 @@ class LocalMap {
   /// The chunk's voxel size and the p_occ of a voxel hit once (0 when not made from a chunk).
   double voxelSize() const { return voxel_size_; }
   double hitOccupancy() const { return hit_occupancy_; }
+  /// The chunk's map instance (chunk_reply_t::map_epoch): the frame of a pose registered
+  /// against this map (0 when not made from a chunk).
+  std::int64_t epoch() const { return epoch_; }
 
   struct Held {
     std::size_t id;
@@ -110,6 +114,7 @@ class LocalMap {
   std::shared_ptr<const VoxelUpdates> updated_;  // none: the chunk's voxels as sent
   double voxel_size_ = 0.0;                      // from the chunk; 0: not a chunk
   double hit_occupancy_ = 0.0;
+  std::int64_t epoch_ = 0;
 };
 
 /// Every voxel of a chunk with FIELD_FEATURES, in the reply's order. Throws

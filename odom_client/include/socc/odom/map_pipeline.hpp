@@ -116,8 +116,10 @@ class MapPipeline {
   /// The next target after an Integrate reply: a chunk held since the last one, else none;
   /// the exchange's own chunk when it is in the robot's frame, else held in turn.
   std::optional<Target> nextTarget(Exchange& x);
-  /// In the worker: the frame's Integrate, then (when fetch_at) the chunk around fetch_at.
-  Exchange exchange(const FrameEstimate& frame, const std::optional<Eigen::Vector3d>& fetch_at);
+  /// In the worker: the frame's Integrate (its pose in the frame of map instance epoch), then
+  /// (when fetch_at) the chunk around fetch_at.
+  Exchange exchange(const FrameEstimate& frame, std::int64_t epoch,
+                    const std::optional<Eigen::Vector3d>& fetch_at);
   rpc::Result<chunk_reply_t> fetchChunk(const Eigen::Vector3d& center);
   bool covers(const Target& target, const Eigen::Vector3d& center) const;
 
@@ -134,6 +136,9 @@ class MapPipeline {
   std::int64_t refetched_chunks_ = 0;
   std::int64_t held_chunks_ = 0;
   std::optional<Eigen::Isometry3d> correction_;  // received, not taken yet
+  // The map instance whose frame the next frame's pose is in (integrate_request_t::map_epoch):
+  // of the target it registered against, or of the reply whose correction moved it.
+  std::int64_t pose_epoch_ = 0;
 };
 
 }  // namespace socc::odom

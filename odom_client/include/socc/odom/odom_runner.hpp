@@ -157,7 +157,8 @@ class OdomRunner {
   /// The own frame's move from the kept place's placement to shared_T_own at seq.
   FrameBridge bridgeTo(const SearchOutcome& kept_place, std::int64_t seq,
                        const Eigen::Isometry3d& shared_T_own) const;
-  void integrateKept(const OwnKeyframe& keyframe);
+  /// A kept scan at its merged pose, in the frame of map instance epoch (the place found).
+  void integrateKept(const OwnKeyframe& keyframe, std::int64_t epoch);
   void sendStatus(std::int8_t wire, const std::string& reason, std::int64_t seq,
                   std::int64_t utime);
 

@@ -60,8 +60,9 @@ struct Relocalization {
   double evidence = 0.0;                  // fitness - free of the best verified candidate
   double runner_up = 0.0;                 // evidence of the next distinct verified candidate
   int confirmed = 0;                      // consecutive scans the best place has led (Relocalizer)
-  double lead = 0.0;  // its evidence above the runner-up's, summed over them (Relocalizer)
-  int stacked = 1;    // scans accumulated by odometry into the matched cloud (Relocalizer)
+  double lead = 0.0;           // its evidence above the runner-up's, summed over them (Relocalizer)
+  int stacked = 1;             // scans accumulated by odometry into the matched cloud (Relocalizer)
+  std::int64_t map_epoch = 0;  // the map instance pose is in (integrate_request_t::map_epoch)
 };
 
 /// A candidate pose refined by registration and judged against the map.
@@ -69,6 +70,7 @@ struct VerifiedPlace {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // refined map_T_sensor
   double fitness = 0.0;  // share of the scan within 0.5 m of the map
   double free = 0.0;     // share of the scan in the map's free space (weighed by its evidence)
+  std::int64_t map_epoch = 0;  // the map instance pose is in (LocalMap::epoch of its chunk)
   // What the place explains net of what it contradicts: the scan's points a place puts into
   // space the map saw free are evidence against it, as those near the map are for it.
   double evidence() const { return fitness - free; }
