@@ -403,6 +403,12 @@ TEST(MapCorrection, TheServiceSwapsTheGridInAndTellsTheRobotItsCorrectionOnce) {
   EXPECT_FALSE(after.corrected);
   EXPECT_TRUE(fromLcm(server.robots().find("car")->last_pose).isApprox(correction * next, 1e-6));
   expectTheRevisedTrajectoryFollowsTheGraph(server, d, seq, correction);
+  // The frame is the one the request names: a pose of the old grid is moved (and told) even
+  // after the robot was told once; one of the corrected grid never is.
+  const integrate_reply_t stale = send(seq + 2, next, d.scans.back(), epoch);
+  ASSERT_EQ(stale.header.status, +reply_header_t::OK) << stale.header.message;
+  EXPECT_TRUE(stale.corrected);
+  EXPECT_TRUE(fromLcm(server.robots().find("car")->last_pose).isApprox(correction * next, 1e-6));
 }
 
 TEST(MapCorrection, AServiceRestartedFromItsStoreRebuildsWithTheKeyframesFromBeforeTheRestart) {
