@@ -1,7 +1,8 @@
 // LOCALIZE through the real router on memq://: the search runs on the router's search thread and
 // its reply goes out from poll() (docs/relocalization.md, "Threading"); other requests are
 // answered meanwhile; the answer equals the synchronous one; the queue is bounded; a retry is
-// searched once; a router stopped during a search stops at once.
+// searched once; a search whose grid was replaced meanwhile is asked again; a router stopped
+// during a search stops at once.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -11,12 +12,14 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <variant>
 #include <vector>
 
 #include "service/request_gate.hpp"
 #include "service/request_router.hpp"
 #include "service_test_helpers.hpp"
 #include "sim_street.hpp"
+#include "socc/rpc/resend_rule.hpp"
 
 namespace socc::service {
 namespace {
@@ -119,6 +122,7 @@ TEST(DeferredLocalize, ReplyComesFromPollOthersAreServedMeanwhileSameAnswerAsInl
       "reply after %.3f s\n",
       std::chrono::duration<double>(begun - sent).count(), reply.seconds);
   EXPECT_EQ(reply.header.request_id, 1);
+  EXPECT_EQ(reply.map_epoch, h.service.map().epoch());  // the frame of the candidates
   EXPECT_EQ(h.router->searchesUnderWay(), 0u);
   ASSERT_GT(reply.num_candidates, 0);
   const Eigen::Isometry3d truth = h.scene.trajectory.poseAt(0.5);
@@ -131,6 +135,28 @@ TEST(DeferredLocalize, ReplyComesFromPollOthersAreServedMeanwhileSameAnswerAsInl
     EXPECT_TRUE(fromLcm(reply.pose[i]).isApprox(fromLcm(inline_reply.pose[i]), 1e-12));
     EXPECT_EQ(reply.inliers[i], inline_reply.inliers[i]);
   }
+}
+
+TEST(DeferredLocalize, ASearchWhoseGridWasReplacedMeanwhileIsAskedAgain) {
+  Harness h;
+  const localize_request_t request = localizeRequest(simulatedPoints(h.scene, 5), "searcher", 3);
+  std::variant<localize_reply_t, MapService::PendingLocalize> begun =
+      h.service.beginLocalize(request);
+  auto* pending = std::get_if<MapService::PendingLocalize>(&begun);
+  ASSERT_NE(pending, nullptr);
+  pending->run();
+  // Another grid while the search ran (as a map correction's swap): its hypotheses are in the
+  // old grid's frame.
+  map_command_request_t clear{};
+  clear.command = map_command_request_t::CLEAR;
+  ASSERT_EQ(h.service.command(clear).header.status, +reply_header_t::OK);
+  const localize_reply_t reply = h.service.finishLocalize(std::move(*pending));
+  EXPECT_EQ(reply.header.status, +reply_header_t::RESOURCE_EXHAUSTED) << reply.header.message;
+  EXPECT_EQ(reply.num_candidates, 0);
+  // MapClient sends it again (and it is searched in the new grid).
+  EXPECT_EQ(rpc::matchingRule(reply.header.status, reply.header.message,
+                              {rpc::searchesBusyRule(std::chrono::milliseconds(1000))}),
+            0);
 }
 
 TEST(DeferredLocalize, ARetryOfASearchUnderWayIsAnsweredOnce) {

@@ -102,7 +102,7 @@ class MapService {
   std::variant<localize_reply_t, PendingLocalize> beginLocalize(const localize_request_t& request,
                                                                 bool may_search = true);
   /// The reply of a search that ran: its hypotheses ranked on the grid as it is now (INTERNAL
-  /// when it threw).
+  /// when it threw; RESOURCE_EXHAUSTED, "try again", when another grid was swapped in since).
   localize_reply_t finishLocalize(PendingLocalize pending) const;
 
   map_stats_t stats(const RequestCounters& counters) const;

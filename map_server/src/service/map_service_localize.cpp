@@ -113,6 +113,13 @@ void MapService::PendingLocalize::run(const std::atomic<bool>* cancel) {
 }
 
 localize_reply_t MapService::finishLocalize(PendingLocalize pending) const {
+  // A grid swapped in while the search ran (a map correction, LOAD, CLEAR): its hypotheses are
+  // in the old grid's frame and cannot be ranked on the new one. The client asks again
+  // (MapClient's resend rule for kSearchesBusy) and is searched in the new grid.
+  if (map_.epoch() != pending.reply.map_epoch)
+    return setStatus(pending.reply,
+                     Status::exhausted("the map was replaced while the search ran: " +
+                                       std::string(rpc::kSearchesBusy)));
   try {
     if (pending.error) std::rethrow_exception(pending.error);
     addCandidates(localization::GlobalLocalizer::finish(map_, std::move(pending.search)),
