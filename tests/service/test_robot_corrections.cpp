@@ -106,6 +106,24 @@ TEST(RobotCorrections, SurviveASnapshotAndRefuseGarbage) {
   EXPECT_EQ(restored.waiting(), 0);  // unchanged by the refused texts
 }
 
+TEST(RobotCorrections, ARobotAwayForManyCorrectionsKeepsABoundedStateThatStillParses) {
+  RobotCorrections c;
+  c.serving(1);
+  // Every rebuild names the robot (its keyframes are in the graph) while it sends nothing.
+  for (int k = 1; k <= 100; ++k) c.corrected(1 + k, {{"away", xyaw(0.01 * k)}});
+  RobotCorrections restored;
+  ASSERT_TRUE(restored.parse(c.serialize()));  // 64 instances and their frames, not 100
+  EXPECT_EQ(restored.serialize(), c.serialize());
+  // A pose of a remembered grid (generation 80) is moved by what changed since.
+  const RobotCorrections::Incoming old_grid = restored.incoming("away", 1, xyaw(5.8), 81);
+  ASSERT_TRUE(old_grid.told);
+  EXPECT_TRUE(old_grid.map.isApprox(xyaw(6.0)));
+  // An unknown instance: the frame last told (never told: its first frame).
+  const RobotCorrections::Incoming unknown = c.incoming("away", 1, xyaw(5.0), kUnknown);
+  ASSERT_TRUE(unknown.told);
+  EXPECT_TRUE(unknown.map.isApprox(xyaw(6.0)));
+}
+
 TEST(RobotCorrections, ASnapshotOfBeforeMapInstancesWereNamedIsRead) {
   // The text of a server before integrate_request_t::map_epoch: name, told seq, whether a
   // correction waits, the frame last told, the waiting correction, the last correction told.

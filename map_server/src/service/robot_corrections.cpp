@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <set>
 #include <sstream>
 
 namespace socc::service {
@@ -43,6 +44,7 @@ void RobotCorrections::corrected(std::int64_t epoch,
   for (const auto& [robot, correction] : raw_to_map)
     robots_[robot].frames[generation_] = correction;
   serving(epoch);
+  for (auto& [name, robot] : robots_) keepNeededFrames(robot);
 }
 
 Eigen::Isometry3d RobotCorrections::frameAt(const Robot& robot, int generation) {
@@ -55,14 +57,18 @@ int RobotCorrections::generationOf(const Robot& robot, std::int64_t epoch) const
   return it == epochs_.end() ? robot.generation : it->second;
 }
 
-void RobotCorrections::forgetOldFrames(Robot& robot) const {
-  // No request can name a generation before the oldest instance remembered, nor (unknown
-  // instance) before the robot's own: the frame in force then is all that must stay of them.
-  int oldest = robot.generation;
-  for (const auto& [epoch, generation] : epochs_) oldest = std::min(oldest, generation);
-  auto keep = robot.frames.upper_bound(oldest);
-  if (keep != robot.frames.begin()) --keep;
-  robot.frames.erase(robot.frames.begin(), keep);
+void RobotCorrections::keepNeededFrames(Robot& robot) const {
+  // A request is in the generation of a remembered instance, or (unknown instance) in the
+  // robot's own; the reply compares it with the current one. Only the entries in force at those
+  // generations are ever read: at most kMaxEpochs + 2, however long a robot stays away.
+  std::set<int> needed{robot.generation, generation_};
+  for (const auto& [epoch, generation] : epochs_) needed.insert(generation);
+  std::map<int, Eigen::Isometry3d> kept;
+  for (const int generation : needed) {
+    auto in_force = robot.frames.upper_bound(generation);
+    if (in_force != robot.frames.begin()) kept.insert(*--in_force);
+  }
+  robot.frames = std::move(kept);
 }
 
 RobotCorrections::Incoming RobotCorrections::incoming(const std::string& robot, std::int64_t seq,
@@ -89,7 +95,7 @@ RobotCorrections::Incoming RobotCorrections::incoming(const std::string& robot, 
     out.told = r.told;
   }
   r.generation = generation_;
-  forgetOldFrames(r);
+  keepNeededFrames(r);
   return out;
 }
 
@@ -155,7 +161,7 @@ bool RobotCorrections::parse(const std::string& text) {
     Robot r;
     std::size_t frames = 0;
     if (word != "robot" || !(in >> std::quoted(name) >> r.generation >> r.told_seq) ||
-        !readTransform(in, r.told) || !(in >> frames) || frames > kMaxEpochs + 1)
+        !readTransform(in, r.told) || !(in >> frames) || frames > kMaxEpochs + 2)
       return false;
     for (std::size_t i = 0; i < frames; ++i) {
       int generation = 0;

@@ -60,7 +60,7 @@ class RobotCorrections {
   };
   static Eigen::Isometry3d frameAt(const Robot& robot, int generation);
   int generationOf(const Robot& robot, std::int64_t epoch) const;
-  void forgetOldFrames(Robot& robot) const;
+  void keepNeededFrames(Robot& robot) const;
   bool parseLegacy(const std::string& text);
 
   int generation_ = 0;                  // corrected grids swapped in so far
