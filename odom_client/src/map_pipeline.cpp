@@ -45,7 +45,7 @@ LocalMap MapPipeline::target(const Eigen::Vector3d& center, FrameStats& stats) {
     t.map = std::move(next.map);
   }
   LocalMap map = t.map;
-  pose_epoch_ = t.epoch;
+  pose_epoch_ = map.epoch();
   stats.map_build_ms = msSince(build);
   stats.bytes_received = std::exchange(t.bytes, 0);  // counted once, by its first frame
   stats.chunk_ms = std::exchange(t.chunk_ms, 0.0);
@@ -80,11 +80,10 @@ LocalMap MapPipeline::fetchNow(const Eigen::Vector3d& center, FrameStats& stats)
   // Taken as it is: nothing else to register against. After a swap the robot was not told of
   // yet, the frame registers into the corrected grid and its Integrate says so (pose_epoch_):
   // the server does not move it a second time.
-  frame_gate_.adopt(chunk.reply->map_epoch);
-  pose_epoch_ = chunk.reply->map_epoch;
+  frame_gate_.adopt(map.epoch());
+  pose_epoch_ = map.epoch();
   held_.reset();
-  if (config_.pipelined_map)
-    target_.emplace(Target{map, map, center, chunk.reply->map_epoch, 0, 0.0, {}, {}, {}});
+  if (config_.pipelined_map) target_.emplace(Target{map, map, center, 0, 0.0, {}, {}, {}});
   return map;
 }
 
@@ -155,7 +154,6 @@ MapPipeline::Exchange MapPipeline::exchange(const FrameEstimate& frame, std::int
     return x;
   }
   x.chunk = cache_.apply(*chunk.reply, ahead, config_.chunk_radius);
-  x.chunk_epoch = chunk.reply->map_epoch;
   x.chunk_version = chunk.reply->map_version;
   x.center = ahead;
   x.chunk_bytes = chunk.bytes_received;
@@ -208,10 +206,10 @@ std::int64_t MapPipeline::finish() {
 std::optional<MapPipeline::Target> MapPipeline::nextTarget(Exchange& x) {
   // A held chunk waited for this reply: its correction, if any, is told by now.
   std::optional<Target> next = std::exchange(held_, std::nullopt);
-  if (next) frame_gate_.adopt(next->epoch);
+  if (next) frame_gate_.adopt(next->chunk.epoch());
   if (!x.chunk) return next;
-  Target t{*x.chunk, *x.chunk, x.center, x.chunk_epoch, x.chunk_bytes, x.chunk_ms, {}, {}, {}};
-  if (frame_gate_.admit(x.chunk_epoch, x.chunk_version, x.integrate.reply->map_version)) return t;
+  Target t{*x.chunk, *x.chunk, x.center, x.chunk_bytes, x.chunk_ms, {}, {}, {}};
+  if (frame_gate_.admit(t.chunk.epoch(), x.chunk_version, x.integrate.reply->map_version)) return t;
   held_.emplace(std::move(t));
   ++held_chunks_;
   return next;

@@ -84,7 +84,6 @@ class MapPipeline {
     double integrate_ms = 0.0;
     std::int64_t bytes_sent = 0;
     std::optional<LocalMap> chunk;  // none: not asked for, or the service failed (soft state)
-    std::int64_t chunk_epoch = 0;
     std::int64_t chunk_version = 0;
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     std::int64_t chunk_bytes = 0;
@@ -103,7 +102,6 @@ class MapPipeline {
     LocalMap chunk;
     LocalMap map;  // chunk with overlay: the next frame's target
     Eigen::Vector3d center;
-    std::int64_t epoch = 0;  // the chunk's map instance
     std::int64_t bytes = 0;  // of the chunk, until a frame reported them
     double chunk_ms = 0.0;
     std::vector<MapVoxel> overlay;
