@@ -62,6 +62,7 @@ YamlFields fields(OdomConfig& c) {
       {"point_to_plane", &c.point_to_plane},
       {"sparse_voxel_pairs", &c.sparse_voxel_pairs},
       {"sparse_pairs_along_scan_normal", &c.sparse_pairs_along_scan_normal},
+      {"sparse_point_pairs", &c.sparse_point_pairs},
       {"gamma", &c.gamma},
       {"w_lower", &c.w_lower},
       {"max_iterations", &c.max_iterations},

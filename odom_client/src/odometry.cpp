@@ -70,6 +70,7 @@ Odometry::Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_po
               config.convergence,
               config.point_to_plane,
               config.sparse_voxel_pairs,
+              config.sparse_point_pairs,
               {},
               0.0},
       threshold_(config.initial_threshold, config.min_motion, config.max_range),
@@ -314,8 +315,9 @@ Eigen::Isometry3d Odometry::searchFirstMotion(const PreparedScan& scan, const Lo
   // wins (ties: the first, slower one) and is refined by the caller on the registration grid.
   downsample(scan.cloud);  // settles v_adapt: every hypothesis is scored on the same grid
   // Finding the basin needs every constraint a young map offers, also the sparse voxels' pairs
-  // (biased by centimetres towards standing still, not by metres); the refinement that follows
-  // drops them again (sparse_voxel_pairs).
+  // along the scan's normals (biased by centimetres towards standing still, not by metres); the
+  // refinement that follows drops them again when the configuration does (sparse_voxel_pairs).
+  // Point pairs with sparse voxels stay as configured (sparse_point_pairs).
   RegistrationParams search = params_;
   search.sparse_voxel_pairs = true;
   // Without point times every hypothesis registers the same points: one whose iterations come

@@ -263,7 +263,8 @@ Correspondence weighCorrespondence(const Eigen::Vector3d& point, std::uint8_t la
   const Eigen::Vector3d d = point - voxel.point;
   const double e = c.planar ? c.normal.dot(d) : 0.0;
   c.squared_residual = c.planar ? e * e : d.squaredNorm();
-  if (!known_geometry && !params.sparse_voxel_pairs) return c;  // weight 0
+  if (!known_geometry && !params.sparse_voxel_pairs) return c;               // weight 0
+  if (!known_geometry && !c.planar && !params.sparse_point_pairs) return c;  // weight 0
   c.weight = gemanMcClureWeight(c.squared_residual, sigma / 3.0) * occupancy_weight *
              semanticWeight(label, voxel.label, voxel.label_prob, params.w_lower);
   return c;

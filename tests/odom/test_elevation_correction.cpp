@@ -87,6 +87,7 @@ Eigen::Vector2d coneRegistrationError(double bias_deg, double correction_deg) {
                                   cfg.convergence,
                                   cfg.point_to_plane,
                                   cfg.sparse_voxel_pairs,
+                                  cfg.sparse_point_pairs,
                                   {},
                                   0.0};
   const Eigen::Isometry3d truth(Eigen::Translation3d(2.0, 0.0, 0.0));

@@ -71,6 +71,7 @@ TEST(OdomConfig, LaterFilesOverrideEarlierOnesAndOnlyTheResultIsValidated) {
       socc::odom::loadOdomConfig(std::vector<fs::path>{dir / "kitti.yaml", dir / "baseline.yaml"});
   EXPECT_DOUBLE_EQ(c.vertical_angle_correction_deg, 0.205);  // the sensor's layer
   EXPECT_FALSE(c.point_to_plane);                            // the method's layer
+  EXPECT_TRUE(c.sparse_point_pairs);
   EXPECT_FALSE(c.use_semantics);
   EXPECT_EQ(socc::odom::loadOdomConfig(std::vector<fs::path>{}).max_range, OdomConfig{}.max_range);
 

@@ -188,6 +188,7 @@ TEST(Odometry, CoarseToFineRefinesFramesRegisteredAtTheInitialThreshold) {
   };
   OdomConfig fine;
   fine.sparse_voxel_pairs = true;  // a one-scan map: mostly sparse voxels, paired as in the paper
+  fine.sparse_point_pairs = true;
   OdomConfig coarse = fine;
   coarse.refine_threshold = 0.0;  // off: the initial threshold only
   const double coarse_error = secondFrameError(coarse);

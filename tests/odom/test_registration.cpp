@@ -53,6 +53,7 @@ RegistrationParams paperParams() {
           cfg.convergence,
           cfg.point_to_plane,
           true,
+          true,
           {},
           0.0};
 }

@@ -100,11 +100,17 @@ TEST(Weights, VoxelsOfUnknownGeometryArePairedOnlyWhenAskedFor) {
   MapVoxel sparse;  // fewer than 5 points: no planarity, no normal
   sparse.point = Eigen::Vector3d(1.0, 0.0, 0.0);
   sparse.occupancy = 1.f;
-  RegistrationParams params;  // the paper's default: paired
+  RegistrationParams params;
   const Eigen::Vector3d p(1.1, 0.0, 0.0);
+  const Eigen::Vector3d scan_normal(1.0, 0.0, 0.0);
+  // Default: along the scan's own normal only; a point without one is not paired.
+  EXPECT_GT(evaluateCorrespondence(p, 0, sparse, 1.0, params, scan_normal).weight, 0.5);
+  EXPECT_EQ(evaluateCorrespondence(p, 0, sparse, 1.0, params).weight, 0.0);
+  params.sparse_point_pairs = true;  // the paper's pairing: to the voxel's first point
   EXPECT_GT(evaluateCorrespondence(p, 0, sparse, 1.0, params).weight, 0.5);
   params.sparse_voxel_pairs = false;
   EXPECT_EQ(evaluateCorrespondence(p, 0, sparse, 1.0, params).weight, 0.0);
+  EXPECT_EQ(evaluateCorrespondence(p, 0, sparse, 1.0, params, scan_normal).weight, 0.0);
   sparse.planarity = 0.2f;  // known, non-planar geometry: point-to-point as in the paper
   EXPECT_GT(evaluateCorrespondence(p, 0, sparse, 1.0, params).weight, 0.5);
 }

@@ -109,6 +109,8 @@ struct OdomConfig {
   // ... taken along the scan's own surface normal where it has one (scan_normals.hpp), else to
   // the voxel's first point.
   bool sparse_pairs_along_scan_normal = true;
+  // ... and where the scan point has none, to the voxel's first point (RegistrationParams).
+  bool sparse_point_pairs = false;
   double gamma = 1.5;     // w_occ = p_occ^gamma
   double w_lower = 0.25;  // semantic weight of non-matching labels
   int max_iterations = 100;
