@@ -8,6 +8,7 @@ foreach(_socc_cost
     "PlaceRecognition.ClosesASimulatedLoopWithoutWrongClosures=56"
     "Relocalizer.AcceptsAfterConfirmationAndNotElsewhere=50"
     "ClosedLoop.AKidnappedRobotGetsLostAndStopsIntegrating=45"
+    "ClosedLoop.ASparseSensorFollowsARollChange=20"
     "PlaceRecognition.TwoRobotsInTwoWorldsNeverMeet=43"
     "AzimuthTimes.DeskewASimulatedStreetAsWellAsTheWrittenTimes=39"
     "OwnFrame.MergedIntoTheSharedFrameWhereItWasMappedNeverElsewhere=35"

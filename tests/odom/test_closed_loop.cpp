@@ -34,6 +34,22 @@ std::ostream& operator<<(std::ostream& out, const Case& c) {
 
 class ClosedLoopDistortion : public ::testing::TestWithParam<Case> {};
 
+// Every frame of scene as the sensor sees it with realism's errors and motion distortion.
+std::vector<socc::LabeledCloud> simulatedRun(const socc::sim::Scene& scene, const char* sensor,
+                                             int frames, const socc::sim::Realism& realism) {
+  const socc::sim::LidarModel lidar = socc::sim::lidarPreset(sensor);
+  std::vector<socc::LabeledCloud> scans;
+  for (int k = 0; k < frames; ++k) scans.push_back(simulated(scene, lidar, k, true, &realism));
+  return scans;
+}
+
+// The angle between the up directions of an estimated and a true pose [deg].
+double tiltErrorDeg(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth) {
+  const Eigen::Vector3d up_est = estimate.linear().transpose().col(2);
+  const Eigen::Vector3d up_true = truth.linear().transpose().col(2);
+  return std::acos(std::clamp(up_est.dot(up_true), -1.0, 1.0)) * 180.0 / M_PI;
+}
+
 TEST_P(ClosedLoopDistortion, ConvergesAndStaysCloseToGroundTruth) {
   const Case& c = GetParam();
   socc::sim::SceneOptions options;
@@ -127,10 +143,8 @@ TEST(ClosedLoop, AGravityReferenceHoldsTheTiltThatTheScansLetDrift) {
   options.frames = kFrames;
   options.body_motion = realism.motion;
   const socc::sim::Scene scene = socc::sim::buildScene(options);
-  const socc::sim::LidarModel lidar = socc::sim::lidarPreset("hdl64");
   // Simulated once for the three runs (most of this test's time under the sanitizers).
-  std::vector<socc::LabeledCloud> scans;
-  for (int k = 0; k < kFrames; ++k) scans.push_back(simulated(scene, lidar, k, true, &realism));
+  const std::vector<socc::LabeledCloud> scans = simulatedRun(scene, "hdl64", kFrames, realism);
   // walk < 0: no reference; else gravity_tilt_walk_deg.
   const auto tiltError = [&](double walk) {
     OdomConfig cfg;
@@ -143,10 +157,7 @@ TEST(ClosedLoop, AGravityReferenceHoldsTheTiltThatTheScansLetDrift) {
       loop.step(scans[static_cast<std::size_t>(k)], k, gravity);
     }
     EXPECT_EQ(loop.integrated, kFrames);
-    const Eigen::Vector3d up_est = loop.poses.back().linear().transpose().col(2);
-    const Eigen::Vector3d up_true =
-        scene.trajectory.poseAt(0.1 * (kFrames - 1)).linear().transpose().col(2);
-    return std::acos(std::clamp(up_est.dot(up_true), -1.0, 1.0)) * 180.0 / M_PI;
+    return tiltErrorDeg(loop.poses.back(), scene.trajectory.poseAt(0.1 * (kFrames - 1)));
   };
   const double alone = tiltError(-1.0), held = tiltError(OdomConfig{}.gravity_tilt_walk_deg),
                firm = tiltError(0.1);
@@ -176,9 +187,7 @@ TEST(ClosedLoop, ASparseSensorFollowsARollChange) {
     options.poses->push_back(pose);
   }
   const socc::sim::Scene scene = socc::sim::buildScene(options);
-  const socc::sim::LidarModel lidar = socc::sim::lidarPreset("vlp16");
-  std::vector<socc::LabeledCloud> scans;
-  for (int k = 0; k < kFrames; ++k) scans.push_back(simulated(scene, lidar, k, true, &realism));
+  const std::vector<socc::LabeledCloud> scans = simulatedRun(scene, "vlp16", kFrames, realism);
   // The largest tilt error over the run [deg].
   const auto worstTilt = [&](bool point_pairs) {
     OdomConfig cfg;
@@ -189,13 +198,9 @@ TEST(ClosedLoop, ASparseSensorFollowsARollChange) {
     for (int k = 0; k < kFrames; ++k) loop.step(scans[static_cast<std::size_t>(k)], k);
     EXPECT_EQ(loop.integrated, kFrames);
     double worst = 0.0;
-    for (std::size_t k = 0; k < loop.poses.size(); ++k) {
-      const Eigen::Vector3d up_est = loop.poses[k].linear().transpose().col(2);
-      const Eigen::Vector3d up_true =
-          scene.trajectory.poseAt(0.1 * static_cast<double>(k)).linear().transpose().col(2);
-      worst = std::max(worst, std::acos(std::clamp(up_est.dot(up_true), -1.0, 1.0)));
-    }
-    return worst * 180.0 / M_PI;
+    for (std::size_t k = 0; k < loop.poses.size(); ++k)
+      worst = std::max(worst, tiltErrorDeg(loop.poses[k], scene.trajectory.poseAt(0.1 * k)));
+    return worst;
   };
   const double with_pairs = worstTilt(true), without = worstTilt(false);
   std::printf(
