@@ -9,11 +9,13 @@
 # corridor must be flagged degenerate on most frames and never unhealthy or lost (it coasts).
 #
 # Usage: scripts/bench_robustness.sh [--build BUILD] [--out OUT] [--frames N] [--config ODOM_YAML]
-#        [--kitti-sweep | --kitti-starts [SEQS]] [--only REGEX] [--keep-sequences] [--realism kitti|none]
+#        [--kitti-sweep [--sensor NAME] | --kitti-starts [SEQS]] [--only REGEX] [--keep-sequences]
+#        [--realism kitti|none]
 #        [--peer NAME=CMD ...]
 #        (--only: the cases whose name matches the bash regex, e.g. 'indoor|figure8'. --kitti-sweep: instead of
 #        the matrix, two segments of every KITTI GT trajectory 00-10 but 03, sensors rotating
-#        HDL-64 / VLP-32 / VLP-16, with distortion. --kitti-starts: the first --frames (default
+#        HDL-64 / VLP-32 / VLP-16 (--sensor: all of them one socc-sim sensor, same seeds), with
+#        distortion. --kitti-starts: the first --frames (default
 #        300) frames of every KITTI GT trajectory (or the comma-separated SEQS) with HDL-64 and with
 #        VLP-32, with distortion only: slow, turning starts from standstill; a case fails on any
 #        unhealthy or lost frame (issue 27). The simulated sequences, ~0.8 GB per HDL-64 case, are
@@ -27,7 +29,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$root/build"; out="$root/out/robustness"; frames=""; odom_args=(); sweep=0; keep=0
-only=""; starts=0; peers=(); start_seqs="00,01,02,04,05,06,07,08,09,10"
+only=""; starts=0; peers=(); start_seqs="00,01,02,04,05,06,07,08,09,10"; sweep_sensor=""
 realism=kitti
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -36,6 +38,7 @@ while [ $# -gt 0 ]; do
     --frames) frames="$2"; shift 2 ;;
     --config) odom_args+=(--config "$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"); shift 2 ;;
     --kitti-sweep) sweep=1; shift ;;
+    --sensor) sweep_sensor="$2"; shift 2 ;;
     --kitti-starts)
       starts=1; shift
       if [[ ${1:-} =~ ^[0-9,]+$ ]]; then start_seqs=$1; shift; fi ;;
@@ -43,7 +46,7 @@ while [ $# -gt 0 ]; do
     --realism) realism="$2"; shift 2 ;;
     --only) only="$2"; shift 2 ;;
     --peer) peers+=("$2"); shift 2 ;;
-    -h|--help) sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench_robustness: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -77,6 +80,7 @@ cases=(
 if ((sweep)); then  # two segments of each KITTI GT shape (03 has no calib here), sensors rotating
   cases=()
   sensors=(hdl64 vlp32 vlp16)
+  [ -n "$sweep_sensor" ] && sensors=("$sweep_sensor" "$sweep_sensor" "$sweep_sensor")
   for seq in 00 01 02 04 05 06 07 08 09 10; do
     n=$(wc -l <"$gt/poses/$seq.txt")
     for start in $((n / 5)) $((3 * n / 5)); do

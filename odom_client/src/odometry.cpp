@@ -50,6 +50,17 @@ constexpr double kNearMap = 0.5;  // [m]
 // A scan this many frame periods after the last one follows a gap (dropped scans, a pause).
 constexpr double kGapPeriods = 1.5;
 
+// A retry's fit at the wide threshold is loose evidence (with a 2 m kernel a scan of another
+// place fits somewhere at half its RMS: a kidnapped robot's foreign scan did): one that also
+// contradicts the motion model is not trusted. Healthy retries (a prediction a little off, or a
+// threshold below the sensor's noise) move as the model expects.
+FrameEstimate distrustSurprise(FrameEstimate retry) {
+  retry.retried = true;
+  if (retry.health.healthy() && !retry.health.surprise.empty())
+    retry.health.problem = "wide retry and " + retry.health.surprise;
+  return retry;
+}
+
 }  // namespace
 
 struct Odometry::Sweep {
@@ -173,12 +184,10 @@ FrameEstimate Odometry::estimateWithRetries(const PreparedScan& scan, const Loca
   FrameEstimate out = estimate(scan, map, std::min(sigma * periods, wide), twist_);
   if (out.health.healthy()) return out;
   // A wider threshold from the constant-velocity prediction catches a motion the model missed.
-  FrameEstimate retry = estimate(scan, map, wide, twist_);
-  retry.retried = true;
+  const FrameEstimate retry = distrustSurprise(estimate(scan, map, wide, twist_));
   if (retry.health.healthy() || periods < kGapPeriods) return retry.health.healthy() ? retry : out;
   // A pause: the robot may have stood still while the recording did.
-  FrameEstimate still = estimate(scan, map, wide, Vector6d::Zero());
-  still.retried = true;
+  const FrameEstimate still = distrustSurprise(estimate(scan, map, wide, Vector6d::Zero()));
   return still.health.healthy() ? still : out;
 }
 

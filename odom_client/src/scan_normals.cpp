@@ -1,5 +1,6 @@
 #include "socc/odom/scan_normals.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <nanoflann.hpp>
@@ -25,6 +26,17 @@ constexpr std::size_t kNeighbours = 12;
 // The normal must be defined by two directions of extent, not by noise across one ring's line:
 // the smallest eigenvalue well below the middle one.
 constexpr double kMaxFlatRatio = 0.1;
+// Points of one scan line (a ring) share the beam's elevation seen from the sensor: fitted alone
+// they give the plane of the beam's cone, not the surface (a ring across a pole, a car or a
+// trunk is a flat curve). Paired along that normal, the ring is pulled to where an earlier
+// sweep's ring lay, i.e. the sensor to the tilt it had then. A neighbourhood must span more
+// elevation than this: half the finest ring spacing of spinning LiDARs (0.11 deg, VLS-128).
+constexpr double kMinElevationSpread = 0.05 * M_PI / 180.0;
+
+// Elevation [rad] of a point seen from the sensor (the cloud's origin).
+double elevation(const Eigen::Vector3f& p) {
+  return std::atan2(double{p.z()}, std::hypot(double{p.x()}, double{p.y()}));
+}
 
 }  // namespace
 
@@ -56,12 +68,19 @@ Eigen::Vector3f ScanNormals::Search::normalAt(std::size_t i) const {
   squared.back() = std::nextafter(static_cast<float>(radius * radius), HUGE_VALF);
   tree.findNeighbors(result, points[i].data(), nanoflann::SearchParams());
   PointMoments moments;
-  for (std::size_t k = 0; k < result.size(); ++k)
-    if (squared[k] <= radius * radius) moments.add(points[index[k]].cast<double>());
+  double lowest = elevation(points[i]), highest = lowest;
+  for (std::size_t k = 0; k < result.size(); ++k) {
+    if (squared[k] > radius * radius) continue;
+    const Eigen::Vector3f& p = points[index[k]];
+    moments.add(p.cast<double>());
+    lowest = std::min(lowest, elevation(p));
+    highest = std::max(highest, elevation(p));
+  }
   const VoxelFeatures f = voxelFeatures(sampleCovariance(moments.m2(), moments.count),
                                         moments.count, EigenSolver::kIterative);
   const bool plane = f.valid && f.planarity < planarity_threshold &&
-                     f.eigenvalues[0] < kMaxFlatRatio * f.eigenvalues[1];
+                     f.eigenvalues[0] < kMaxFlatRatio * f.eigenvalues[1] &&
+                     highest - lowest >= kMinElevationSpread;
   return plane ? Eigen::Vector3f(f.normal.cast<float>()) : Eigen::Vector3f::Zero();
 }
 

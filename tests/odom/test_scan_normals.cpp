@@ -37,3 +37,28 @@ TEST(ScanNormals, RingsOnAWallGiveTheWallsNormalALoneRingGivesNone) {
   for (const Eigen::Vector3f& n : scanNormals(scattered, 3.0, 0.1)) planes += n.squaredNorm() > 0;
   EXPECT_EQ(planes, 0);
 }
+
+// A ring across a curved surface (a car's side, a trunk) is a flat curve: fitted alone it gives
+// the plane of the beam's cone, which tilts with the sensor, not the surface's normal. Two rings
+// across the same surface give its normal.
+TEST(ScanNormals, OneRingAcrossACurvedSurfaceGivesNoNormalTwoRingsDo) {
+  const auto ringAt = [](double elevation_deg, socc::Points& out) {
+    const double e = elevation_deg * M_PI / 180.0;
+    for (int k = -10; k <= 10; ++k) {  // a bulge: the range grows away from azimuth 0
+      const double a = 0.02 * k, r = 8.0 + 10.0 * a * a;
+      out.push_back(Eigen::Vector3d(r * std::cos(e) * std::cos(a), r * std::cos(e) * std::sin(a),
+                                    r * std::sin(e))
+                        .cast<float>());
+    }
+  };
+  socc::Points one;
+  ringAt(-5.0, one);
+  for (const Eigen::Vector3f& n : scanNormals(one, 1.0, 0.1)) EXPECT_EQ(n.squaredNorm(), 0.f);
+
+  socc::Points two;  // a VLP-16's neighbouring rings, 2 deg apart: 0.28 m at 8 m
+  ringAt(-5.0, two);
+  ringAt(-3.0, two);
+  int planes = 0;
+  for (const Eigen::Vector3f& n : scanNormals(two, 1.0, 0.1)) planes += n.squaredNorm() > 0;
+  EXPECT_GT(planes, 0);
+}

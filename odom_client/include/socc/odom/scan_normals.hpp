@@ -26,7 +26,9 @@ class ScanNormals {
   std::size_t size() const { return normals_.size(); }
   /// Point i's unit normal: of the plane through its nearest neighbours within radius (at least
   /// 5, planarity below planarity_threshold, spread over a surface rather than along one ring's
-  /// line); zero where the neighbourhood is no such plane. Calls for distinct i may run at once.
+  /// line, and over more than one ring: the points are in the sensor's frame, and one ring's
+  /// points share an elevation seen from it); zero where the neighbourhood is no such plane.
+  /// Calls for distinct i may run at once.
   const Eigen::Vector3f& at(std::size_t i) const;
 
  private:
