@@ -50,6 +50,9 @@ while [ $# -gt 0 ]; do
     *) echo "bench_robustness: unknown argument $1" >&2; exit 2 ;;
   esac
 done
+if [ -n "$sweep_sensor" ] && ((!sweep)); then
+  echo "bench_robustness: --sensor is for --kitti-sweep" >&2; exit 2
+fi
 # shellcheck source=../tests/integration/test_env.sh
 source "$root/tests/integration/test_env.sh"  # realism_odom_config: the simulated sensor's layer
 realism_config="$(realism_odom_config "$realism")"

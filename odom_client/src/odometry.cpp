@@ -54,7 +54,7 @@ constexpr double kGapPeriods = 1.5;
 // place fits somewhere at half its RMS: a kidnapped robot's foreign scan did): one that also
 // contradicts the motion model is not trusted. Healthy retries (a prediction a little off, or a
 // threshold below the sensor's noise) move as the model expects.
-FrameEstimate distrustSurprise(FrameEstimate retry) {
+FrameEstimate judgedRetry(FrameEstimate retry) {
   retry.retried = true;
   if (retry.health.healthy() && !retry.health.surprise.empty())
     retry.health.problem = "wide retry and " + retry.health.surprise;
@@ -184,10 +184,10 @@ FrameEstimate Odometry::estimateWithRetries(const PreparedScan& scan, const Loca
   FrameEstimate out = estimate(scan, map, std::min(sigma * periods, wide), twist_);
   if (out.health.healthy()) return out;
   // A wider threshold from the constant-velocity prediction catches a motion the model missed.
-  const FrameEstimate retry = distrustSurprise(estimate(scan, map, wide, twist_));
+  const FrameEstimate retry = judgedRetry(estimate(scan, map, wide, twist_));
   if (retry.health.healthy() || periods < kGapPeriods) return retry.health.healthy() ? retry : out;
   // A pause: the robot may have stood still while the recording did.
-  const FrameEstimate still = distrustSurprise(estimate(scan, map, wide, Vector6d::Zero()));
+  const FrameEstimate still = judgedRetry(estimate(scan, map, wide, Vector6d::Zero()));
   return still.health.healthy() ? still : out;
 }
 

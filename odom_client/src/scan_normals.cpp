@@ -68,19 +68,20 @@ Eigen::Vector3f ScanNormals::Search::normalAt(std::size_t i) const {
   squared.back() = std::nextafter(static_cast<float>(radius * radius), HUGE_VALF);
   tree.findNeighbors(result, points[i].data(), nanoflann::SearchParams());
   PointMoments moments;
-  double lowest = elevation(points[i]), highest = lowest;
+  double lowest = HUGE_VAL, highest = -HUGE_VAL;
   for (std::size_t k = 0; k < result.size(); ++k) {
     if (squared[k] > radius * radius) continue;
     const Eigen::Vector3f& p = points[index[k]];
     moments.add(p.cast<double>());
-    lowest = std::min(lowest, elevation(p));
-    highest = std::max(highest, elevation(p));
+    const double e = elevation(p);
+    lowest = std::min(lowest, e);
+    highest = std::max(highest, e);
   }
+  if (highest - lowest < kMinElevationSpread) return Eigen::Vector3f::Zero();  // one ring
   const VoxelFeatures f = voxelFeatures(sampleCovariance(moments.m2(), moments.count),
                                         moments.count, EigenSolver::kIterative);
   const bool plane = f.valid && f.planarity < planarity_threshold &&
-                     f.eigenvalues[0] < kMaxFlatRatio * f.eigenvalues[1] &&
-                     highest - lowest >= kMinElevationSpread;
+                     f.eigenvalues[0] < kMaxFlatRatio * f.eigenvalues[1];
   return plane ? Eigen::Vector3f(f.normal.cast<float>()) : Eigen::Vector3f::Zero();
 }
 
