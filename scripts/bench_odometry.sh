@@ -15,21 +15,25 @@
 # (one pair on a shared machine is noise). --baseline-pose-at end|start|auto: peers that deskew
 # (KISS-ICP, GenZ-ICP) report each pose at the END of its sweep (the next sweep's start) while
 # socc-sim's poses.txt holds the sweep's start: `end` scores them one frame shifted; auto (the
-# default) = end when DIR/point_times exists (the peer deskews), else start.
+# default) = end when DIR/point_times exists (the peer deskews), else start. --server-config
+# YAML: the map_server settings (default bench/config/server_unthrottled.yaml; a grid of other
+# parameters through its map_config key).
 #
 # Usage: scripts/bench_odometry.sh DIR [--build BUILD] [--out OUT] [--gt POSES] [--calib CALIB]
 #                                  [--lengths 100,200,...] [--no-semantics] [--no-gravity] [--frames N]
 #                                  [--config ODOM_YAML] [--baseline CMD [--baseline-poses FILE]]
 #                                  [--baseline-pose-at end|start|auto] [--repeat N] [--no-targets]
+#                                  [--server-config SERVER_YAML]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 [ $# -ge 1 ] || usage 2
 case "$1" in -h|--help) usage 0 ;; esac
 dir="$(cd "$1" && pwd)"; shift
 build="$root/build"; out=""; gt=""; calib=""; lengths=""; client_args=()
 baseline=""; baseline_poses=""; baseline_pose_at=auto; judge=1; repeat=1
+server_config="$root/bench/config/server_unthrottled.yaml"
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
@@ -45,6 +49,7 @@ while [ $# -gt 0 ]; do
     --baseline-poses) baseline_poses="$2"; shift 2 ;;
     --baseline-pose-at) baseline_pose_at="$2"; shift 2 ;;
     --no-targets) judge=0; shift ;;
+    --server-config) server_config="$2"; shift 2 ;;
     --repeat) repeat="$2"; shift 2 ;;
     -h|--help) usage 0 ;;
     *) echo "bench_odometry: unknown argument $1" >&2; usage 2 ;;
@@ -68,7 +73,7 @@ cli=("$build/tools/socc-cli" --lcm-url "$url" --client-id bench)
 # start_server URL LOG: a map server on URL, its pid in $started; fails when it does not answer.
 start_server() {
   "$build/map_server/map_server" --lcm-url "$1" --quiet \
-    --config "$root/bench/config/server_unthrottled.yaml" >"$2" 2>&1 &
+    --config "$server_config" >"$2" 2>&1 &
   started=$!
   for _ in $(seq 50); do
     "$build/tools/socc-cli" --lcm-url "$1" --client-id bench stats >/dev/null 2>&1 && return 0

@@ -10,7 +10,7 @@
 #
 # Usage: scripts/bench_robustness.sh [--build BUILD] [--out OUT] [--frames N] [--config ODOM_YAML]
 #        [--kitti-sweep [--sensor NAME] | --kitti-starts [SEQS]] [--only REGEX] [--keep-sequences]
-#        [--realism kitti|none]
+#        [--realism kitti|none] [--realism-off MODELS]
 #        [--peer NAME=CMD ...]
 #        (--only: the cases whose name matches the bash regex, e.g. 'indoor|figure8'. --kitti-sweep: instead of
 #        the matrix, two segments of every KITTI GT trajectory 00-10 but 03, sensors rotating
@@ -22,6 +22,8 @@
 #        deleted once evaluated unless --keep-sequences. --realism: socc-sim's error models,
 #        sim/README.md "Realism"; none: the exact simulator. Under kitti every case runs with
 #        odom_client/config/kitti.yaml, the simulated sensor's calibration, before --config.
+#        --realism-off: socc-sim's groups or single models switched off (comma-separated, e.g.
+#        beam_elevations: which error drives the drift).
 #        --peer: side by side on each distorted sequence (not --kitti-starts): socc LiDAR only
 #        (--no-gravity, as the peers), with semantics and without, and each peer, run as
 #        `CMD DIR POSES_OUT` and scored one frame shifted (deskewing peers report each sweep's
@@ -30,7 +32,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$root/build"; out="$root/out/robustness"; frames=""; odom_args=(); sweep=0; keep=0
 only=""; starts=0; peers=(); start_seqs="00,01,02,04,05,06,07,08,09,10"; sweep_sensor=""
-realism=kitti
+realism=kitti; realism_off=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
@@ -44,9 +46,10 @@ while [ $# -gt 0 ]; do
       if [[ ${1:-} =~ ^[0-9,]+$ ]]; then start_seqs=$1; shift; fi ;;
     --keep-sequences) keep=1; shift ;;
     --realism) realism="$2"; shift 2 ;;
+    --realism-off) realism_off=(--realism-off "$2"); shift 2 ;;
     --only) only="$2"; shift 2 ;;
     --peer) peers+=("$2"); shift 2 ;;
-    -h|--help) sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench_robustness: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -119,7 +122,7 @@ simulate() {  # dir distortion(0|1) args... -> sequence in dir
   fi
   local seed=(--seed 11)  # unless the case names its own
   [[ " ${args[*]} " == *" --seed "* ]] && seed=()
-  "$build/sim/socc-sim" --out "$dir" --frames "$frames" "${seed[@]}" "${distortion[@]}" --realism "$realism" --quiet "${args[@]}" >&2
+  "$build/sim/socc-sim" --out "$dir" --frames "$frames" "${seed[@]}" "${distortion[@]}" --realism "$realism" "${realism_off[@]}" --quiet "${args[@]}" >&2
 }
 
 side_by_side() {  # seq_dir case_out: socc LiDAR only (with / without semantics) and the peers

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "socc/labels.hpp"
 #include "socc/odom/deskew.hpp"
 #include "socc/odom/point_times.hpp"
 #include "socc/odom/preprocessing.hpp"
@@ -274,8 +275,12 @@ Odometry::Sweep Odometry::registerSweep(const PreparedScan& scan, const LocalMap
   LabeledCloud& down = out.cloud;
   for (float& t : down.times) t -= static_cast<float>(scan.mid_time);  // the pose's instant
   // Neighbourhoods of a few downsampling cells span two or more rings of a sparse sensor.
-  if (config_.sparse_pairs_along_scan_normal)
-    out.normals.emplace(down.points, 3.0 * voxel_size_.size(), config_.planarity_threshold);
+  if (config_.sparse_pairs_along_scan_normal) {
+    std::vector<std::uint8_t> on_ground(down.labels.size());  // none without labels
+    for (std::size_t i = 0; i < on_ground.size(); ++i) on_ground[i] = isGround(down.labels[i]);
+    out.normals.emplace(down.points, 3.0 * voxel_size_.size(), config_.planarity_threshold,
+                        std::move(on_ground));
+  }
   const ScanNormals* normals = out.normals ? &*out.normals : nullptr;
   // The initial threshold is wide so that it catches an unknown motion (or a rough initial pose
   // in a map other robots built): its kernel also gives weight to wrong correspondences, which

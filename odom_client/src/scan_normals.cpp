@@ -31,6 +31,7 @@ constexpr double kMaxFlatRatio = 0.1;
 // trunk is a flat curve). Paired along that normal, the ring is pulled to where an earlier
 // sweep's ring lay, i.e. the sensor to the tilt it had then. A neighbourhood must span more
 // elevation than this: half the finest ring spacing of spinning LiDARs (0.11 deg, VLS-128).
+// Not on the ground: a ring across it is a curve in its plane.
 constexpr double kMinElevationSpread = 0.05 * M_PI / 180.0;
 
 // Elevation [rad] of a point seen from the sensor (the cloud's origin).
@@ -41,8 +42,9 @@ double elevation(const Eigen::Vector3f& p) {
 }  // namespace
 
 struct ScanNormals::Search {
-  Search(Points cloud, double r, double threshold)
+  Search(Points cloud, double r, double threshold, std::vector<std::uint8_t> ground)
       : points(std::move(cloud)),
+        on_ground(std::move(ground)),
         radius(r),
         planarity_threshold(threshold),
         adaptor{&points},
@@ -52,6 +54,7 @@ struct ScanNormals::Search {
   Eigen::Vector3f normalAt(std::size_t i) const;
 
   const Points points;
+  const std::vector<std::uint8_t> on_ground;
   const double radius;
   const double planarity_threshold;
   const CloudAdaptor adaptor;  // the tree keeps a reference to it
@@ -77,7 +80,9 @@ Eigen::Vector3f ScanNormals::Search::normalAt(std::size_t i) const {
     lowest = std::min(lowest, e);
     highest = std::max(highest, e);
   }
-  if (highest - lowest < kMinElevationSpread) return Eigen::Vector3f::Zero();  // one ring
+  const bool ground = i < on_ground.size() && on_ground[i] != 0;
+  if (highest - lowest < kMinElevationSpread && !ground)
+    return Eigen::Vector3f::Zero();  // one ring
   const VoxelFeatures f = voxelFeatures(sampleCovariance(moments.m2(), moments.count),
                                         moments.count, EigenSolver::kIterative);
   const bool plane = f.valid && f.planarity < planarity_threshold &&
@@ -85,12 +90,14 @@ Eigen::Vector3f ScanNormals::Search::normalAt(std::size_t i) const {
   return plane ? Eigen::Vector3f(f.normal.cast<float>()) : Eigen::Vector3f::Zero();
 }
 
-ScanNormals::ScanNormals(Points points, double radius, double planarity_threshold)
+ScanNormals::ScanNormals(Points points, double radius, double planarity_threshold,
+                         std::vector<std::uint8_t> on_ground)
     : normals_(points.size(), Eigen::Vector3f::Zero()), known_(points.size(), 0) {
   if (points.size() < kMinPointsForFeatures)
     known_.assign(known_.size(), 1);  // no plane anywhere
   else
-    search_ = std::make_unique<const Search>(std::move(points), radius, planarity_threshold);
+    search_ = std::make_unique<const Search>(std::move(points), radius, planarity_threshold,
+                                             std::move(on_ground));
 }
 
 ScanNormals::~ScanNormals() = default;

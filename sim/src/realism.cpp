@@ -50,6 +50,10 @@ bool disableModel(Realism& r, const std::string& name) {
     r.beams.elevation_bias_deg = 0.0;
   } else if (name == "beam_angles") {
     r.beams.elevation_sigma_deg = r.beams.azimuth_sigma_deg = 0.0;
+  } else if (name == "beam_elevations") {
+    r.beams.elevation_sigma_deg = 0.0;
+  } else if (name == "beam_azimuths") {
+    r.beams.azimuth_sigma_deg = 0.0;
   } else if (name == "beam_ranges") {
     r.beams.range_offset_sigma = r.beams.range_scale_sigma = 0.0;
   } else if (name == "range_offsets") {

@@ -8,8 +8,9 @@
 using namespace socc::odom;
 
 namespace {
-socc::Points scanNormals(const socc::Points& points, double radius, double planarity_threshold) {
-  const ScanNormals normals(points, radius, planarity_threshold);
+socc::Points scanNormals(const socc::Points& points, double radius, double planarity_threshold,
+                         std::vector<std::uint8_t> on_ground = {}) {
+  const ScanNormals normals(points, radius, planarity_threshold, std::move(on_ground));
   socc::Points out;
   for (std::size_t i = 0; i < points.size(); ++i) out.push_back(normals.at(i));
   return out;
@@ -61,4 +62,20 @@ TEST(ScanNormals, OneRingAcrossACurvedSurfaceGivesNoNormalTwoRingsDo) {
   int planes = 0;
   for (const Eigen::Vector3f& n : scanNormals(two, 1.0, 0.1)) planes += n.squaredNorm() > 0;
   EXPECT_GT(planes, 0);
+}
+
+// A ring across the ground is a circle around the sensor in the ground's plane: one ring's
+// neighbours give the ground's normal, where the points are labelled ground (a ring across a
+// curved object, above, is not).
+TEST(ScanNormals, OneRingAcrossTheGroundGivesTheGroundsNormalWhereLabelledGround) {
+  socc::Points ring;  // a VLP-16's -7 deg ring on flat ground 1.7 m below: 13.8 m away
+  const double r = 1.7 / std::tan(7.0 * M_PI / 180.0);
+  for (int k = -20; k <= 20; ++k) {
+    const double a = 0.04 * k;
+    ring.push_back(Eigen::Vector3d(r * std::cos(a), r * std::sin(a), -1.7).cast<float>());
+  }
+  for (const Eigen::Vector3f& n : scanNormals(ring, 3.0, 0.1)) EXPECT_EQ(n.squaredNorm(), 0.f);
+  const socc::Points normals =
+      scanNormals(ring, 3.0, 0.1, std::vector<std::uint8_t>(ring.size(), 1));
+  for (const Eigen::Vector3f& n : normals) EXPECT_NEAR(std::abs(n.z()), 1.f, 1e-3f);
 }

@@ -64,6 +64,9 @@ TEST(Realism, SingleModelsSwitchOffForAblations) {
   EXPECT_GT(r.motion.vibration_deg, 0.0);
   EXPECT_EQ(r.beams.elevation_bias_deg, 0.0);
   EXPECT_GT(r.beams.elevation_sigma_deg, 0.0);
+  disableRealism(r, {"beam_azimuths"});
+  EXPECT_EQ(r.beams.azimuth_sigma_deg, 0.0);
+  EXPECT_GT(r.beams.elevation_sigma_deg, 0.0);
 }
 
 TEST(Realism, BeamCalibrationIsFixedPerSensorAtTheStatedSpread) {

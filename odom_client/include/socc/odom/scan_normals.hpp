@@ -18,7 +18,13 @@ namespace socc::odom {
 /// registration time otherwise.
 class ScanNormals {
  public:
-  ScanNormals(Points points, double radius, double planarity_threshold);
+  /// on_ground (optional, one flag per point): the point's label is a ground class. A ring
+  /// across the ground is a curve in the ground's plane, so there one ring's neighbours do give
+  /// the surface's normal: far from a sparse sensor the only neighbours a ground point has, and
+  /// unlike two rings not tilted by the lasers' different elevation errors (docs/robustness.md
+  /// "One ring across the ground").
+  ScanNormals(Points points, double radius, double planarity_threshold,
+              std::vector<std::uint8_t> on_ground = {});
   ~ScanNormals();
   ScanNormals(ScanNormals&&) noexcept;
   ScanNormals& operator=(ScanNormals&&) noexcept;
@@ -26,8 +32,9 @@ class ScanNormals {
   std::size_t size() const { return normals_.size(); }
   /// Point i's unit normal: of the plane through its nearest neighbours within radius (at least
   /// 5, planarity below planarity_threshold, spread over a surface rather than along one ring's
-  /// line, and over more than one ring: the points are in the sensor's frame, and one ring's
-  /// points share an elevation seen from it); zero where the neighbourhood is no such plane.
+  /// line, and over more than one ring unless it is on the ground: the points are in the
+  /// sensor's frame, and one ring's points share an elevation seen from it); zero where the
+  /// neighbourhood is no such plane.
   /// Calls for distinct i may run at once.
   const Eigen::Vector3f& at(std::size_t i) const;
 

@@ -72,7 +72,8 @@ Realism realismPreset(const std::string& name);
 /// Names disableRealism accepts: the groups, then single models of a group (for ablations;
 /// "body" is the motion group without its vibration).
 inline constexpr const char* kRealismSwitches =
-    "beams, returns, terrain, motion, labels; elevation_bias, beam_angles, beam_ranges "
+    "beams, returns, terrain, motion, labels; elevation_bias, beam_angles (beam_elevations, "
+    "beam_azimuths), beam_ranges "
     "(range_offsets, range_scales), "
     "range_noise, range_walk, edges, surfaces (dark, glass, foliage), body";
 
