@@ -67,6 +67,9 @@ TEST(Realism, SingleModelsSwitchOffForAblations) {
   disableRealism(r, {"beam_azimuths"});
   EXPECT_EQ(r.beams.azimuth_sigma_deg, 0.0);
   EXPECT_GT(r.beams.elevation_sigma_deg, 0.0);
+  disableRealism(r, {"beam_elevations"});
+  EXPECT_EQ(r.beams.elevation_sigma_deg, 0.0);
+  EXPECT_GT(r.beams.range_offset_sigma, 0.0);
 }
 
 TEST(Realism, BeamCalibrationIsFixedPerSensorAtTheStatedSpread) {
