@@ -265,6 +265,12 @@ void printServiceRows(std::map<std::string, double>& stats, double km) {
               km > 0.0 ? stats["scan_bytes"] / 1e6 / km : 0.0);
   std::printf("| grid rebuilds (longest) | | %.0f (%.2f s, %.0f scans) | |\n", stats["rebuilds"],
               stats["max_rebuild_s"], stats["rebuild_keyframes"]);
+  // Runs before region rebuilds (docs/consistency.md "Region rebuilds") wrote no sums.
+  if (stats.count("rebuild_scans"))
+    std::printf(
+        "| rebuilds in all: worker time, scans integrated; grid copy kept for region rebuilds | "
+        "| %.1f s, %.0f scans; %.1f MB | |\n",
+        stats["rebuild_s"], stats["rebuild_scans"], stats["base_bytes"] / 1e6);
   // Counts of keyframes; each row only when the run wrote its counter.
   const auto ofKeyframes = [&stats](const char* figure, const char* key) {
     if (!stats.count(key)) return false;

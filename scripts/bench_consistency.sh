@@ -31,20 +31,24 @@
 # robots' map-frame poses are scored together; robot 2 never merged (exit 5) is reported and
 # only robot 1's poses are scored.
 #
+# --server-config FILE: map_server's --config (both runs) instead of
+# bench/config/server_unthrottled.yaml, e.g. with `consistency: {rebuild_region: false}` to
+# time whole-map rebuilds against region rebuilds (docs/consistency.md "Region rebuilds").
+#
 # Usage: scripts/bench_consistency.sh SEQ_DIR [--build BUILD] [--out OUT] [--frames N]
 #                                     [--first-frame N] [--min-gain G] [--no-targets]
 #                                     [--no-alone] [--client-config FILE] [--robots 1|2]
-#                                     [--rate R]
+#                                     [--rate R] [--server-config FILE]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-usage() { sed -n '2,37p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,41p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 [ $# -ge 1 ] || usage 2
 case "$1" in -h|--help) usage 0 ;; esac
 [ -d "$1" ] || { echo "bench_consistency: $1 is not a directory" >&2; exit 2; }
 dir="$(cd "$1" && pwd)"; shift
 build="$root/build"; out=""; client_args=(); eval_args=(); judge=1; alone=1; robots=1
-first=0; frames=0; rate=1
+first=0; frames=0; rate=1; server_config="$root/bench/config/server_unthrottled.yaml"
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
@@ -57,6 +61,7 @@ while [ $# -gt 0 ]; do
     --no-alone) alone=0; shift ;;
     --client-config) client_args+=(--config "$2"); shift 2 ;;
     --rate) rate=$2; shift 2 ;;
+    --server-config) server_config=$2; shift 2 ;;
     -h|--help) usage 0 ;;
     *) echo "bench_consistency: unknown argument $1" >&2; usage 2 ;;
   esac
@@ -113,7 +118,7 @@ run() {
   local url="udpm://239.255.76.67:$((20000 + RANDOM % 40000))?ttl=0&recv_buf_size=33554432"
   mkdir -p "$out/$name"
   "$build/map_server/map_server" --lcm-url "$url" --quiet \
-    --config "$root/bench/config/server_unthrottled.yaml" "$@" >"$out/$name/server.log" 2>&1 &
+    --config "$server_config" "$@" >"$out/$name/server.log" 2>&1 &
   server=$!
   for _ in $(seq 50); do
     "$build/tools/socc-cli" --lcm-url "$url" --client-id bench stats >/dev/null 2>&1 && break

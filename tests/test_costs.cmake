@@ -26,6 +26,8 @@ foreach(_socc_cost
     "MapCorrection.TheServiceSwapsTheGridInAndTellsTheRobotItsCorrectionOnce=16"
     "Space/ClosedLoopDistortion.ConvergesAndStaysCloseToGroundTruth/street/straight/vlp32/22=16"
     "MapCorrection.AServiceRestartedFromItsStoreRebuildsWithTheKeyframesFromBeforeTheRestart=15"
+    # Not yet measured in CI: 3.2 s Release, scaled as the other MapCorrection cases (x9).
+    "MapCorrection.LaterRebuildsOfTheMovedRegionGiveTheMapOfAWholeRebuild=28"
     "Space/ClosedLoopDistortion.ConvergesAndStaysCloseToGroundTruth/street/straight/vlp32/14=13"
     "Space/ClosedLoopDistortion.ConvergesAndStaysCloseToGroundTruth/street/circle/vlp16/9=11"
     "Space/ClosedLoopDistortion.ConvergesAndStaysCloseToGroundTruth/indoor/auto/vlp32/0=10"

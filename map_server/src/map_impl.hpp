@@ -171,6 +171,10 @@ struct SemanticOccupancyMap::Impl {
   /// Recounts observed / occupied voxels (after loading).
   void recount();
 
+  /// SemanticOccupancyMap::integrate, changing only within's blocks when within is not null.
+  IntegrationResult integrate(const Eigen::Isometry3d& sensor_pose, const LabeledCloud& cloud,
+                              const BlockRegion* within);
+
   /// Calls f(index, log_odds, stats-or-null) for every observed voxel, blocks in key order.
   template <typename F>
   void forEachObserved(F&& f) const {

@@ -17,6 +17,7 @@
 #include <cmath>
 
 #include "map_impl.hpp"
+#include "socc/map/block_region.hpp"
 #include "socc/map/ray_traversal.hpp"
 
 namespace socc::map {
@@ -177,6 +178,7 @@ Tally applyHits(const SemanticVoxelBehaviour& behaviour, HitPartition& part) {
   part.touched.clear();
   const std::size_t n = part.voxels.size();
   for (std::size_t i = 0; i < n; ++i) {
+    if (part.blocks[i] == nullptr) continue;  // outside the region integrated
     Block& block = *part.blocks[i];
     const int local = localOf(part.voxels[i]);
     block.scan_mark[static_cast<std::size_t>(local >> 6)] |= std::uint64_t{1} << (local & 63);
@@ -288,13 +290,15 @@ const RayFootprint& traverseRays(const Eigen::Vector3d& origin, const Grid& grid
 
 /// Creates the hit voxels' blocks serially (the grid's hash map is not thread-safe) in a fixed
 /// order, then applies the partitions' hits in parallel. Hits go first: they mark their
-/// voxels, which the misses then skip.
+/// voxels, which the misses then skip. With a region, voxels outside it get no block (null).
 Tally integrateHits(const SemanticVoxelBehaviour& behaviour, Grid::Accessor& access,
-                    ScanScratch& s) {
+                    const BlockRegion* within, ScanScratch& s) {
   for (HitPartition& part : s.partitions) {
     part.blocks.resize(part.voxels.size());
-    for (std::size_t i = 0; i < part.voxels.size(); ++i)
-      part.blocks[i] = &access.block(blockOf(part.voxels[i]));
+    for (std::size_t i = 0; i < part.voxels.size(); ++i) {
+      const BlockKey key = blockOf(part.voxels[i]);
+      part.blocks[i] = within && !within->contains(key) ? nullptr : &access.block(key);
+    }
   }
   return tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, ScanScratch::kHitPartitions, 1), Tally{},
@@ -311,17 +315,20 @@ Tally integrateHits(const SemanticVoxelBehaviour& behaviour, Grid::Accessor& acc
 /// block and a miss's effect does not depend on the order of other voxels' misses.
 Tally integrateMisses(const SemanticVoxelBehaviour& behaviour, Grid::Accessor& access,
                       const Grid& grid, const Eigen::Vector3d& origin, std::int64_t version,
-                      ScanScratch& s) {
+                      const BlockRegion* within, ScanScratch& s) {
   collectRayEnds(grid, s);
   const RayFootprint& footprint = traverseRays(origin, grid, s);
   s.miss_blocks.resize(footprint.numBlocks());
-  for (std::size_t i = 0; i < footprint.numBlocks(); ++i)
-    s.miss_blocks[i] = &access.block(footprint.key(i));
+  for (std::size_t i = 0; i < footprint.numBlocks(); ++i) {
+    const BlockKey key = footprint.key(i);
+    s.miss_blocks[i] = within && !within->contains(key) ? nullptr : &access.block(key);
+  }
   return tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, footprint.numBlocks(), 32), Tally{},
       [&](const tbb::blocked_range<std::size_t>& r, Tally t) {
         for (std::size_t i = r.begin(); i != r.end(); ++i)
-          applyMisses(behaviour, *s.miss_blocks[i], footprint.mask(i), version, t);
+          if (s.miss_blocks[i] != nullptr)
+            applyMisses(behaviour, *s.miss_blocks[i], footprint.mask(i), version, t);
         return t;
       },
       [](Tally x, const Tally& y) { return x += y; });
@@ -338,17 +345,31 @@ void finishBlocks(ScanScratch& s, bool raycast, std::int64_t version) {
       block->occupied_version = version;
     }
   if (raycast)
-    for (Block* block : s.miss_blocks) block->version = version;
+    for (Block* block : s.miss_blocks)
+      if (block != nullptr) block->version = version;
 }
 
 }  // namespace
 
+// The contract, not a check: every caller validates first (the service before journaling the
+// request), and a second walk over the points would cost as much as classifying them.
 IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& sensor_pose,
                                                   const LabeledCloud& cloud) {
-  // The contract, not a check: every caller validates first (the service before journaling
-  // the request), and a second walk over the points would cost as much as classifying them.
   assert(validate(sensor_pose, cloud).empty());
-  Impl& m = *impl_;
+  return impl_->integrate(sensor_pose, cloud, nullptr);
+}
+
+IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& sensor_pose,
+                                                  const LabeledCloud& cloud,
+                                                  const BlockRegion& within) {
+  assert(validate(sensor_pose, cloud).empty());
+  return impl_->integrate(sensor_pose, cloud, &within);
+}
+
+IntegrationResult SemanticOccupancyMap::Impl::integrate(const Eigen::Isometry3d& sensor_pose,
+                                                        const LabeledCloud& cloud,
+                                                        const BlockRegion* within) {
+  Impl& m = *this;
   ScanScratch& s = m.scratch;
   Grid::Accessor access(m.grid);
   IntegrationResult result;
@@ -359,11 +380,11 @@ IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& senso
     classifyPoints(sensor_pose, cloud, m.config, m.grid, s);
     tbb::parallel_for(std::size_t{0}, ScanScratch::kHitPartitions,
                       [&](std::size_t p) { aggregatePartition(p, cloud, s); });
-    tally = integrateHits(m.behaviour, access, s);
+    tally = integrateHits(m.behaviour, access, within, s);
     result.voxels_hit = static_cast<std::int32_t>(tally.touched);
     if (m.config.raycast)
-      tally +=
-          integrateMisses(m.behaviour, access, m.grid, sensor_pose.translation(), m.version + 1, s);
+      tally += integrateMisses(m.behaviour, access, m.grid, sensor_pose.translation(),
+                               m.version + 1, within, s);
   });
   finishBlocks(s, m.config.raycast, m.version + 1);
 

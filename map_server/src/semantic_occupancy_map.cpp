@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "map_impl.hpp"
+#include "socc/map/block_region.hpp"
 
 namespace socc::map {
 
@@ -101,6 +102,23 @@ void SemanticOccupancyMap::clear() {
   impl_->num_occupied = 0;
   ++impl_->version;
   impl_->epoch = newEpoch();  // blocks vanished: no delta can say so
+}
+
+void SemanticOccupancyMap::erase(const BlockRegion& region) {
+  for (const BlockKey& key : region.blocks()) impl_->grid.erase(key);
+  impl_->recount();
+  ++impl_->version;
+  impl_->epoch = newEpoch();
+}
+
+SemanticOccupancyMap SemanticOccupancyMap::clone() const {
+  SemanticOccupancyMap copy(impl_->config);
+  Impl& c = *copy.impl_;
+  c.grid = impl_->grid.clone();
+  c.version = impl_->version;
+  c.num_observed = impl_->num_observed;
+  c.num_occupied = impl_->num_occupied;
+  return copy;  // its own epoch, from its constructor
 }
 
 std::int64_t SemanticOccupancyMap::epoch() const {

@@ -249,6 +249,37 @@ TEST(MapCorrection, AClosureRebuildsTheGridFromTheKeyframeScansAtTheOptimizedPos
             << " % (drifted) -> " << after * 100 << " % (rebuilt)\n";
 }
 
+TEST(MapCorrection, LaterRebuildsOfTheMovedRegionGiveTheMapOfAWholeRebuild) {
+  // Every closure rebuilds at once (rebuild_min_shift and rebuild_max_wait 0): the first of the
+  // whole map, the later ones of the region whose keyframes moved (grid_rebuild.hpp,
+  // updateGrid). The last grid is as good as one rebuilt whole at the final optimized poses.
+  const Drive d = correctionDrive();
+  ConsistencyParams p = correctionParams();
+  p.rebuild_min_shift = 0.0;
+  p.rebuild_max_wait = 0.0;
+  ConsistencyService service(p, map::MapConfig{});
+  map::SemanticOccupancyMap truth{map::MapConfig{}}, whole{map::MapConfig{}};
+  for (std::size_t i = 0; i < d.scans.size(); ++i) {
+    service.observe("car", static_cast<std::int64_t>(i) * kStep, 0, d.odometry[i], d.scans[i]);
+    integrateScan(truth, d.truth[i], compactScan(d.scans[i], p.rebuild_voxel));
+  }
+  service.flush();
+  for (const auto& k : service.keyframePoses())
+    integrateScan(whole, k.optimized,
+                  compactScan(d.scans[static_cast<std::size_t>(k.seq / kStep)], p.rebuild_voxel));
+  std::unique_ptr<RebuiltGrid> grid = service.takeRebuild();
+  ASSERT_TRUE(grid);
+  const ConsistencyStats stats = service.stats();
+  EXPECT_GE(stats.rebuilds, 2);
+  EXPECT_GT(stats.base_bytes, 0u);
+  const double region = misplaced(grid->map, truth), reference = misplaced(whole, truth);
+  EXPECT_LT(region, reference + 0.01);
+  std::cerr << stats.rebuilds << " rebuilds, " << stats.rebuild_scans << " scans integrated ("
+            << grid->keyframes << " in the last) of " << stats.keyframes
+            << " keyframes; occupied voxels in the truth's free space " << region * 100
+            << " % (region rebuilds), " << reference * 100 << " % (whole, at the final poses)\n";
+}
+
 // The largest angle between a keyframe's up direction in the graph (its rotation applied to the
 // world's +z, the map frame's up: the first keyframe is level) and the truth's.
 double maxTilt(const std::vector<ConsistencyService::KeyframePose>& keyframes, const Drive& d,

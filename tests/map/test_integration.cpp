@@ -6,6 +6,7 @@
 
 #include "socc/chunk_features.hpp"
 #include "socc/chunk_request_t.hpp"
+#include "socc/map/block_region.hpp"
 #include "socc/map/semantic_voxel.hpp"
 #include "test_helpers.hpp"
 
@@ -196,6 +197,48 @@ TEST(Integration, EmptyCloudAndUnlabeledCloud) {
     EXPECT_EQ(reply.label[i], 0);
     EXPECT_EQ(reply.label_prob[i], 0);
   }
+}
+
+// A region integration (region rebuilds, docs/consistency.md) changes the region's voxels as a
+// whole integration does and nothing else; erase() makes them unknown again; clone() copies.
+TEST(Integration, ARegionIntegrationChangesItsBlocksAsAWholeOneAndNothingElse) {
+  const LabeledCloud scan = test::wall(12.0, 6.0, 0.1, 13);
+  const Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  SemanticOccupancyMap whole{MapConfig{}}, part{MapConfig{}};
+  whole.integrate(pose, scan);
+  BlockRegion region;  // the wall's half at y > 0 and the rays' second half
+  region.addBox(
+      Eigen::AlignedBox3d(Eigen::Vector3d(6.0, 0.5, -7.0), Eigen::Vector3d(13.0, 7.0, 7.0)),
+      whole.config().voxel_size);
+  part.integrate(pose, scan, region);
+  int inside = 0, outside = 0;
+  for (double x = 0.25; x < 13.0; x += 0.5)
+    for (double y = -6.25; y < 6.5; y += 0.5) {
+      const Eigen::Vector3d p(x, y, 0.25);
+      const BlockKey key = blockOf(VoxelGeometry(0.5).indexOf(p));
+      if (region.contains(key)) {
+        EXPECT_EQ(part.occupancyAt(p), whole.occupancyAt(p)) << p.transpose();
+        inside += whole.occupancyAt(p) >= 0.0 ? 1 : 0;
+      } else {
+        EXPECT_EQ(part.occupancyAt(p), -1.0) << p.transpose();
+        outside += whole.occupancyAt(p) >= 0.0 ? 1 : 0;
+      }
+    }
+  EXPECT_GT(inside, 50);
+  EXPECT_GT(outside, 50);
+
+  SemanticOccupancyMap copy = whole.clone();
+  EXPECT_EQ(copy.stats().num_voxels, whole.stats().num_voxels);
+  EXPECT_EQ(copy.version(), whole.version());
+  EXPECT_NE(copy.epoch(), whole.epoch());
+  const std::int64_t epoch = copy.epoch();
+  copy.erase(region);
+  EXPECT_NE(copy.epoch(), epoch);
+  EXPECT_EQ(copy.stats().num_voxels + part.stats().num_voxels, whole.stats().num_voxels);
+  EXPECT_EQ(copy.stats().num_occupied + part.stats().num_occupied, whole.stats().num_occupied);
+  EXPECT_EQ(copy.occupancyAt({12.25, 3.25, 0.25}), -1.0);
+  EXPECT_EQ(copy.occupancyAt({12.25, -3.25, 0.25}), whole.occupancyAt({12.25, -3.25, 0.25}));
+  EXPECT_GT(whole.occupancyAt({12.25, 3.25, 0.25}), 0.5);  // the wall, still in the original
 }
 
 TEST(MapConfigValidation, RejectsBadValues) {

@@ -17,6 +17,11 @@ struct ConsistencyParams {
   double rebuild_voxel = 0.1;      // [m]
   double rebuild_min_shift = 0.1;  // [m]
   double rebuild_lever = 20.0;     // [m]
+  // Region rebuilds: the worker keeps its last rebuilt grid, and the next rebuild integrates
+  // again only where keyframes moved more than rebuild_region_shift (grid_rebuild.hpp,
+  // updateGrid); off: every rebuild is of the whole map (and the worker keeps no copy).
+  bool rebuild_region = true;
+  double rebuild_region_shift = 0.05;  // [m] (at rebuild_lever)
   // The correction a robot is told fits its keyframes within this much of its path before the
   // last (correction_fit.hpp): the grid it registers against next.
   double correction_window = 30.0;  // [m]

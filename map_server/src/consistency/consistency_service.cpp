@@ -321,10 +321,18 @@ void ConsistencyService::rebuild(double max_shift) {
     for (const auto& [name, track] : robots_)
       if (!track.keyframe_ids.empty()) grid->corrections[name] = robotCorrection(track);
   }
-  for (Keyframe& k : keyframes_) {
-    const Eigen::Isometry3d& pose = estimates_[static_cast<std::size_t>(k.id)];
-    if (integrateScan(grid->map, pose, k.scan)) ++grid->keyframes;
-    k.grid_pose = pose;
+  // Updated in base_ (a region rebuild, or the whole map into an empty grid); the swap gets a
+  // copy, or base_ itself when none is kept.
+  if (!base_ || !params_.rebuild_region)
+    base_.emplace(KeyframeGrid{map::SemanticOccupancyMap(map_config_), 0});
+  grid->keyframes = updateGrid(base_->map, keyframes_, base_->keyframes, estimates_,
+                               params_.rebuild_region_shift, params_.rebuild_lever);
+  base_->keyframes = keyframes_.size();
+  if (params_.rebuild_region) {
+    grid->map = base_->map.clone();
+  } else {
+    grid->map = std::move(base_->map);
+    base_.reset();
   }
   // Catch up with the keyframes observed meanwhile until none is left for the swap but the
   // last few.
@@ -347,6 +355,9 @@ void ConsistencyService::rebuild(double max_shift) {
   ++stats_.rebuilds;
   stats_.max_rebuild_s = std::max(stats_.max_rebuild_s, grid->seconds);
   stats_.rebuild_keyframes = grid->keyframes;
+  stats_.rebuild_s += grid->seconds;
+  stats_.rebuild_scans += grid->keyframes;
+  stats_.base_bytes = base_ ? static_cast<std::size_t>(base_->map.stats().memory_bytes) : 0;
   ready_ = std::move(grid);
 }
 
@@ -575,12 +586,13 @@ void ConsistencyService::write(const std::filesystem::path& dir) const {
      << s.max_correction_s << "\nkeyframe_bytes " << s.keyframe_bytes << "\ntravelled_m "
      << s.travelled << "\nscans_reduced_on_arrival " << s.scans_reduced_on_arrival
      << "\nscan_bytes " << s.scan_bytes << "\nrebuilds " << s.rebuilds << "\nmax_rebuild_s "
-     << s.max_rebuild_s << "\nrebuild_keyframes " << s.rebuild_keyframes << "\nedge_checks "
-     << s.odometry_edges.checked << "\nedge_registered " << s.odometry_edges.registered
-     << "\nedge_snaps " << s.odometry_edges.snaps << "\nedge_snaps_unclosed "
-     << s.odometry_edges.snaps_unclosed << "\nedge_s " << s.odometry_edges.seconds
-     << "\nedge_max_s " << s.odometry_edges.max_seconds << "\ngravity_keyframes "
-     << s.gravity_keyframes << '\n';
+     << s.max_rebuild_s << "\nrebuild_keyframes " << s.rebuild_keyframes << "\nrebuild_s "
+     << s.rebuild_s << "\nrebuild_scans " << s.rebuild_scans << "\nbase_bytes " << s.base_bytes
+     << "\nedge_checks " << s.odometry_edges.checked << "\nedge_registered "
+     << s.odometry_edges.registered << "\nedge_snaps " << s.odometry_edges.snaps
+     << "\nedge_snaps_unclosed " << s.odometry_edges.snaps_unclosed << "\nedge_s "
+     << s.odometry_edges.seconds << "\nedge_max_s " << s.odometry_edges.max_seconds
+     << "\ngravity_keyframes " << s.gravity_keyframes << '\n';
   if (!kf || !cl || !ed || !st) throw std::runtime_error("cannot write " + dir.string());
 }
 

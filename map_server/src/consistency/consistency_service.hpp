@@ -61,7 +61,12 @@ struct ConsistencyStats {
   int rebuilds = 0;            // grids rebuilt (each swapped in unless a newer one replaced it)
   double max_rebuild_s = 0.0;  // the worker's longest rebuild
   int rebuild_keyframes = 0;   // scans in the last rebuild
-  double travelled = 0.0;      // [m] sum over robots
+  double rebuild_s = 0.0;      // the worker's time in rebuilds, summed
+  long rebuild_scans = 0;      // scans integrated by rebuilds, summed
+  // The keyframes' part of the last rebuild the worker keeps for region rebuilds (its grid's
+  // memory_bytes): on top of the map's own grid.
+  std::size_t base_bytes = 0;
+  double travelled = 0.0;  // [m] sum over robots
 };
 
 class ConsistencyService {
@@ -255,6 +260,8 @@ class ConsistencyService {
   bool resume_rebuild_ = false;  // restored: the worker first rebuilds if the grid is behind
   // The worker's alone: since when a closure's rebuild waits (none: no rebuild due).
   std::optional<std::chrono::steady_clock::time_point> rebuild_due_;
+  // The worker's alone: the keyframes' part of its last rebuild (none: the next one is whole).
+  std::optional<KeyframeGrid> base_;
 
   std::thread worker_;  // last: started after everything it uses
 };

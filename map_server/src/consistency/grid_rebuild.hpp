@@ -2,12 +2,15 @@
 // A grid rebuilt from the keyframe scans at their optimized poses (docs/consistency.md, "Map
 // correction"), built off the LCM thread and swapped in by the map service.
 #include <Eigen/Geometry>
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "keyframe.hpp"
 #include "keyframe_scan.hpp"
+#include "socc/map/block_region.hpp"
 #include "socc/map/semantic_occupancy_map.hpp"
 
 namespace socc::consistency {
@@ -34,10 +37,37 @@ struct RebuiltGrid {
   double max_shift = 0.0;  // [m] the largest keyframe move that asked for it
 };
 
-/// Integrates scan at pose with the map's own integrator; false (nothing changed) when the
-/// map refuses it (map::SemanticOccupancyMap::validate).
+/// The keyframes' part of the last rebuilt grid, kept by the worker: the next rebuild starts
+/// from a copy of it and integrates again only the region whose keyframes moved.
+struct KeyframeGrid {
+  map::SemanticOccupancyMap map;
+  std::size_t keyframes = 0;  // keyframes [0, keyframes) are in map, each at its grid_pose
+};
+
+/// Integrates scan at pose with the map's own integrator (changing only within's blocks when
+/// given); false (nothing changed) when the map refuses it (map::SemanticOccupancyMap::validate).
 bool integrateScan(map::SemanticOccupancyMap& map, const Eigen::Isometry3d& pose,
-                   const KeyframeScan& scan);
+                   const KeyframeScan& scan, const map::BlockRegion* within = nullptr);
+
+/// A box (map frame) holding every voxel that integrating scan at pose can change: the sensor
+/// and its points, those beyond max_range pulled in to it (rays end there), plus a voxel.
+Eigen::AlignedBox3d scanBox(const KeyframeScan& scan, const Eigen::Isometry3d& pose,
+                            const map::MapConfig& config);
+
+/// scanBox of the keyframe's scan at its grid_pose, computed again only when that moved.
+const Eigen::AlignedBox3d& gridBox(Keyframe& keyframe, const map::MapConfig& config);
+
+/// Brings grid, which holds keyframes [0, in_grid) at their grid_pose, to every keyframe at
+/// its estimate (estimates[id]): keyframes that moved more than min_shift (poseShift at lever)
+/// make the region (their scans' boxes where they were and where they go), which is erased
+/// and integrated again from every keyframe reaching into it, in keyframe order; keyframes
+/// from in_grid on are integrated whole. What lies outside the region stays: the keyframes
+/// that did not move keep their grid_pose there and in it, so each keyframe is in the grid at
+/// one pose. With in_grid 0 (an empty grid) it is the whole rebuild. Returns the scans
+/// integrated.
+int updateGrid(map::SemanticOccupancyMap& grid, std::vector<Keyframe>& keyframes,
+               std::size_t in_grid, const std::vector<Eigen::Isometry3d>& estimates,
+               double min_shift, double lever);
 
 /// How far moving a keyframe from `from` to `to` moves its scan: the translation plus the
 /// rotation's sweep at lever metres.

@@ -30,6 +30,10 @@ struct Keyframe {
   // Where the keyframe's scan is in the grid now: as integrated, then its pose in the last
   // rebuild. A closure that moves some keyframe far from it rebuilds the grid.
   Eigen::Isometry3d grid_pose = Eigen::Isometry3d::Identity();
+  // The box its scan reaches at box_pose (grid_rebuild.hpp, gridBox): region rebuilds test
+  // every keyframe, and a keyframe's grid_pose mostly stays. Not stored: computed again.
+  Eigen::Isometry3d box_pose = Eigen::Isometry3d::Identity();
+  Eigen::AlignedBox3d box;
   std::uint64_t order = 0;  // observation order over all robots (the rebuild's tail)
 
   std::size_t bytes() const {

@@ -44,6 +44,7 @@ std::string validate(const ServerConfig& c) {
   if (k.max_pending_scans < 1) return "consistency.max_pending_scans must be >= 1";
   if (!(k.rebuild_voxel > 0.0)) return "consistency.rebuild_voxel must be > 0";
   if (!(k.rebuild_min_shift >= 0.0)) return "consistency.rebuild_min_shift must be >= 0";
+  if (!(k.rebuild_region_shift >= 0.0)) return "consistency.rebuild_region_shift must be >= 0";
   if (!(k.correction_window >= 0.0)) return "consistency.correction_window must be >= 0";
   if (!(k.rebuild_max_wait >= 0.0)) return "consistency.rebuild_max_wait must be >= 0";
   if (!(k.snap_min_t >= 0.0) || !(k.snap_min_r >= 0.0))
@@ -91,6 +92,8 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
       {"correct_grid", &k.correct_grid},
       {"rebuild_voxel", &k.rebuild_voxel},
       {"rebuild_min_shift", &k.rebuild_min_shift},
+      {"rebuild_region", &k.rebuild_region},
+      {"rebuild_region_shift", &k.rebuild_region_shift},
       {"correction_window", &k.correction_window},
       {"rebuild_max_wait", &k.rebuild_max_wait},
       {"scan_to_scan_edges", &k.scan_to_scan_edges},

@@ -97,6 +97,8 @@ struct BlockVoxels {
   std::vector<std::uint8_t> label;
 };
 
+class BlockRegion;  // socc/map/block_region.hpp
+
 struct MapStats {
   std::int64_t num_voxels = 0;
   std::int64_t num_occupied = 0;
@@ -123,6 +125,17 @@ class SemanticOccupancyMap {
   /// hits update statistics and log-odds; rays clear free space. Precondition:
   /// validate(sensor_pose, cloud) is empty (asserted, not checked again).
   IntegrationResult integrate(const Eigen::Isometry3d& sensor_pose, const LabeledCloud& cloud);
+  /// The same, changing only the voxels of `within`'s blocks: the rays are traced in full, so
+  /// those voxels get exactly what a whole integration gives them (a region rebuild).
+  IntegrationResult integrate(const Eigen::Isometry3d& sensor_pose, const LabeledCloud& cloud,
+                              const BlockRegion& within);
+
+  /// Drops the region's blocks (they become unknown), as a region rebuild starts. A new epoch:
+  /// no delta chunk can say that blocks vanished.
+  void erase(const BlockRegion& region);
+
+  /// A deep copy with the same contents and version and a new epoch (another map instance).
+  SemanticOccupancyMap clone() const;
 
   /// The occupied (and, with kFree, free) voxels inside the query region (voxel centre
   /// inside; blocks in key order, so answers are deterministic). Throws std::invalid_argument

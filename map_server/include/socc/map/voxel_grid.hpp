@@ -115,6 +115,18 @@ class VoxelGrid {
   const BlockMap& blocks() const { return blocks_; }
   std::size_t numBlocks() const { return blocks_.size(); }
   void clear() { blocks_.clear(); }
+  /// Drops the block (no-op when absent).
+  void erase(const BlockKey& key) { blocks_.erase(key); }
+
+  /// A deep copy (every block copied). Named, not a copy constructor: a grid is large and
+  /// copying one should never happen by accident.
+  VoxelGrid clone() const {
+    VoxelGrid copy(geometry_.size);
+    copy.blocks_.reserve(blocks_.size());
+    for (const auto& [key, block] : blocks_)
+      copy.blocks_.emplace(key, std::make_unique<Block>(*block));
+    return copy;
+  }
 
   /// Blocks + statistics pools + hash table (buckets hold key, pointer and probe distance).
   std::size_t memoryBytes() const {
