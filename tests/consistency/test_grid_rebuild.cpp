@@ -2,6 +2,7 @@
 // and integrating again only the region they reach is the grid a whole rebuild gives.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
