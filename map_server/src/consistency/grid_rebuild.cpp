@@ -1,7 +1,5 @@
 #include "grid_rebuild.hpp"
 
-#include <cmath>
-
 namespace socc::consistency {
 
 bool integrateScan(map::SemanticOccupancyMap& map, const Eigen::Isometry3d& pose,
@@ -57,7 +55,9 @@ int updateGrid(map::SemanticOccupancyMap& grid, std::vector<Keyframe>& keyframes
     if (k.scan.empty() || poseShift(k.grid_pose, estimate(k), lever) <= min_shift) continue;
     moved[i] = true;
     region.addBox(gridBox(k, config), config.voxel_size);
-    region.addBox(scanBox(k.scan, estimate(k), config), config.voxel_size);
+    k.box = scanBox(k.scan, estimate(k), config);  // gridBox's, once grid_pose moves there
+    k.box_pose = estimate(k);
+    region.addBox(k.box, config.voxel_size);
   }
   if (!region.empty()) grid.erase(region);
   int integrated = 0;
