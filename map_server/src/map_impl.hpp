@@ -171,9 +171,12 @@ struct SemanticOccupancyMap::Impl {
   /// Recounts observed / occupied voxels (after loading).
   void recount();
 
-  /// SemanticOccupancyMap::integrate, changing only within's blocks when within is not null.
+  /// SemanticOccupancyMap::integrate, changing only within's blocks when within is not null,
+  /// and listing its footprint in *footprint when that is not null.
   IntegrationResult integrate(const Eigen::Isometry3d& sensor_pose, const LabeledCloud& cloud,
-                              const BlockRegion* within);
+                              const BlockRegion* within, std::vector<BlockKey>* footprint);
+  /// SemanticOccupancyMap::footprint.
+  std::vector<BlockKey> footprint(const Eigen::Isometry3d& sensor_pose, const LabeledCloud& cloud);
 
   /// Calls f(index, log_odds, stats-or-null) for every observed voxel, blocks in key order.
   template <typename F>

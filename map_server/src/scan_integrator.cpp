@@ -15,6 +15,8 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <iterator>
+#include <vector>
 
 #include "map_impl.hpp"
 #include "socc/map/block_region.hpp"
@@ -241,6 +243,20 @@ void applyMisses(const SemanticVoxelBehaviour& behaviour, Block& block, const Vo
   if (seen_change) block.occupied_version = version;
 }
 
+/// integrate's first steps: the scan's hit voxels with their frame aggregates, per partition.
+void aggregateHits(const Eigen::Isometry3d& pose, const LabeledCloud& cloud,
+                   const MapConfig& config, const Grid& grid, ScanScratch& s) {
+  classifyPoints(pose, cloud, config, grid, s);
+  tbb::parallel_for(std::size_t{0}, ScanScratch::kHitPartitions,
+                    [&](std::size_t p) { aggregatePartition(p, cloud, s); });
+}
+
+/// One footprint per thread of the arena (traverseRays).
+void sizeFootprints(const tbb::task_arena& arena, ScanScratch& s) {
+  const auto threads = static_cast<std::size_t>(arena.max_concurrency());
+  if (s.footprints.size() < threads) s.footprints.resize(threads);
+}
+
 /// Ray ends: each hit voxel's centre (partition order), then each distinct max-range end.
 void collectRayEnds(const Grid& grid, ScanScratch& s) {
   const VoxelGeometry geometry = grid.geometry();
@@ -349,6 +365,26 @@ void finishBlocks(ScanScratch& s, bool raycast, std::int64_t version) {
       if (block != nullptr) block->version = version;
 }
 
+/// The blocks of the scan's hit voxels and, with rays, of the voxels they crossed (the
+/// footprint traverseRays left in footprints[0]), in key order.
+std::vector<BlockKey> listFootprint(const ScanScratch& s, bool raycast) {
+  std::vector<BlockKey> hit;
+  for (const HitPartition& part : s.partitions)
+    for (const VoxelIndex& v : part.voxels)
+      if (hit.empty() || blockOf(v) != hit.back()) hit.push_back(blockOf(v));
+  std::sort(hit.begin(), hit.end(), indexLess);
+  hit.erase(std::unique(hit.begin(), hit.end()), hit.end());
+  if (!raycast) return hit;
+  const RayFootprint& rays = s.footprints[0];
+  std::vector<BlockKey> crossed(rays.numBlocks());
+  for (std::size_t i = 0; i < crossed.size(); ++i) crossed[i] = rays.key(i);
+  std::vector<BlockKey> all;
+  all.reserve(crossed.size() + hit.size());
+  std::set_union(hit.begin(), hit.end(), crossed.begin(), crossed.end(), std::back_inserter(all),
+                 indexLess);
+  return all;
+}
+
 }  // namespace
 
 // The contract, not a check: every caller validates first (the service before journaling the
@@ -356,30 +392,56 @@ void finishBlocks(ScanScratch& s, bool raycast, std::int64_t version) {
 IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& sensor_pose,
                                                   const LabeledCloud& cloud) {
   assert(validate(sensor_pose, cloud).empty());
-  return impl_->integrate(sensor_pose, cloud, nullptr);
+  return impl_->integrate(sensor_pose, cloud, nullptr, nullptr);
 }
 
 IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& sensor_pose,
                                                   const LabeledCloud& cloud,
                                                   const BlockRegion& within) {
   assert(validate(sensor_pose, cloud).empty());
-  return impl_->integrate(sensor_pose, cloud, &within);
+  return impl_->integrate(sensor_pose, cloud, &within, nullptr);
+}
+
+IntegrationResult SemanticOccupancyMap::integrate(const Eigen::Isometry3d& sensor_pose,
+                                                  const LabeledCloud& cloud,
+                                                  std::vector<BlockKey>& footprint) {
+  assert(validate(sensor_pose, cloud).empty());
+  return impl_->integrate(sensor_pose, cloud, nullptr, &footprint);
+}
+
+std::vector<BlockKey> SemanticOccupancyMap::footprint(const Eigen::Isometry3d& sensor_pose,
+                                                      const LabeledCloud& cloud) {
+  assert(validate(sensor_pose, cloud).empty());
+  return impl_->footprint(sensor_pose, cloud);
+}
+
+// integrate's steps up to the rays' footprint, applying nothing.
+std::vector<BlockKey> SemanticOccupancyMap::Impl::footprint(const Eigen::Isometry3d& sensor_pose,
+                                                            const LabeledCloud& cloud) {
+  ScanScratch& s = scratch;
+  sizeFootprints(arena, s);
+  arena.execute([&] {
+    aggregateHits(sensor_pose, cloud, config, grid, s);
+    if (config.raycast) {
+      collectRayEnds(grid, s);
+      traverseRays(sensor_pose.translation(), grid, s);
+    }
+  });
+  return listFootprint(s, config.raycast);
 }
 
 IntegrationResult SemanticOccupancyMap::Impl::integrate(const Eigen::Isometry3d& sensor_pose,
                                                         const LabeledCloud& cloud,
-                                                        const BlockRegion* within) {
+                                                        const BlockRegion* within,
+                                                        std::vector<BlockKey>* footprint) {
   Impl& m = *this;
   ScanScratch& s = m.scratch;
   Grid::Accessor access(m.grid);
   IntegrationResult result;
   Tally tally;
-  const auto threads = static_cast<std::size_t>(m.arena.max_concurrency());
-  if (s.footprints.size() < threads) s.footprints.resize(threads);
+  sizeFootprints(m.arena, s);
   m.arena.execute([&] {
-    classifyPoints(sensor_pose, cloud, m.config, m.grid, s);
-    tbb::parallel_for(std::size_t{0}, ScanScratch::kHitPartitions,
-                      [&](std::size_t p) { aggregatePartition(p, cloud, s); });
+    aggregateHits(sensor_pose, cloud, m.config, m.grid, s);
     tally = integrateHits(m.behaviour, access, within, s);
     result.voxels_hit = static_cast<std::int32_t>(tally.touched);
     if (m.config.raycast)
@@ -387,6 +449,7 @@ IntegrationResult SemanticOccupancyMap::Impl::integrate(const Eigen::Isometry3d&
                                m.version + 1, within, s);
   });
   finishBlocks(s, m.config.raycast, m.version + 1);
+  if (footprint != nullptr) *footprint = listFootprint(s, m.config.raycast);
 
   m.num_observed += tally.newly_observed;
   m.num_occupied += tally.occupied_delta;

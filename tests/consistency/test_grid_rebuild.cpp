@@ -76,13 +76,13 @@ std::vector<Eigen::Isometry3d> posesOf(const std::vector<Keyframe>& keyframes) {
   return poses;
 }
 
-constexpr double kMinShift = 0.05, kLever = 20.0;
+const RegionRule kRule = regionRule(ConsistencyParams{});  // server.yaml's
 
 TEST(GridRebuild, ARegionRebuildGivesTheGridOfAWholeRebuild) {
   const map::MapConfig config;
   std::vector<Keyframe> keyframes = streetKeyframes(config);
   map::SemanticOccupancyMap base(config);
-  ASSERT_EQ(updateGrid(base, keyframes, 0, posesOf(keyframes), kMinShift, kLever), kKeyframes);
+  ASSERT_EQ(updateGrid(base, keyframes, 0, posesOf(keyframes), kRule), kKeyframes);
 
   // A closure moves the street's last three keyframes (0.4 m and 1 deg) and adds two more.
   std::vector<Eigen::Isometry3d> moved = posesOf(keyframes);
@@ -100,9 +100,9 @@ TEST(GridRebuild, ARegionRebuildGivesTheGridOfAWholeRebuild) {
   std::vector<Keyframe> whole_keyframes = region_keyframes;
 
   map::SemanticOccupancyMap region = base.clone();
-  const int integrated = updateGrid(region, region_keyframes, kKeyframes, moved, kMinShift, kLever);
+  const int integrated = updateGrid(region, region_keyframes, kKeyframes, moved, kRule);
   map::SemanticOccupancyMap whole(config);
-  ASSERT_EQ(updateGrid(whole, whole_keyframes, 0, moved, kMinShift, kLever), kKeyframes + 2);
+  ASSERT_EQ(updateGrid(whole, whole_keyframes, 0, moved, kRule), kKeyframes + 2);
 
   // Compared whole, not printed: the answers are megabytes.
   EXPECT_TRUE(observe(region) == observe(whole));
@@ -118,29 +118,54 @@ TEST(GridRebuild, AKeyframeMovedLessThanTheRegionShiftStaysWhereItIs) {
   const map::MapConfig config;
   std::vector<Keyframe> keyframes = streetKeyframes(config);
   map::SemanticOccupancyMap grid(config);
-  updateGrid(grid, keyframes, 0, posesOf(keyframes), kMinShift, kLever);
+  updateGrid(grid, keyframes, 0, posesOf(keyframes), kRule);
   const std::vector<std::uint8_t> before = observe(grid);
 
   std::vector<Eigen::Isometry3d> estimates = posesOf(keyframes);
   estimates[4] = Eigen::Translation3d(0.03, 0.0, 0.0) * estimates[4];
-  EXPECT_EQ(updateGrid(grid, keyframes, kKeyframes, estimates, kMinShift, kLever), 0);
+  EXPECT_EQ(updateGrid(grid, keyframes, kKeyframes, estimates, kRule), 0);
   EXPECT_TRUE(observe(grid) == before);
   EXPECT_TRUE(keyframes[4].grid_pose.isApprox(keyframes[4].odom_pose));
 }
 
-TEST(GridRebuild, TheScanBoxHoldsTheSensorAndItsPointsUpToMaxRange) {
+TEST(GridRebuild, ACorrectionReachingMostKeyframesRebuildsTheWholeGrid) {
+  const map::MapConfig config;
+  std::vector<Keyframe> keyframes = streetKeyframes(config);
+  map::SemanticOccupancyMap grid(config);
+  updateGrid(grid, keyframes, 0, posesOf(keyframes), kRule);
+
+  // Every keyframe moves 0.3 m but the fifth (0.03 m, below the region shift): a whole rebuild
+  // puts it at its estimate too.
+  std::vector<Eigen::Isometry3d> estimates = posesOf(keyframes);
+  for (Eigen::Isometry3d& pose : estimates) pose = Eigen::Translation3d(0.0, 0.3, 0.0) * pose;
+  estimates[4] = Eigen::Translation3d(0.03, 0.0, 0.0) * keyframes[4].odom_pose;
+  std::vector<Keyframe> whole_keyframes = keyframes;
+  EXPECT_EQ(updateGrid(grid, keyframes, kKeyframes, estimates, kRule), kKeyframes);
+  EXPECT_TRUE(keyframes[4].grid_pose.isApprox(estimates[4]));
+  map::SemanticOccupancyMap whole(config);
+  updateGrid(whole, whole_keyframes, 0, estimates, kRule);
+  EXPECT_TRUE(observe(grid) == observe(whole));
+}
+
+TEST(GridRebuild, TheFootprintHoldsEveryBlockTheScanChangesAndNoOther) {
   map::MapConfig config;
   config.max_range = 10.0;
   LabeledCloud cloud;
   cloud.points = {{3.f, 0.f, 0.f}, {0.f, -40.f, 0.f}, {0.f, 0.f, 2.f}};
   cloud.labels = {1, 1, 1};
-  const KeyframeScan scan = compactScan(cloud, 0.1);
   const Eigen::Isometry3d pose(Eigen::Translation3d(100.0, 0.0, 0.0));
-  const Eigen::AlignedBox3d box = scanBox(scan, pose, config);
-  EXPECT_NEAR(box.max().x(), 103.0 + config.voxel_size, 0.06);
-  EXPECT_NEAR(box.min().y(), -10.0 - config.voxel_size, 0.06);  // the far point pulled in
-  EXPECT_NEAR(box.max().z(), 2.0 + config.voxel_size, 0.06);
-  EXPECT_NEAR(box.min().x(), 100.0 - config.voxel_size, 0.06);  // the sensor
+  map::SemanticOccupancyMap map(config);
+  const std::vector<map::BlockKey> traced = map.footprint(pose, cloud);
+  EXPECT_EQ(map.stats().num_blocks, 0);  // tracing changes nothing
+  std::vector<map::BlockKey> listed;
+  map.integrate(pose, cloud, listed);
+  EXPECT_EQ(listed, traced);
+  // The blocks the scan made are its footprint: the far point's ray ends at max range.
+  std::vector<map::BlockKey> made;
+  for (const auto& key : map.blocksChangedSince(-1)) made.emplace_back(key[0], key[1], key[2]);
+  EXPECT_EQ(made, traced);
+  const map::VoxelGeometry geometry(config.voxel_size);
+  EXPECT_EQ(traced.front(), map::blockOf(geometry.indexOf({100.0, -10.0, 0.0})));
 }
 
 }  // namespace

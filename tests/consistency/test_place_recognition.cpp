@@ -257,6 +257,7 @@ TEST(MapCorrection, LaterRebuildsOfTheMovedRegionGiveTheMapOfAWholeRebuild) {
   ConsistencyParams p = correctionParams();
   p.rebuild_min_shift = 0.0;
   p.rebuild_max_wait = 0.0;
+  p.rebuild_region_max_share = 1.0;  // region rebuilds even where they reach every keyframe
   ConsistencyService service(p, map::MapConfig{});
   map::SemanticOccupancyMap truth{map::MapConfig{}}, whole{map::MapConfig{}};
   for (std::size_t i = 0; i < d.scans.size(); ++i) {

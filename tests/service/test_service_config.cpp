@@ -49,6 +49,9 @@ TEST(ServerConfig, ShippedFileStatesTheConsistencyDefaults) {
   EXPECT_EQ(read.snap_min_t, defaults.snap_min_t);
   EXPECT_EQ(read.snap_min_r, defaults.snap_min_r);
   EXPECT_EQ(read.correction_window, defaults.correction_window);
+  EXPECT_EQ(read.rebuild_region, defaults.rebuild_region);
+  EXPECT_EQ(read.rebuild_region_shift, defaults.rebuild_region_shift);
+  EXPECT_EQ(read.rebuild_region_max_share, defaults.rebuild_region_max_share);
   EXPECT_EQ(read.gravity_priors, defaults.gravity_priors);
   EXPECT_EQ(read.gravity_sigma_floor, defaults.gravity_sigma_floor);
 }
@@ -90,6 +93,8 @@ TEST(ServerConfig, ErrorsNameTheFileAndTheKey) {
             at + "consistency.keyframe_distance must be > 0");
   EXPECT_EQ(error("consistency:\n  max_descriptor_distance: 2\n"),
             at + "consistency.max_descriptor_distance must be in [0, 1]");
+  EXPECT_EQ(error("consistency:\n  rebuild_region_max_share: 1.5\n"),
+            at + "consistency.rebuild_region_max_share must be in [0, 1]");
   EXPECT_EQ(error("consistency:\n  gravity_sigma_floor: 0\n"),
             at + "consistency.gravity_sigma_floor must be > 0");
   EXPECT_EQ(error("localization:\n  max_draws: 0\n"), at + "localization.max_draws must be > 0");

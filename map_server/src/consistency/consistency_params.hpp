@@ -22,6 +22,9 @@ struct ConsistencyParams {
   // updateGrid); off: every rebuild is of the whole map (and the worker keeps no copy).
   bool rebuild_region = true;
   double rebuild_region_shift = 0.05;  // [m] (at rebuild_lever)
+  // A region reaching more than this share of the keyframes is rebuilt whole: integrating into
+  // a region of a populated grid costs more per scan than into an empty one.
+  double rebuild_region_max_share = 0.75;
   // The correction a robot is told fits its keyframes within this much of its path before the
   // last (correction_fit.hpp): the grid it registers against next.
   double correction_window = 30.0;  // [m]

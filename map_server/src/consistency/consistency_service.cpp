@@ -325,14 +325,18 @@ void ConsistencyService::rebuild(double max_shift) {
   // copy, or base_ itself when none is kept.
   if (!base_ || !params_.rebuild_region)
     base_.emplace(KeyframeGrid{map::SemanticOccupancyMap(map_config_), 0});
-  grid->keyframes = updateGrid(base_->map, keyframes_, base_->keyframes, estimates_,
-                               params_.rebuild_region_shift, params_.rebuild_lever);
+  grid->keyframes =
+      updateGrid(base_->map, keyframes_, base_->keyframes, estimates_, regionRule(params_));
   base_->keyframes = keyframes_.size();
   if (params_.rebuild_region) {
     grid->map = base_->map.clone();
-  } else {
+  } else {  // nothing kept: neither the grid nor the keyframes' footprints
     grid->map = std::move(base_->map);
     base_.reset();
+    for (Keyframe& k : keyframes_) {
+      k.footprint = {};
+      k.footprint_pose.reset();
+    }
   }
   // Catch up with the keyframes observed meanwhile until none is left for the swap but the
   // last few.
@@ -353,11 +357,15 @@ void ConsistencyService::rebuild(double max_shift) {
   std::lock_guard<std::mutex> lock(mutex_);
   applied_ = grid->corrections;
   ++stats_.rebuilds;
-  stats_.max_rebuild_s = std::max(stats_.max_rebuild_s, grid->seconds);
-  stats_.rebuild_keyframes = grid->keyframes;
+  if (grid->seconds >= stats_.max_rebuild_s) {  // the longest rebuild and its scans
+    stats_.max_rebuild_s = grid->seconds;
+    stats_.rebuild_keyframes = grid->keyframes;
+  }
   stats_.rebuild_s += grid->seconds;
   stats_.rebuild_scans += grid->keyframes;
-  stats_.base_bytes = base_ ? static_cast<std::size_t>(base_->map.stats().memory_bytes) : 0;
+  stats_.base_bytes =
+      base_ ? static_cast<std::size_t>(base_->map.stats().memory_bytes) + footprintBytes(keyframes_)
+            : 0;
   ready_ = std::move(grid);
 }
 

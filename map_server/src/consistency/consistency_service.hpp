@@ -60,11 +60,11 @@ struct ConsistencyStats {
   std::size_t scan_bytes = 0;  // of that, the scans kept to rebuild the grid
   int rebuilds = 0;            // grids rebuilt (each swapped in unless a newer one replaced it)
   double max_rebuild_s = 0.0;  // the worker's longest rebuild
-  int rebuild_keyframes = 0;   // scans in the last rebuild
+  int rebuild_keyframes = 0;   // scans in the longest rebuild
   double rebuild_s = 0.0;      // the worker's time in rebuilds, summed
   long rebuild_scans = 0;      // scans integrated by rebuilds, summed
-  // The keyframes' part of the last rebuild the worker keeps for region rebuilds (its grid's
-  // memory_bytes): on top of the map's own grid.
+  // What the worker keeps for region rebuilds: the keyframes' part of the last rebuild (its
+  // grid's memory_bytes) and their footprints, on top of the map's own grid.
   std::size_t base_bytes = 0;
   double travelled = 0.0;  // [m] sum over robots
 };

@@ -1,17 +1,66 @@
 #include "grid_rebuild.hpp"
 
+#include <optional>
+
 namespace socc::consistency {
+
+namespace {
+
+/// The scan's cloud when the map takes it at pose.
+std::optional<LabeledCloud> acceptedCloud(const map::SemanticOccupancyMap& map,
+                                          const Eigen::Isometry3d& pose, const KeyframeScan& scan) {
+  if (scan.empty()) return std::nullopt;
+  LabeledCloud cloud = scan.cloud();
+  if (!map.validate(pose, cloud).empty()) return std::nullopt;
+  return cloud;
+}
+
+/// Integrates the keyframe's scan whole at its grid_pose, listing its footprint.
+bool integrateWhole(map::SemanticOccupancyMap& map, Keyframe& k) {
+  const std::optional<LabeledCloud> cloud = acceptedCloud(map, k.grid_pose, k.scan);
+  k.footprint.clear();
+  k.footprint_pose = k.grid_pose;
+  if (cloud) map.integrate(k.grid_pose, *cloud, k.footprint);
+  return cloud.has_value();
+}
+
+/// The keyframes of [0, in_grid) that moved more than min_shift from their grid_pose.
+std::vector<std::size_t> movedKeyframes(const std::vector<Keyframe>& keyframes, std::size_t in_grid,
+                                        const std::vector<Eigen::Isometry3d>& estimates,
+                                        double min_shift, double lever) {
+  std::vector<std::size_t> moved;
+  for (std::size_t i = 0; i < in_grid; ++i) {
+    const Keyframe& k = keyframes[i];
+    const Eigen::Isometry3d& estimate = estimates[static_cast<std::size_t>(k.id)];
+    if (!k.scan.empty() && poseShift(k.grid_pose, estimate, lever) > min_shift) moved.push_back(i);
+  }
+  return moved;
+}
+
+/// Marks the keyframes of [0, in_grid) whose footprints reach into region; whether more than
+/// max_share of them do.
+bool mostReach(map::SemanticOccupancyMap& grid, std::vector<Keyframe>& keyframes,
+               std::size_t in_grid, const map::BlockRegion& region, double max_share,
+               std::vector<bool>& reaches) {
+  reaches.assign(in_grid, false);
+  std::size_t reaching = 0;
+  for (std::size_t i = 0; i < in_grid && !region.empty(); ++i) {
+    reaches[i] = region.intersects(gridFootprint(grid, keyframes[i]));
+    reaching += reaches[i] ? 1 : 0;
+  }
+  return static_cast<double>(reaching) > max_share * static_cast<double>(in_grid);
+}
+
+}  // namespace
 
 bool integrateScan(map::SemanticOccupancyMap& map, const Eigen::Isometry3d& pose,
                    const KeyframeScan& scan, const map::BlockRegion* within) {
-  if (scan.empty()) return false;
-  const LabeledCloud cloud = scan.cloud();
-  if (!map.validate(pose, cloud).empty()) return false;
-  if (within != nullptr)
-    map.integrate(pose, cloud, *within);
-  else
-    map.integrate(pose, cloud);
-  return true;
+  const std::optional<LabeledCloud> cloud = acceptedCloud(map, pose, scan);
+  if (cloud && within != nullptr)
+    map.integrate(pose, *cloud, *within);
+  else if (cloud)
+    map.integrate(pose, *cloud);
+  return cloud.has_value();
 }
 
 double poseShift(const Eigen::Isometry3d& from, const Eigen::Isometry3d& to, double lever) {
@@ -19,59 +68,58 @@ double poseShift(const Eigen::Isometry3d& from, const Eigen::Isometry3d& to, dou
   return (to.translation() - from.translation()).norm() + angle * lever;
 }
 
-Eigen::AlignedBox3d scanBox(const KeyframeScan& scan, const Eigen::Isometry3d& pose,
-                            const map::MapConfig& config) {
-  Eigen::AlignedBox3d box(pose.translation());
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    Eigen::Vector3d p(scan.xyz[0][i], scan.xyz[1][i], scan.xyz[2][i]);
-    p *= scan.resolution;
-    const double range = p.norm();
-    if (range > config.max_range) p *= config.max_range / range;
-    box.extend(pose * p);
+const std::vector<map::BlockKey>& gridFootprint(map::SemanticOccupancyMap& map, Keyframe& k) {
+  if (!k.footprint_pose || k.footprint_pose->matrix() != k.grid_pose.matrix()) {
+    const std::optional<LabeledCloud> cloud = acceptedCloud(map, k.grid_pose, k.scan);
+    k.footprint = cloud ? map.footprint(k.grid_pose, *cloud) : std::vector<map::BlockKey>{};
+    k.footprint_pose = k.grid_pose;
   }
-  const Eigen::Vector3d margin = Eigen::Vector3d::Constant(config.voxel_size);
-  return {box.min() - margin, box.max() + margin};
-}
-
-const Eigen::AlignedBox3d& gridBox(Keyframe& keyframe, const map::MapConfig& config) {
-  if (keyframe.box.isEmpty() || keyframe.box_pose.matrix() != keyframe.grid_pose.matrix()) {
-    keyframe.box = scanBox(keyframe.scan, keyframe.grid_pose, config);
-    keyframe.box_pose = keyframe.grid_pose;
-  }
-  return keyframe.box;
+  return k.footprint;
 }
 
 int updateGrid(map::SemanticOccupancyMap& grid, std::vector<Keyframe>& keyframes,
                std::size_t in_grid, const std::vector<Eigen::Isometry3d>& estimates,
-               double min_shift, double lever) {
-  const map::MapConfig& config = grid.config();
+               const RegionRule& rule) {
   const auto estimate = [&](const Keyframe& k) -> const Eigen::Isometry3d& {
     return estimates[static_cast<std::size_t>(k.id)];
   };
+  const std::vector<std::size_t> moved =
+      movedKeyframes(keyframes, in_grid, estimates, rule.min_shift, rule.lever);
   map::BlockRegion region;
-  std::vector<bool> moved(in_grid, false);
-  for (std::size_t i = 0; i < in_grid; ++i) {
-    Keyframe& k = keyframes[i];
-    if (k.scan.empty() || poseShift(k.grid_pose, estimate(k), lever) <= min_shift) continue;
-    moved[i] = true;
-    region.addBox(gridBox(k, config), config.voxel_size);
-    k.box = scanBox(k.scan, estimate(k), config);  // gridBox's, once grid_pose moves there
-    k.box_pose = estimate(k);
-    region.addBox(k.box, config.voxel_size);
+  for (const std::size_t i : moved) region.add(gridFootprint(grid, keyframes[i]));
+  std::vector<bool> reaches;
+  // Where they were may already reach most keyframes: then where they go is not traced.
+  bool whole = mostReach(grid, keyframes, in_grid, region, rule.max_share, reaches);
+  if (!whole) {
+    for (const std::size_t i : moved) {
+      keyframes[i].grid_pose = estimate(keyframes[i]);
+      region.add(gridFootprint(grid, keyframes[i]));  // integrated there below
+    }
+    whole = mostReach(grid, keyframes, in_grid, region, rule.max_share, reaches);
   }
-  if (!region.empty()) grid.erase(region);
+  std::size_t kept = in_grid;  // keyframes whose scans stay in the grid
+  if (whole) {
+    grid.clear();
+    kept = 0;
+  } else if (!region.empty()) {
+    grid.erase(region);
+  }
   int integrated = 0;
   for (std::size_t i = 0; i < keyframes.size(); ++i) {
     Keyframe& k = keyframes[i];
-    if (i >= in_grid || moved[i] || k.scan.empty()) k.grid_pose = estimate(k);
-    if (i >= in_grid) {
-      integrated += integrateScan(grid, k.grid_pose, k.scan) ? 1 : 0;
-    } else if (!region.empty() && !k.scan.empty() &&
-               region.intersects(gridBox(k, config), config.voxel_size)) {
+    if (i >= kept || k.scan.empty()) k.grid_pose = estimate(k);
+    if (i >= kept)
+      integrated += integrateWhole(grid, k) ? 1 : 0;
+    else if (reaches[i])
       integrated += integrateScan(grid, k.grid_pose, k.scan, &region) ? 1 : 0;
-    }
   }
   return integrated;
+}
+
+std::size_t footprintBytes(const std::vector<Keyframe>& keyframes) {
+  std::size_t bytes = 0;
+  for (const Keyframe& k : keyframes) bytes += k.footprint.capacity() * sizeof(map::BlockKey);
+  return bytes;
 }
 
 }  // namespace socc::consistency

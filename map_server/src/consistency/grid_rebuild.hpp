@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "consistency_params.hpp"
 #include "keyframe.hpp"
 #include "keyframe_scan.hpp"
 #include "socc/map/block_region.hpp"
@@ -49,25 +50,37 @@ struct KeyframeGrid {
 bool integrateScan(map::SemanticOccupancyMap& map, const Eigen::Isometry3d& pose,
                    const KeyframeScan& scan, const map::BlockRegion* within = nullptr);
 
-/// A box (map frame) holding every voxel that integrating scan at pose can change: the sensor
-/// and its points, those beyond max_range pulled in to it (rays end there), plus a voxel.
-Eigen::AlignedBox3d scanBox(const KeyframeScan& scan, const Eigen::Isometry3d& pose,
-                            const map::MapConfig& config);
+/// The keyframe's footprint at its grid_pose (SemanticOccupancyMap::footprint; empty when
+/// map refuses its scan), traced again only when not known there.
+const std::vector<map::BlockKey>& gridFootprint(map::SemanticOccupancyMap& map, Keyframe& keyframe);
 
-/// scanBox of the keyframe's scan at its grid_pose, computed again only when that moved.
-const Eigen::AlignedBox3d& gridBox(Keyframe& keyframe, const map::MapConfig& config);
+/// When a rebuild works on a region (ConsistencyParams' rebuild_region_shift, rebuild_lever,
+/// rebuild_region_max_share).
+struct RegionRule {
+  double min_shift;  // [m] keyframes moving less (poseShift at lever) stay where they are
+  double lever;      // [m]
+  double max_share;  // a region reaching more of the keyframes: rebuilt whole
+};
+
+inline RegionRule regionRule(const ConsistencyParams& p) {
+  return {p.rebuild_region_shift, p.rebuild_lever, p.rebuild_region_max_share};
+}
 
 /// Brings grid, which holds keyframes [0, in_grid) at their grid_pose, to every keyframe at
-/// its estimate (estimates[id]): keyframes that moved more than min_shift (poseShift at lever)
-/// make the region (their scans' boxes where they were and where they go), which is erased
-/// and integrated again from every keyframe reaching into it, in keyframe order; keyframes
-/// from in_grid on are integrated whole. What lies outside the region stays: the keyframes
-/// that did not move keep their grid_pose there and in it, so each keyframe is in the grid at
-/// one pose. With in_grid 0 (an empty grid) it is the whole rebuild. Returns the scans
-/// integrated.
+/// its estimate (estimates[id]): keyframes that moved more than rule.min_shift make the region
+/// (their scans' footprints where they were and where they go), which is erased and integrated
+/// again from every keyframe whose footprint reaches into it, in keyframe order; keyframes from
+/// in_grid on are integrated whole (listing their footprints). What lies outside the region
+/// stays: the keyframes that did not move keep their grid_pose there and in it, so each
+/// keyframe is in the grid at one pose. With in_grid 0 (an empty grid), or a region reaching
+/// more than rule.max_share of the keyframes, it is the whole rebuild, every keyframe at its
+/// estimate. Returns the scans integrated.
 int updateGrid(map::SemanticOccupancyMap& grid, std::vector<Keyframe>& keyframes,
                std::size_t in_grid, const std::vector<Eigen::Isometry3d>& estimates,
-               double min_shift, double lever);
+               const RegionRule& rule);
+
+/// The memory of the keyframes' footprints (what region rebuilds keep besides the grid).
+std::size_t footprintBytes(const std::vector<Keyframe>& keyframes);
 
 /// How far moving a keyframe from `from` to `to` moves its scan: the translation plus the
 /// rotation's sweep at lever metres.

@@ -30,10 +30,11 @@ struct Keyframe {
   // Where the keyframe's scan is in the grid now: as integrated, then its pose in the last
   // rebuild. A closure that moves some keyframe far from it rebuilds the grid.
   Eigen::Isometry3d grid_pose = Eigen::Isometry3d::Identity();
-  // The box its scan reaches at box_pose (grid_rebuild.hpp, gridBox): region rebuilds test
-  // every keyframe, and a keyframe's grid_pose mostly stays. Not stored: computed again.
-  Eigen::Isometry3d box_pose = Eigen::Isometry3d::Identity();
-  Eigen::AlignedBox3d box;
+  // The blocks its scan changes at footprint_pose (none: not known yet), kept for region
+  // rebuilds (grid_rebuild.hpp, updateGrid): they test every keyframe, and a keyframe's
+  // grid_pose mostly stays. Listed as it is integrated; not stored, traced again when needed.
+  std::optional<Eigen::Isometry3d> footprint_pose;
+  std::vector<Eigen::Vector3i> footprint;
   std::uint64_t order = 0;  // observation order over all robots (the rebuild's tail)
 
   std::size_t bytes() const {

@@ -45,6 +45,8 @@ std::string validate(const ServerConfig& c) {
   if (!(k.rebuild_voxel > 0.0)) return "consistency.rebuild_voxel must be > 0";
   if (!(k.rebuild_min_shift >= 0.0)) return "consistency.rebuild_min_shift must be >= 0";
   if (!(k.rebuild_region_shift >= 0.0)) return "consistency.rebuild_region_shift must be >= 0";
+  if (!(k.rebuild_region_max_share >= 0.0 && k.rebuild_region_max_share <= 1.0))
+    return "consistency.rebuild_region_max_share must be in [0, 1]";
   if (!(k.correction_window >= 0.0)) return "consistency.correction_window must be >= 0";
   if (!(k.rebuild_max_wait >= 0.0)) return "consistency.rebuild_max_wait must be >= 0";
   if (!(k.snap_min_t >= 0.0) || !(k.snap_min_r >= 0.0))
@@ -94,6 +96,7 @@ ServerConfig loadServerConfig(const std::filesystem::path& file) {
       {"rebuild_min_shift", &k.rebuild_min_shift},
       {"rebuild_region", &k.rebuild_region},
       {"rebuild_region_shift", &k.rebuild_region_shift},
+      {"rebuild_region_max_share", &k.rebuild_region_max_share},
       {"correction_window", &k.correction_window},
       {"rebuild_max_wait", &k.rebuild_max_wait},
       {"scan_to_scan_edges", &k.scan_to_scan_edges},

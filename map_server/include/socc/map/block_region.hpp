@@ -5,7 +5,9 @@
 #include <tsl/robin_set.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cstddef>
+#include <vector>
 
 #include "socc/map/voxel_grid.hpp"
 
@@ -16,22 +18,26 @@ class BlockRegion {
   /// Adds every block that a voxel of box (map frame, metres) lies in, with voxels of
   /// voxel_size.
   void addBox(const Eigen::AlignedBox3d& box, double voxel_size) {
-    forEachBlock(box, voxel_size, [this](const BlockKey& key) {
-      blocks_.insert(key);
-      bounds_.extend(key);
-      return false;
-    });
+    const VoxelGeometry geometry(voxel_size);
+    const BlockKey lo = blockOf(geometry.indexOf(box.min()));
+    const BlockKey hi = blockOf(geometry.indexOf(box.max()));
+    for (int x = lo.x(); x <= hi.x(); ++x)
+      for (int y = lo.y(); y <= hi.y(); ++y)
+        for (int z = lo.z(); z <= hi.z(); ++z) insert(BlockKey(x, y, z));
+  }
+
+  /// Adds blocks (e.g. a scan's footprint: SemanticOccupancyMap::footprint).
+  void add(const std::vector<BlockKey>& blocks) {
+    for (const BlockKey& key : blocks) insert(key);
   }
 
   bool contains(const BlockKey& key) const { return blocks_.count(key) != 0; }
 
-  /// Whether a block of box (as addBox) is in the region.
-  bool intersects(const Eigen::AlignedBox3d& box, double voxel_size) const {
-    const VoxelGeometry geometry(voxel_size);
-    const Eigen::AlignedBox3i blocks(blockOf(geometry.indexOf(box.min())),
-                                     blockOf(geometry.indexOf(box.max())));
-    if (!bounds_.intersects(blocks)) return false;  // far from the region: no lookups
-    return forEachBlock(box, voxel_size, [this](const BlockKey& key) { return contains(key); });
+  /// Whether one of blocks is in the region.
+  bool intersects(const std::vector<BlockKey>& blocks) const {
+    return std::any_of(blocks.begin(), blocks.end(), [this](const BlockKey& key) {
+      return bounds_.contains(key) && contains(key);  // far from the region: no lookup
+    });
   }
 
   bool empty() const { return blocks_.empty(); }
@@ -39,17 +45,9 @@ class BlockRegion {
   const tsl::robin_set<BlockKey, VoxelIndexHash>& blocks() const { return blocks_; }
 
  private:
-  /// Calls f(key) for each block of box until f returns true; whether one did.
-  template <typename F>
-  static bool forEachBlock(const Eigen::AlignedBox3d& box, double voxel_size, F&& f) {
-    const VoxelGeometry geometry(voxel_size);
-    const BlockKey lo = blockOf(geometry.indexOf(box.min()));
-    const BlockKey hi = blockOf(geometry.indexOf(box.max()));
-    for (int x = lo.x(); x <= hi.x(); ++x)
-      for (int y = lo.y(); y <= hi.y(); ++y)
-        for (int z = lo.z(); z <= hi.z(); ++z)
-          if (f(BlockKey(x, y, z))) return true;
-    return false;
+  void insert(const BlockKey& key) {
+    blocks_.insert(key);
+    bounds_.extend(key);
   }
 
   tsl::robin_set<BlockKey, VoxelIndexHash> blocks_;

@@ -129,6 +129,17 @@ class SemanticOccupancyMap {
   /// those voxels get exactly what a whole integration gives them (a region rebuild).
   IntegrationResult integrate(const Eigen::Isometry3d& sensor_pose, const LabeledCloud& cloud,
                               const BlockRegion& within);
+  /// The first form, also listing its footprint (as footprint() gives it) in `footprint`.
+  IntegrationResult integrate(const Eigen::Isometry3d& sensor_pose, const LabeledCloud& cloud,
+                              std::vector<Eigen::Vector3i>& footprint);
+
+  /// The keys (socc/map/voxel_grid.hpp's BlockKey) of the blocks that integrate(sensor_pose,
+  /// cloud) changes, those of the voxels its points hit and its rays cross, in key order
+  /// (indexLess), leaving the map as it is: what a region rebuild erases and integrates again
+  /// when the scan moves. Same precondition as integrate(); not const, as it works in the
+  /// integrator's scratch memory.
+  std::vector<Eigen::Vector3i> footprint(const Eigen::Isometry3d& sensor_pose,
+                                         const LabeledCloud& cloud);
 
   /// Drops the region's blocks (they become unknown), as a region rebuild starts. A new epoch:
   /// no delta chunk can say that blocks vanished.
