@@ -147,6 +147,29 @@ TEST(GridRebuild, ACorrectionReachingMostKeyframesRebuildsTheWholeGrid) {
   EXPECT_TRUE(observe(grid) == observe(whole));
 }
 
+// rebuild_region false: every rebuild is whole (the moved keyframe's region is not used) and
+// no keyframe keeps a footprint.
+TEST(GridRebuild, WithoutRegionsEveryRebuildIsWholeAndKeepsNoFootprint) {
+  const map::MapConfig config;
+  RegionRule off = kRule;
+  off.enabled = false;
+  std::vector<Keyframe> keyframes = streetKeyframes(config);
+  map::SemanticOccupancyMap grid(config);
+  ASSERT_EQ(updateGrid(grid, keyframes, 0, posesOf(keyframes), off), kKeyframes);
+  std::vector<Eigen::Isometry3d> estimates = posesOf(keyframes);
+  estimates[kKeyframes - 1] = Eigen::Translation3d(0.0, 0.4, 0.0) * estimates[kKeyframes - 1];
+  std::vector<Keyframe> whole_keyframes = keyframes;
+  EXPECT_EQ(updateGrid(grid, keyframes, kKeyframes, estimates, off), kKeyframes);
+  for (const Keyframe& k : keyframes) {
+    EXPECT_TRUE(k.footprint.empty());
+    EXPECT_FALSE(k.footprint_pose.has_value());
+  }
+  EXPECT_EQ(footprintBytes(keyframes), 0U);
+  map::SemanticOccupancyMap whole(config);
+  updateGrid(whole, whole_keyframes, 0, estimates, kRule);
+  EXPECT_TRUE(observe(grid) == observe(whole));
+}
+
 TEST(GridRebuild, TheFootprintHoldsEveryBlockTheScanChangesAndNoOther) {
   map::MapConfig config;
   config.max_range = 10.0;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "socc/chunk_features.hpp"
 #include "socc/chunk_request_t.hpp"
@@ -206,10 +207,17 @@ TEST(Integration, ARegionIntegrationChangesItsBlocksAsAWholeOneAndNothingElse) {
   const Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   SemanticOccupancyMap whole{MapConfig{}}, part{MapConfig{}};
   whole.integrate(pose, scan);
-  BlockRegion region;  // the wall's half at y > 0 and the rays' second half
-  region.addBox(
-      Eigen::AlignedBox3d(Eigen::Vector3d(6.0, 0.5, -7.0), Eigen::Vector3d(13.0, 7.0, 7.0)),
-      whole.config().voxel_size);
+  // The wall's half at y > 0 and the rays' second half: the blocks of voxels in x 6..13 m,
+  // y 0.5..7 m, z -7..7 m.
+  const VoxelGeometry geometry(whole.config().voxel_size);
+  const BlockKey lo = blockOf(geometry.indexOf({6.0, 0.5, -7.0}));
+  const BlockKey hi = blockOf(geometry.indexOf({13.0, 7.0, 7.0}));
+  std::vector<BlockKey> blocks;
+  for (int x = lo.x(); x <= hi.x(); ++x)
+    for (int y = lo.y(); y <= hi.y(); ++y)
+      for (int z = lo.z(); z <= hi.z(); ++z) blocks.emplace_back(x, y, z);
+  BlockRegion region;
+  region.add(blocks);
   part.integrate(pose, scan, region);
   int inside = 0, outside = 0;
   for (double x = 0.25; x < 13.0; x += 0.5)

@@ -330,13 +330,9 @@ void ConsistencyService::rebuild(double max_shift) {
   base_->keyframes = keyframes_.size();
   if (params_.rebuild_region) {
     grid->map = base_->map.clone();
-  } else {  // nothing kept: neither the grid nor the keyframes' footprints
+  } else {  // nothing kept: neither the grid nor (updateGrid) the keyframes' footprints
     grid->map = std::move(base_->map);
     base_.reset();
-    for (Keyframe& k : keyframes_) {
-      k.footprint = {};
-      k.footprint_pose.reset();
-    }
   }
   // Catch up with the keyframes observed meanwhile until none is left for the swap but the
   // last few.

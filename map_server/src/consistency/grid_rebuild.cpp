@@ -1,5 +1,6 @@
 #include "grid_rebuild.hpp"
 
+#include <algorithm>
 #include <optional>
 
 namespace socc::consistency {
@@ -24,6 +25,14 @@ bool integrateWhole(map::SemanticOccupancyMap& map, Keyframe& k) {
   return cloud.has_value();
 }
 
+/// Integrates the keyframe's scan whole at its grid_pose, keeping no footprint (no region
+/// rebuild will ask for it).
+bool integrateUnlisted(map::SemanticOccupancyMap& map, Keyframe& k) {
+  k.footprint = {};
+  k.footprint_pose.reset();
+  return integrateScan(map, k.grid_pose, k.scan);
+}
+
 /// The keyframes of [0, in_grid) that moved more than min_shift from their grid_pose.
 std::vector<std::size_t> movedKeyframes(const std::vector<Keyframe>& keyframes, std::size_t in_grid,
                                         const std::vector<Eigen::Isometry3d>& estimates,
@@ -37,18 +46,14 @@ std::vector<std::size_t> movedKeyframes(const std::vector<Keyframe>& keyframes, 
   return moved;
 }
 
-/// Marks the keyframes of [0, in_grid) whose footprints reach into region; whether more than
-/// max_share of them do.
-bool mostReach(map::SemanticOccupancyMap& grid, std::vector<Keyframe>& keyframes,
-               std::size_t in_grid, const map::BlockRegion& region, double max_share,
-               std::vector<bool>& reaches) {
-  reaches.assign(in_grid, false);
-  std::size_t reaching = 0;
-  for (std::size_t i = 0; i < in_grid && !region.empty(); ++i) {
-    reaches[i] = region.intersects(gridFootprint(grid, keyframes[i]));
-    reaching += reaches[i] ? 1 : 0;
-  }
-  return static_cast<double>(reaching) > max_share * static_cast<double>(in_grid);
+/// Marks the keyframes of [0, in_grid) not marked yet whose footprints reach into blocks;
+/// returns how many are marked in all.
+std::size_t markReaching(map::SemanticOccupancyMap& grid, std::vector<Keyframe>& keyframes,
+                         std::size_t in_grid, const map::BlockRegion& blocks,
+                         std::vector<bool>& reaches) {
+  for (std::size_t i = 0; i < in_grid && !blocks.empty(); ++i)
+    if (!reaches[i]) reaches[i] = blocks.intersects(gridFootprint(grid, keyframes[i]));
+  return static_cast<std::size_t>(std::count(reaches.begin(), reaches.end(), true));
 }
 
 }  // namespace
@@ -84,18 +89,25 @@ int updateGrid(map::SemanticOccupancyMap& grid, std::vector<Keyframe>& keyframes
     return estimates[static_cast<std::size_t>(k.id)];
   };
   const std::vector<std::size_t> moved =
-      movedKeyframes(keyframes, in_grid, estimates, rule.min_shift, rule.lever);
-  map::BlockRegion region;
+      rule.enabled ? movedKeyframes(keyframes, in_grid, estimates, rule.min_shift, rule.lever)
+                   : std::vector<std::size_t>{};
+  const auto most = [&](std::size_t reaching) {
+    return static_cast<double>(reaching) > rule.max_share * static_cast<double>(in_grid);
+  };
+  map::BlockRegion region;  // where the moved keyframes were, then also where they go
   for (const std::size_t i : moved) region.add(gridFootprint(grid, keyframes[i]));
-  std::vector<bool> reaches;
+  std::vector<bool> reaches(in_grid, false);
   // Where they were may already reach most keyframes: then where they go is not traced.
-  bool whole = mostReach(grid, keyframes, in_grid, region, rule.max_share, reaches);
+  bool whole = !rule.enabled || most(markReaching(grid, keyframes, in_grid, region, reaches));
   if (!whole) {
+    map::BlockRegion going;  // tested only against the keyframes not reaching yet
     for (const std::size_t i : moved) {
       keyframes[i].grid_pose = estimate(keyframes[i]);
-      region.add(gridFootprint(grid, keyframes[i]));  // integrated there below
+      const std::vector<map::BlockKey>& footprint = gridFootprint(grid, keyframes[i]);
+      going.add(footprint);  // integrated there below
+      region.add(footprint);
     }
-    whole = mostReach(grid, keyframes, in_grid, region, rule.max_share, reaches);
+    whole = most(markReaching(grid, keyframes, in_grid, going, reaches));
   }
   std::size_t kept = in_grid;  // keyframes whose scans stay in the grid
   if (whole) {
@@ -108,7 +120,9 @@ int updateGrid(map::SemanticOccupancyMap& grid, std::vector<Keyframe>& keyframes
   for (std::size_t i = 0; i < keyframes.size(); ++i) {
     Keyframe& k = keyframes[i];
     if (i >= kept || k.scan.empty()) k.grid_pose = estimate(k);
-    if (i >= kept)
+    if (i >= kept && !rule.enabled)
+      integrated += integrateUnlisted(grid, k) ? 1 : 0;
+    else if (i >= kept)
       integrated += integrateWhole(grid, k) ? 1 : 0;
     else if (reaches[i])
       integrated += integrateScan(grid, k.grid_pose, k.scan, &region) ? 1 : 0;

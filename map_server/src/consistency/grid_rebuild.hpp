@@ -54,16 +54,17 @@ bool integrateScan(map::SemanticOccupancyMap& map, const Eigen::Isometry3d& pose
 /// map refuses its scan), traced again only when not known there.
 const std::vector<map::BlockKey>& gridFootprint(map::SemanticOccupancyMap& map, Keyframe& keyframe);
 
-/// When a rebuild works on a region (ConsistencyParams' rebuild_region_shift, rebuild_lever,
-/// rebuild_region_max_share).
+/// When a rebuild works on a region (ConsistencyParams' rebuild_region, rebuild_region_shift,
+/// rebuild_lever, rebuild_region_max_share).
 struct RegionRule {
+  bool enabled;      // false: every rebuild is whole, and no footprint is listed or kept
   double min_shift;  // [m] keyframes moving less (poseShift at lever) stay where they are
   double lever;      // [m]
   double max_share;  // a region reaching more of the keyframes: rebuilt whole
 };
 
 inline RegionRule regionRule(const ConsistencyParams& p) {
-  return {p.rebuild_region_shift, p.rebuild_lever, p.rebuild_region_max_share};
+  return {p.rebuild_region, p.rebuild_region_shift, p.rebuild_lever, p.rebuild_region_max_share};
 }
 
 /// Brings grid, which holds keyframes [0, in_grid) at their grid_pose, to every keyframe at
@@ -74,7 +75,8 @@ inline RegionRule regionRule(const ConsistencyParams& p) {
 /// stays: the keyframes that did not move keep their grid_pose there and in it, so each
 /// keyframe is in the grid at one pose. With in_grid 0 (an empty grid), or a region reaching
 /// more than rule.max_share of the keyframes, it is the whole rebuild, every keyframe at its
-/// estimate. Returns the scans integrated.
+/// estimate; so is every rebuild when !rule.enabled (then without footprints). Returns the scans
+/// integrated.
 int updateGrid(map::SemanticOccupancyMap& grid, std::vector<Keyframe>& keyframes,
                std::size_t in_grid, const std::vector<Eigen::Isometry3d>& estimates,
                const RegionRule& rule);

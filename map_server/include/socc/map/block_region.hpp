@@ -15,17 +15,6 @@ namespace socc::map {
 
 class BlockRegion {
  public:
-  /// Adds every block that a voxel of box (map frame, metres) lies in, with voxels of
-  /// voxel_size.
-  void addBox(const Eigen::AlignedBox3d& box, double voxel_size) {
-    const VoxelGeometry geometry(voxel_size);
-    const BlockKey lo = blockOf(geometry.indexOf(box.min()));
-    const BlockKey hi = blockOf(geometry.indexOf(box.max()));
-    for (int x = lo.x(); x <= hi.x(); ++x)
-      for (int y = lo.y(); y <= hi.y(); ++y)
-        for (int z = lo.z(); z <= hi.z(); ++z) insert(BlockKey(x, y, z));
-  }
-
   /// Adds blocks (e.g. a scan's footprint: SemanticOccupancyMap::footprint).
   void add(const std::vector<BlockKey>& blocks) {
     for (const BlockKey& key : blocks) insert(key);
