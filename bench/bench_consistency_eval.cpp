@@ -383,6 +383,11 @@ int main(int argc, char** argv) {
         revisits.doubled_after, revisits.count, 100.0 * revisits.shareAfter(), 100.0 * max_doubled);
     std::printf("| closures verified / attempts | | %d / %.0f | |\n",
                 static_cast<int>(closures.size()), stats["attempts"]);
+    std::printf(
+        "| candidates refused: explain too little / ambiguous / free space / no registration | | "
+        "%.0f / %.0f / %.0f / %.0f | |\n",
+        stats["candidates_refused_low_fitness"], stats["candidates_refused_ambiguous"],
+        stats["candidates_refused_free_space"], stats["candidates_refused_no_registration"]);
     std::printf("| wrong closures (> %.1f m or %.0f deg) | | %d | 0 |\n", wrong_m, wrong_deg,
                 wrong);
     printServiceRows(stats, km);

@@ -51,13 +51,35 @@ std::string percentText(double share) {
   return out.str();
 }
 
+const char* refusalName(Refusal refusal) {
+  switch (refusal) {
+    case Refusal::kNoCandidate:
+      return "no_candidate";
+    case Refusal::kNoRegistration:
+      return "no_registration";
+    case Refusal::kFreeSpace:
+      return "free_space";
+    case Refusal::kLowFitness:
+      return "low_fitness";
+    case Refusal::kAmbiguous:
+      return "ambiguous";
+    case Refusal::kNone:
+      break;
+  }
+  return "none";
+}
+
 std::vector<VerifiedPlace> verifyPlaces(const OdomConfig& config, const PreparedScan& scan,
                                         const std::vector<Eigen::Vector3f>& points, MapAccess& map,
                                         const std::vector<Eigen::Isometry3d>& poses,
-                                        std::string& problem) {
+                                        std::string& problem, Refusal* refusal) {
+  const auto refuse = [refusal](Refusal why) {
+    if (refusal) *refusal = why;
+  };
   std::vector<VerifiedPlace> places = refinedPlaces(config, scan, map, poses);
   if (places.empty()) {
     problem = "no candidate survived registration";
+    refuse(Refusal::kNoRegistration);
     return places;
   }
   std::vector<Eigen::Isometry3d> refined;
@@ -74,6 +96,7 @@ std::vector<VerifiedPlace> verifyPlaces(const OdomConfig& config, const Prepared
                 percentText(config.relocalize_max_free) + ")";
   }
   if (!consistent.empty()) problem.clear();
+  refuse(consistent.empty() ? Refusal::kFreeSpace : Refusal::kNone);
   std::sort(
       consistent.begin(), consistent.end(),
       [](const VerifiedPlace& a, const VerifiedPlace& b) { return a.evidence() > b.evidence(); });
@@ -107,23 +130,27 @@ Relocalization relocalize(const OdomConfig& config, const PreparedScan& scan, Ma
   out.candidates = static_cast<int>(candidates.size());
   if (candidates.empty()) {
     out.problem = "no candidate pose: the scan matches nothing in the map";
+    out.refusal = Refusal::kNoCandidate;
     return out;
   }
   const std::vector<VerifiedPlace> places =
-      verifyPlaces(config, scan, points, map, candidates, out.problem);
+      verifyPlaces(config, scan, points, map, candidates, out.problem, &out.refusal);
   if (places.empty()) return out;
   out.fitness = places[0].fitness;
   out.free = places[0].free;
   out.evidence = places[0].evidence();
   out.runner_up = places.size() > 1 ? places[1].evidence() : 0.0;
-  if (out.fitness < config.relocalize_min_fitness)
+  if (out.fitness < config.relocalize_min_fitness) {
     out.problem = "best candidate explains " + percentText(out.fitness) + " of the scan (< " +
                   percentText(config.relocalize_min_fitness) + ")";
-  else if (out.evidence - out.runner_up < config.relocalize_margin)
+    out.refusal = Refusal::kLowFitness;
+  } else if (out.evidence - out.runner_up < config.relocalize_margin) {
     out.problem = "ambiguous: two places explain " + percentText(out.evidence) + " and " +
                   percentText(out.runner_up) + " of the scan net of the free space they contradict";
-  else
+    out.refusal = Refusal::kAmbiguous;
+  } else {
     out.pose = places[0].pose;
+  }
   out.map_epoch = places[0].map_epoch;
   return out;
 }

@@ -131,10 +131,19 @@ TEST(PlaceRecognition, TwoRobotsInTwoWorldsNeverMeet) {
     service.observe("b", static_cast<std::int64_t>(i), 0, b.truth[i], b.scans[i]);
   }
   service.flush();
-  EXPECT_GT(service.stats().recognition.attempts, 0);
-  EXPECT_EQ(service.stats().recognition.verified, 0);
-  std::cerr << service.stats().recognition.attempts << " attempts, "
-            << service.stats().recognition.seconds << " s\n";
+  const RecognitionTally tally = service.stats().recognition;
+  EXPECT_GT(tally.attempts, 0);
+  EXPECT_EQ(tally.verified, 0);
+  // Every attempt's candidates were refused, each counted by why (stats.txt).
+  int refused = 0;
+  for (std::size_t i = 0; i < tally.candidates_refused.size(); ++i) {
+    std::cerr << odom::refusalName(static_cast<odom::Refusal>(i)) << ' '
+              << tally.candidates_refused[i] << '\n';
+    refused += tally.candidates_refused[i];
+  }
+  EXPECT_EQ(tally.candidates_refused[0], 0);  // kNone: only refusals are counted
+  EXPECT_GE(refused, tally.attempts);
+  std::cerr << tally.attempts << " attempts, " << tally.seconds << " s\n";
 }
 
 // Share of map's occupied voxels that truth saw as free space: surfaces where there are none

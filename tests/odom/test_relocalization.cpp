@@ -65,6 +65,7 @@ TEST_P(RelocalizeInMappedPart, LandsInTheMapFrameWithin10cmAnd1deg) {
   for (const double t : {0.75, 2.05, 3.35}) {
     const Relocalization r = relocalize(world.loop.cfg, world.scanAt(t, world.scene), access, {});
     ASSERT_TRUE(r.pose) << "t = " << t << ": " << r.problem;
+    EXPECT_EQ(r.refusal, Refusal::kNone);
     const Eigen::Isometry3d d = world.mappedPoseAt(t).inverse() * *r.pose;
     std::printf("t %.2f: %d candidates, fitness %.2f (runner-up %.2f), error %.3f m %.3f deg\n", t,
                 r.candidates, r.fitness, r.runner_up, d.translation().norm(), degrees(d));
@@ -95,8 +96,20 @@ TEST(Relocalize, AnUnmappedPlaceIsNotLocalized) {
       std::printf("unmapped place: %d candidates, fitness %.2f, runner-up %.2f: %s\n", r.candidates,
                   r.fitness, r.runner_up, r.problem.c_str());
       EXPECT_FALSE(r.pose) << "a place that is not in the map was localized";
+      EXPECT_NE(r.refusal, Refusal::kNone) << r.problem;  // its kind, as the server counts it
     }
   }
+}
+
+// The refusal kinds' names, as stats.txt (candidates_refused_NAME) and the bench print them.
+TEST(Relocalize, EachRefusalKindHasItsName) {
+  EXPECT_STREQ(refusalName(Refusal::kNone), "none");
+  EXPECT_STREQ(refusalName(Refusal::kNoCandidate), "no_candidate");
+  EXPECT_STREQ(refusalName(Refusal::kNoRegistration), "no_registration");
+  EXPECT_STREQ(refusalName(Refusal::kFreeSpace), "free_space");
+  EXPECT_STREQ(refusalName(Refusal::kLowFitness), "low_fitness");
+  EXPECT_STREQ(refusalName(Refusal::kAmbiguous), "ambiguous");
+  EXPECT_EQ(static_cast<int>(Refusal::kAmbiguous) + 1, kRefusalKinds);
 }
 
 // A searching robot (Relocalizer): its scans stacked by its own odometry, the place accepted

@@ -243,8 +243,10 @@ std::optional<std::pair<Closure, PoseEdge>> ConsistencyService::attemptClosure(
   const std::vector<Candidate> candidates = findCandidates(keyframes_, query, estimates_, params_);
   if (candidates.empty()) return std::nullopt;
   const auto verify_start = std::chrono::steady_clock::now();
-  const std::optional<Closure> closure = verifyCandidate(keyframes_, query, candidates, estimates_,
-                                                         params_, map_config_, odom_config_);
+  RefusalCounts refused{};
+  const std::optional<Closure> closure =
+      verifyCandidate(keyframes_, query, candidates, estimates_, params_, map_config_, odom_config_,
+                      nullptr, &refused);
   const double verify_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - verify_start).count();
   PoseEdge edge;
@@ -261,6 +263,8 @@ std::optional<std::pair<Closure, PoseEdge>> ConsistencyService::attemptClosure(
   std::lock_guard<std::mutex> lock(mutex_);
   ++stats_.recognition.attempts;
   stats_.recognition.seconds += verify_seconds;
+  for (std::size_t i = 0; i < refused.size(); ++i)
+    stats_.recognition.candidates_refused[i] += refused[i];
   if (!closure) {
     ++stats_.recognition.refused;
     return std::nullopt;
@@ -597,6 +601,9 @@ void ConsistencyService::write(const std::filesystem::path& dir) const {
      << "\nedge_snaps_unclosed " << s.odometry_edges.snaps_unclosed << "\nedge_s "
      << s.odometry_edges.seconds << "\nedge_max_s " << s.odometry_edges.max_seconds
      << "\ngravity_keyframes " << s.gravity_keyframes << '\n';
+  for (std::size_t i = 1; i < s.recognition.candidates_refused.size(); ++i)
+    st << "candidates_refused_" << odom::refusalName(static_cast<odom::Refusal>(i)) << ' '
+       << s.recognition.candidates_refused[i] << '\n';
   if (!kf || !cl || !ed || !st) throw std::runtime_error("cannot write " + dir.string());
 }
 

@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "socc/odom/odometry.hpp"
-#include "socc/odom/relocalization.hpp"
 #include "submap_access.hpp"
 
 namespace socc::consistency {
@@ -118,7 +117,8 @@ std::optional<Closure> verifyCandidate(const std::vector<Keyframe>& keyframes, i
                                        const std::vector<Eigen::Isometry3d>& estimates,
                                        const ConsistencyParams& params,
                                        const map::MapConfig& map_config,
-                                       const odom::OdomConfig& odom_config, std::string* problem) {
+                                       const odom::OdomConfig& odom_config, std::string* problem,
+                                       RefusalCounts* refused) {
   const Keyframe& q = keyframes[static_cast<std::size_t>(query)];
   LabeledCloud cloud;
   cloud.points = q.points;
@@ -132,6 +132,7 @@ std::optional<Closure> verifyCandidate(const std::vector<Keyframe>& keyframes, i
     const odom::Relocalization r = odom::relocalize(config, scan, submap, std::nullopt);
     if (!r.pose) {
       if (problem) *problem = r.problem;
+      if (refused) ++(*refused)[static_cast<std::size_t>(r.refusal)];
       continue;
     }
     Closure closure;

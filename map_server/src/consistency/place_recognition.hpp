@@ -5,6 +5,7 @@
 // against the candidate's submap (submap_access.hpp). Only a verified candidate becomes a
 // loop edge.
 #include <Eigen/Geometry>
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "keyframe.hpp"
 #include "socc/map/map_config.hpp"
 #include "socc/odom/odom_config.hpp"
+#include "socc/odom/relocalization.hpp"
 
 namespace socc::consistency {
 
@@ -25,12 +27,16 @@ struct Closure {
   bool by_descriptor = false;  // found by Scan Context (else by position)
 };
 
+/// Candidates refused by verification, counted by why (odom::Refusal as index).
+using RefusalCounts = std::array<int, odom::kRefusalKinds>;
+
 struct RecognitionTally {
   int attempts = 0;      // keyframes with candidates
   int verified = 0;      // closures accepted
   int refused = 0;       // attempts whose candidates all failed verification
   int inconsistent = 0;  // verified closures the pose graph refused (addConsistentEdge)
   double seconds = 0.0;  // spent verifying
+  RefusalCounts candidates_refused{};  // the candidates of all attempts, by why
 };
 
 /// Candidate keyframes for keyframes[query] with a guess of the query's pose in each candidate's
@@ -45,12 +51,12 @@ std::vector<Candidate> findCandidates(const std::vector<Keyframe>& keyframes, in
                                       const ConsistencyParams& params);
 
 /// Verifies the query against candidate's submap; the closure when it passes every check.
-std::optional<Closure> verifyCandidate(const std::vector<Keyframe>& keyframes, int query,
-                                       const std::vector<Candidate>& candidates,
-                                       const std::vector<Eigen::Isometry3d>& estimates,
-                                       const ConsistencyParams& params,
-                                       const map::MapConfig& map_config,
-                                       const odom::OdomConfig& odom_config,
-                                       std::string* problem = nullptr);
+/// problem: why the last candidate tried was refused; refused: each refused candidate counted
+/// by why (added to).
+std::optional<Closure> verifyCandidate(
+    const std::vector<Keyframe>& keyframes, int query, const std::vector<Candidate>& candidates,
+    const std::vector<Eigen::Isometry3d>& estimates, const ConsistencyParams& params,
+    const map::MapConfig& map_config, const odom::OdomConfig& odom_config,
+    std::string* problem = nullptr, RefusalCounts* refused = nullptr);
 
 }  // namespace socc::consistency

@@ -51,9 +51,25 @@ class MapAccess {
                                         const std::vector<Eigen::Isometry3d>& poses) = 0;
 };
 
+/// Why a relocalization gave no pose (Relocalization::refusal; problem says it in words).
+enum class Refusal {
+  kNone,            // a pose, or not judged
+  kNoCandidate,     // the scan matches nothing in the map
+  kNoRegistration,  // no candidate pose survived registration
+  kFreeSpace,       // every registered place puts the scan into space the map saw free
+  kLowFitness,      // the best place explains too little of the scan
+  kAmbiguous,       // two places explain it about as well
+};
+inline constexpr int kRefusalKinds = 6;
+
+/// Its name in reports and stats ("no_candidate", ..., "ambiguous"; "none").
+const char* refusalName(Refusal refusal);
+
 struct Relocalization {
   std::optional<Eigen::Isometry3d> pose;  // accepted: map_T_sensor at the scan's reference time
   std::string problem;                    // why not, when not
+  Refusal refusal = Refusal::kNone;       // the same as a kind, from relocalize() (a
+                                          // Relocalizer's verdict says it in problem only)
   int candidates = 0;                     // proposed by the server
   double fitness = 0.0;                   // of the best verified candidate
   double free = 0.0;                      // free-space share of the best verified candidate
@@ -82,11 +98,11 @@ bool samePlace(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b);
 /// Each of poses registered by SOCC-ICP against the map around it (healthy only, one per place)
 /// and checked against the map's free space (at most relocalize_max_free): the places consistent
 /// with the map, best evidence first. points: the scan as sent to LOCALIZE (localizationPoints).
-/// problem: why none is, when none is.
+/// problem (and refusal, when given): why none is, when none is.
 std::vector<VerifiedPlace> verifyPlaces(const OdomConfig& config, const PreparedScan& scan,
                                         const std::vector<Eigen::Vector3f>& points, MapAccess& map,
                                         const std::vector<Eigen::Isometry3d>& poses,
-                                        std::string& problem);
+                                        std::string& problem, Refusal* refusal = nullptr);
 
 /// Percent text of a share, as the verdicts print it ("42 %").
 std::string percentText(double share);
