@@ -10,8 +10,9 @@
 #      compared with each alone, and the map image with both trajectories over the GT;
 #   3. a loop before and after: a map_server with its consistency service (docs/consistency.md)
 #      on a drive of 2.5x the frames around a circular street with a VLP-16, so the robot comes
-#      back where it started; the keyframes as the odometry integrated them and as the pose graph corrected
-#      them, the closures (none may be wrong) and the robot's trajectory revised by the graph.
+#      back where it started; the keyframes as the odometry integrated them and as the pose
+#      graph corrected them, the closures (none may be wrong) and the robot's trajectory
+#      revised by the graph.
 # Results (poses, plots, map images) go to out/demo.
 # The drive is simulated with --realism kitti (sensor, ground, vehicle and label errors as on real
 # KITTI data; sim/README.md "Realism"); --realism none gives the exact simulator.
@@ -29,7 +30,7 @@ while [ $# -gt 0 ]; do
     --realism) realism="$2"; shift 2 ;;
     --view) view=1; shift ;;
     --view-port) view_port="$2"; shift 2 ;;
-    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,/^# Usage/p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "demo: unknown argument $1" >&2; exit 2 ;;
   esac
 done
