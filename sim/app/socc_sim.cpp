@@ -1,11 +1,13 @@
 // socc-sim: synthetic LiDAR sequences with exact ground truth, in the KITTI layout.
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <optional>
 
 #include "socc/kitti_io.hpp"
 #include "socc/sim/realism.hpp"
+#include "socc/sim/revisit_levelling.hpp"
 #include "socc/sim/scene.hpp"
 #include "socc/sim/sequence_writer.hpp"
 #include "socc/version.hpp"
@@ -25,6 +27,7 @@ struct Arguments {
   std::string trajectory = "auto";
   std::optional<fs::path> kitti_poses;
   std::optional<fs::path> calib;
+  bool recorded_heights = false;
   std::optional<double> speed;
   double noise = 0.02;
   double dropout = 0.0;
@@ -36,6 +39,18 @@ struct Arguments {
   std::optional<std::string> imu;  // default: ins with --realism kitti, none without
   bool quiet = false;
 };
+
+// The route's heights levelled where it revisits a street (unless --recorded-heights), so that
+// the world has one road there (revisit_levelling.hpp).
+socc::Poses levelledPoses(socc::Poses poses, const Arguments& a) {
+  if (a.recorded_heights) return poses;
+  LevelledRoute levelled = levelRevisits(poses);
+  if (levelled.revisit_pairs > 0 && !a.quiet)
+    std::cerr << "levelled the route's revisits (" << levelled.revisit_pairs
+              << " poses on a street driven before): heights changed by up to "
+              << std::round(levelled.max_change * 100.0) / 100.0 << " m\n";
+  return std::move(levelled.poses);
+}
 
 int run(const Arguments& a) {
   SceneOptions scene_options;
@@ -57,7 +72,7 @@ int run(const Arguments& a) {
                 << " poses; generating that many frames\n";
       scene_options.frames = poses.size();
     }
-    scene_options.poses = std::move(poses);
+    scene_options.poses = levelledPoses(std::move(poses), a);
   }
   LidarModel model = lidarPreset(a.sensor);
   model.range_noise = a.noise;
@@ -126,6 +141,12 @@ int main(int argc, char** argv) {
                  "KITTI calib.txt whose Tr moves --kitti-poses from the camera to the LiDAR "
                  "frame")
       ->check(CLI::ExistingFile)
+      ->needs(kitti);
+  app.add_flag("--recorded-heights", a.recorded_heights,
+               "Keep --kitti-poses' heights as recorded. By default, where the route comes back "
+               "to a street it drove before, the passes' height difference (KITTI's GPS/INS "
+               "height drift, up to 6 m) is spread along the drive between them, so that the "
+               "world has one road there (docs/simulator.md \"Revisits at one height\")")
       ->needs(kitti);
   app.add_option("--speed", a.speed, "Speed along the route [m/s] (default per scene)")
       ->check(CLI::NonNegativeNumber)

@@ -1,0 +1,195 @@
+#include "socc/sim/revisit_levelling.hpp"
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <initializer_list>
+#include <optional>
+#include <stdexcept>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace socc::sim {
+namespace {
+
+// The route as driven: horizontal arc length, direction of travel (none while standing) and
+// grade at each pose.
+struct RouteGeometry {
+  std::vector<double> s;
+  std::vector<std::optional<Eigen::Vector2d>> heading;
+  std::vector<double> grade;
+};
+
+RouteGeometry routeGeometry(const Poses& poses) {
+  const std::size_t n = poses.size();
+  RouteGeometry g{std::vector<double>(n, 0.0), std::vector<std::optional<Eigen::Vector2d>>(n),
+                  std::vector<double>(n, 0.0)};
+  for (std::size_t k = 1; k < n; ++k)
+    g.s[k] = g.s[k - 1] + (poses[k].translation() - poses[k - 1].translation()).head<2>().norm();
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t a = k > 0 ? k - 1 : 0;
+    const std::size_t b = std::min(k + 1, n - 1);
+    const double ds = g.s[b] - g.s[a];
+    if (ds < 0.05) continue;
+    const Eigen::Vector3d d = poses[b].translation() - poses[a].translation();
+    g.heading[k] = d.head<2>() / d.head<2>().norm();
+    g.grade[k] = d.z() / ds;
+  }
+  return g;
+}
+
+// A later pose j on a street an earlier pose i drove: (z_j + c_j) - (z_i + c_i) should be the
+// earlier pass's rise to j along its direction, i.e. c_j - c_i = difference.
+struct RevisitPair {
+  std::size_t i;
+  std::size_t j;
+  double difference;
+};
+
+std::int64_t cellKey(const Eigen::Vector2d& xy, double cell) {
+  const auto ix = static_cast<std::int64_t>(std::floor(xy.x() / cell));
+  const auto iy = static_cast<std::int64_t>(std::floor(xy.y() / cell));
+  return ix * 2000003 + iy;
+}
+
+std::vector<RevisitPair> revisitPairs(const Poses& poses, const RouteGeometry& g,
+                                      const RevisitLevelling& p) {
+  const double cell = p.radius;
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> cells;
+  std::vector<RevisitPair> pairs;
+  for (std::size_t j = 0; j < poses.size(); ++j) {
+    const Eigen::Vector2d xy = poses[j].translation().head<2>();
+    std::optional<RevisitPair> best;
+    double best_distance = p.radius;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy) {
+        const auto it = cells.find(cellKey(xy + cell * Eigen::Vector2d(dx, dy), cell));
+        if (it == cells.end()) continue;
+        for (const std::size_t i : it->second) {
+          const Eigen::Vector2d offset = xy - poses[i].translation().head<2>();
+          const double distance = offset.norm();
+          if (g.s[j] - g.s[i] < p.min_path || distance >= best_distance) continue;
+          const double rise = g.heading[i] ? g.grade[i] * offset.dot(*g.heading[i]) : 0.0;
+          best = RevisitPair{i, j, poses[i].translation().z() + rise - poses[j].translation().z()};
+          best_distance = distance;
+        }
+      }
+    if (best) pairs.push_back(*best);
+    cells[cellKey(xy, cell)].push_back(j);
+  }
+  return pairs;
+}
+
+// A function of arc length sampled every kStep metres.
+constexpr double kStep = 0.5;
+
+double sampleAt(const std::vector<double>& u, double s) {
+  const double x = std::clamp(s / kStep, 0.0, static_cast<double>(u.size() - 1));
+  const auto a = static_cast<std::size_t>(std::floor(x));
+  const std::size_t b = std::min(a + 1, u.size() - 1);
+  return u[a] + (x - static_cast<double>(a)) * (u[b] - u[a]);
+}
+
+// Least squares over a few unknowns at a time: each row adds weight * (sum a_i x_i - target)^2.
+class NormalEquations {
+ public:
+  explicit NormalEquations(Eigen::Index n) : n_(n), b_(Eigen::VectorXd::Zero(n)) {}
+  void add(std::initializer_list<std::pair<Eigen::Index, double>> row, double target,
+           double weight) {
+    for (const auto& [i, ai] : row) {
+      b_[i] += weight * ai * target;
+      for (const auto& [j, aj] : row) h_.emplace_back(i, j, weight * ai * aj);
+    }
+  }
+  Eigen::VectorXd solve() const {
+    Eigen::SparseMatrix<double> h(n_, n_);
+    h.setFromTriplets(h_.begin(), h_.end());
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(h);
+    if (solver.info() != Eigen::Success)
+      throw std::runtime_error("levelRevisits: the height corrections' system is singular");
+    return solver.solve(b_);
+  }
+
+ private:
+  Eigen::Index n_;
+  Eigen::VectorXd b_;
+  std::vector<Eigen::Triplet<double>> h_;
+};
+
+// Values given at the poses as a function of arc length, sampled every kStep metres.
+std::vector<double> alongPath(const std::vector<double>& s, const std::vector<double>& value,
+                              std::size_t m) {
+  std::vector<double> u(m);
+  std::size_t k = 0;
+  for (std::size_t q = 0; q < m; ++q) {
+    const double at = static_cast<double>(q) * kStep;
+    while (k + 1 < s.size() && s[k + 1] < at) ++k;
+    const std::size_t next = std::min(k + 1, s.size() - 1);
+    const double span = s[next] - s[k];
+    const double t = span > 0.0 ? std::clamp((at - s[k]) / span, 0.0, 1.0) : 0.0;
+    u[q] = value[k] + t * (value[next] - value[k]);
+  }
+  return u;
+}
+
+// The height correction along the path (every kStep metres of arc length, 0 at the start) that
+// brings the pairs together at the least cost of a random walk of the recorded heights and of
+// bends of the levelled road (roads bend up and down gently; a pass whose recorded heights bend
+// sharply is the one to move).
+std::vector<double> solveCorrections(const Poses& poses, const RouteGeometry& g,
+                                     const std::vector<RevisitPair>& pairs,
+                                     const RevisitLevelling& p) {
+  const auto m = static_cast<std::size_t>(std::floor(g.s.back() / kStep)) + 2;
+  std::vector<double> z(poses.size());
+  for (std::size_t k = 0; k < poses.size(); ++k) z[k] = poses[k].translation().z();
+  const std::vector<double> height = alongPath(g.s, z, m);
+  NormalEquations equations(static_cast<Eigen::Index>(m));
+  equations.add({{0, 1.0}}, 0.0, 1e8);
+  const double walk = 1.0 / (p.drift_sigma * p.drift_sigma * kStep);
+  const double bend = kStep / (p.bend_sigma * p.bend_sigma);
+  const double h2 = kStep * kStep;
+  for (std::size_t q = 0; q + 1 < m; ++q) {
+    const auto i = static_cast<Eigen::Index>(q);
+    equations.add({{i, -1.0}, {i + 1, 1.0}}, 0.0, walk);
+    if (q == 0) continue;
+    const double recorded_bend = (height[q - 1] - 2.0 * height[q] + height[q + 1]) / h2;
+    equations.add({{i - 1, 1.0 / h2}, {i, -2.0 / h2}, {i + 1, 1.0 / h2}}, -recorded_bend, bend);
+  }
+  const double revisit = 1.0 / (p.revisit_sigma * p.revisit_sigma);
+  for (const RevisitPair& r : pairs) {
+    const auto at = [&](std::size_t k) {
+      const double x = g.s[k] / kStep;
+      const auto a = static_cast<Eigen::Index>(std::floor(x));
+      return std::pair{a, x - static_cast<double>(a)};
+    };
+    const auto [i, ti] = at(r.i);
+    const auto [j, tj] = at(r.j);
+    equations.add({{j, 1.0 - tj}, {j + 1, tj}, {i, ti - 1.0}, {i + 1, -ti}}, r.difference, revisit);
+  }
+  const Eigen::VectorXd u = equations.solve();
+  return {u.data(), u.data() + static_cast<Eigen::Index>(m)};
+}
+
+}  // namespace
+
+LevelledRoute levelRevisits(const Poses& poses, const RevisitLevelling& params) {
+  LevelledRoute out{poses, 0, 0.0};
+  if (poses.size() < 2) return out;
+  const RouteGeometry g = routeGeometry(poses);
+  const std::vector<RevisitPair> pairs = revisitPairs(poses, g, params);
+  out.revisit_pairs = pairs.size();
+  if (pairs.empty()) return out;
+  const std::vector<double> correction = solveCorrections(poses, g, pairs, params);
+  // Heights only: the recorded attitude (an INS's, far better than its GPS heights) stays.
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    const double change = sampleAt(correction, g.s[k]) - sampleAt(correction, 0.0);
+    out.poses[k].translation().z() += change;
+    out.max_change = std::max(out.max_change, std::abs(change));
+  }
+  return out;
+}
+
+}  // namespace socc::sim

@@ -1,0 +1,109 @@
+// Recorded routes whose heights do not close are levelled at their revisits, and nothing else.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "socc/sim/revisit_levelling.hpp"
+
+namespace socc::sim {
+namespace {
+
+// A sensor pose at p heading along the horizontal direction `heading`, nose up by atan(grade).
+Eigen::Isometry3d poseAt(const Eigen::Vector3d& p, const Eigen::Vector2d& heading, double grade) {
+  const Eigen::Vector3d forward = Eigen::Vector3d(heading.x(), heading.y(), grade).normalized();
+  const Eigen::Vector3d left = Eigen::Vector3d::UnitZ().cross(forward).normalized();
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear().col(0) = forward;
+  pose.linear().col(1) = left;
+  pose.linear().col(2) = forward.cross(left);
+  pose.translation() = p;
+  return pose;
+}
+
+// Out 200 m along +x, a U-turn, back 200 m in the other lane (3.5 m to the left), one pose a
+// metre, on flat ground recorded with a height drift of `drift` per metre driven.
+Poses outAndBack(double drift) {
+  std::vector<Eigen::Vector2d> xy;
+  for (int x = 0; x <= 200; ++x) xy.emplace_back(x, 0.0);
+  for (int a = 1; a < 6; ++a) {
+    const double t = M_PI * a / 6.0 - M_PI / 2.0;
+    xy.emplace_back(200.0 + 1.75 * std::cos(t), 1.75 + 1.75 * std::sin(t));
+  }
+  for (int x = 200; x >= 0; --x) xy.emplace_back(x, 3.5);
+  Poses poses;
+  double s = 0.0;
+  for (std::size_t k = 0; k < xy.size(); ++k) {
+    if (k > 0) s += (xy[k] - xy[k - 1]).norm();
+    const std::size_t next = std::min(k + 1, xy.size() - 1);
+    const std::size_t before = next == k ? k - 1 : k;
+    const Eigen::Vector2d heading = (xy[next] - xy[before]).normalized();
+    poses.push_back(poseAt(Eigen::Vector3d(xy[k].x(), xy[k].y(), drift * s), heading, drift));
+  }
+  return poses;
+}
+
+TEST(RevisitLevelling, ThePassesOfARevisitedStreetComeToOneHeight) {
+  const Poses recorded = outAndBack(0.01);  // 4 m apart where the drive ends
+  const LevelledRoute levelled = levelRevisits(recorded);
+  ASSERT_EQ(levelled.poses.size(), recorded.size());
+  EXPECT_GT(levelled.revisit_pairs, 100u);
+  EXPECT_GT(levelled.max_change, 1.0);
+  EXPECT_LT((levelled.poses[0].translation() - recorded[0].translation()).norm(), 1e-6);
+  const std::size_t back = 201 + 5;  // the first pose of the way back
+  double worst = 0.0;
+  for (std::size_t k = back; k < recorded.size(); ++k) {
+    const double x = levelled.poses[k].translation().x();
+    if (x > 150.0) continue;  // within 50 m of driving of the outward pass: not a revisit
+    const auto out = static_cast<std::size_t>(std::lround(x));
+    worst = std::max(worst, std::abs(levelled.poses[k].translation().z() -
+                                     levelled.poses[out].translation().z()));
+  }
+  EXPECT_LT(worst, 0.05) << "recorded: "
+                         << recorded.back().translation().z() - recorded[0].translation().z();
+}
+
+TEST(RevisitLevelling, OnlyHeightsChange) {
+  const Poses recorded = outAndBack(0.01);
+  const LevelledRoute levelled = levelRevisits(recorded);
+  for (std::size_t k = 0; k < recorded.size(); ++k) {
+    EXPECT_TRUE(levelled.poses[k].linear().isApprox(recorded[k].linear(), 0.0)) << k;
+    EXPECT_EQ(levelled.poses[k].translation().head<2>(), recorded[k].translation().head<2>());
+  }
+}
+
+TEST(RevisitLevelling, ARouteThatNeverComesBackIsUnchanged) {
+  Poses straight;
+  for (int x = 0; x < 300; ++x)
+    straight.push_back(poseAt(Eigen::Vector3d(x, 0.0, 0.02 * x), Eigen::Vector2d::UnitX(), 0.02));
+  const LevelledRoute levelled = levelRevisits(straight);
+  EXPECT_EQ(levelled.revisit_pairs, 0u);
+  for (std::size_t k = 0; k < straight.size(); ++k)
+    EXPECT_TRUE(levelled.poses[k].isApprox(straight[k], 0.0)) << k;
+}
+
+TEST(RevisitLevelling, AStreetCrossedAgainComesToOneHeightToo) {
+  Poses route;  // east along y = 0; then, after a drive round, north across it recorded 6 m higher
+  for (int x = -100; x <= 100; ++x)
+    route.push_back(poseAt(Eigen::Vector3d(x, 0.0, 0.0), Eigen::Vector2d::UnitX(), 0.0));
+  for (int y = -100; y <= 100; ++y)
+    route.push_back(poseAt(Eigen::Vector3d(0.0, y, 6.0), Eigen::Vector2d::UnitY(), 0.0));
+  const LevelledRoute levelled = levelRevisits(route);
+  EXPECT_GT(levelled.revisit_pairs, 0u);
+  EXPECT_NEAR(levelled.poses[201 + 100].translation().z(), levelled.poses[100].translation().z(),
+              0.1);
+}
+
+TEST(RevisitLevelling, StandingStillAtTheStartAndAtTheTurnIsFine) {
+  Poses route = outAndBack(0.01);
+  route.insert(route.begin(), 10, route.front());     // waits before driving off
+  route.insert(route.begin() + 215, 20, route[215]);  // and at the turn
+  const LevelledRoute levelled = levelRevisits(route);
+  EXPECT_GT(levelled.revisit_pairs, 100u);
+  for (const Eigen::Isometry3d& pose : levelled.poses) ASSERT_TRUE(pose.matrix().allFinite());
+  EXPECT_TRUE(levelled.poses[0].isApprox(levelled.poses[9], 1e-12));
+}
+
+}  // namespace
+}  // namespace socc::sim
