@@ -50,9 +50,22 @@ Relocalization Relocalizer::addStacked(const PreparedScan& stacked, int scans,
                                        const std::optional<PoseHint>& hint) {
   const std::vector<Eigen::Vector3f> points =
       localizationPoints(stacked.cloud, config_.relocalize_voxel_size, kMaxLocalizePoints);
-  const std::vector<Eigen::Isometry3d> candidates =
-      map.candidates(points, hint, config_.relocalize_candidates);
-  const std::vector<Eigen::Isometry3d> poses = withNew(places_.predicted(motion), candidates);
+  std::vector<Eigen::Isometry3d> candidates;
+  std::vector<Eigen::Isometry3d> poses;
+  std::string problem;
+  std::vector<VerifiedPlace> verified;
+  try {
+    candidates = map.candidates(points, hint, config_.relocalize_candidates);
+    poses = withNew(places_.predicted(motion), candidates);
+    if (!poses.empty()) verified = verifyPlaces(config_, stacked, points, map, poses, problem);
+  } catch (const MapBusy& busy) {
+    // The followed places missed this search's motion: confirmation starts again.
+    places_.clear();
+    Relocalization out;
+    out.stacked = scans;
+    out.problem = std::string("the map service could not search now: ") + busy.what();
+    return out;
+  }
   if (poses.empty()) {
     places_.clear();
     Relocalization out;
@@ -60,8 +73,6 @@ Relocalization Relocalizer::addStacked(const PreparedScan& stacked, int scans,
     out.problem = "no candidate pose: the scans match nothing in the map";
     return out;
   }
-  std::string problem;
-  std::vector<VerifiedPlace> verified = verifyPlaces(config_, stacked, points, map, poses, problem);
   Relocalization verdict = places_.update(motion, std::move(verified));
   verdict.candidates = static_cast<int>(candidates.size());
   verdict.stacked = scans;

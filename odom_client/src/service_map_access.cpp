@@ -4,6 +4,8 @@
 #include <stdexcept>
 
 #include "socc/pose_conversion.hpp"
+#include "socc/reply_header_t.hpp"
+#include "socc/rpc/status_names.hpp"
 
 namespace socc::odom {
 
@@ -15,6 +17,22 @@ std::string callError(const char* what, const rpc::CallError& e, int attempts) {
   return out.str();
 }
 
+namespace {
+
+// A LOCALIZE that failed: MapBusy when the server could not search now (rpc/status_names.hpp,
+// kSearchesBusy), which a search may simply ask again later; any other failure as it is.
+[[noreturn]] void localizeFailed(const rpc::CallError& e, int attempts) {
+  const std::string what = callError("LOCALIZE", e, attempts);
+  if (!e.timed_out && e.status == reply_header_t::RESOURCE_EXHAUSTED &&
+      e.message.size() >= rpc::kSearchesBusy.size() &&
+      e.message.compare(e.message.size() - rpc::kSearchesBusy.size(), rpc::kSearchesBusy.size(),
+                        rpc::kSearchesBusy) == 0)
+    throw MapBusy(what);
+  throw std::runtime_error(what);
+}
+
+}  // namespace
+
 std::vector<Eigen::Isometry3d> ServiceMapAccess::candidates(
     const std::vector<Eigen::Vector3f>& scan, const std::optional<PoseHint>& hint, int max) {
   localize_request_t request = rpc::makeLocalizeRequest(scan, max);
@@ -25,7 +43,7 @@ std::vector<Eigen::Isometry3d> ServiceMapAccess::candidates(
     request.hint_yaw_tolerance = hint->yaw_tolerance;
   }
   const rpc::Result<localize_reply_t> reply = client_.localize(std::move(request));
-  if (!reply.ok()) throw std::runtime_error(callError("LOCALIZE", reply.error, reply.attempts));
+  if (!reply.ok()) localizeFailed(reply.error, reply.attempts);
   std::vector<Eigen::Isometry3d> out;
   for (const pose3d_t& pose : reply.reply->pose) {
     if (!checkPose(pose, 1e7).empty()) continue;  // a malformed candidate is no candidate
@@ -40,7 +58,7 @@ std::vector<SpaceCheck> ServiceMapAccess::check(const std::vector<Eigen::Vector3
   for (const Eigen::Isometry3d& pose : poses) request.check_pose.push_back(toLcm(pose));
   request.num_check = static_cast<std::int32_t>(request.check_pose.size());
   const rpc::Result<localize_reply_t> reply = client_.localize(std::move(request));
-  if (!reply.ok()) throw std::runtime_error(callError("LOCALIZE", reply.error, reply.attempts));
+  if (!reply.ok()) localizeFailed(reply.error, reply.attempts);
   std::vector<SpaceCheck> out;
   for (std::int32_t i = 0; i < reply.reply->num_checked; ++i)
     out.push_back({reply.reply->observed[static_cast<std::size_t>(i)],

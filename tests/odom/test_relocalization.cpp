@@ -112,6 +112,51 @@ TEST(Relocalize, EachRefusalKindHasItsName) {
   EXPECT_EQ(static_cast<int>(Refusal::kAmbiguous) + 1, kRefusalKinds);
 }
 
+// A map service that cannot search now (its searches all taken, or the map replaced while the
+// search ran: a consistency swap) costs the searching robot that search, not its run: an
+// own-frame robot on the KITTI-08 shape exited with that error before.
+class BusyMap : public MapAccess {
+ public:
+  int calls = 0;
+  std::vector<Eigen::Isometry3d> candidates(const std::vector<Eigen::Vector3f>&,
+                                            const std::optional<PoseHint>&, int) override {
+    ++calls;
+    throw MapBusy(
+        "LOCALIZE failed after 2 attempt(s): the map was replaced while the search "
+        "ran: searches busy, try again (RESOURCE_EXHAUSTED)");
+  }
+  LocalMap chunk(const Eigen::Vector3d&) override { return {}; }
+  std::vector<SpaceCheck> check(const std::vector<Eigen::Vector3f>&,
+                                const std::vector<Eigen::Isometry3d>&) override {
+    throw MapBusy("busy");
+  }
+};
+
+TEST(Relocalizer, ABusyMapServiceCostsTheSearchNotTheRobot) {
+  const OdomConfig cfg;
+  socc::LabeledCloud cloud;  // a floor and two walls
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j) {
+      cloud.points.emplace_back(0.5f * static_cast<float>(i) - 10.f,
+                                0.5f * static_cast<float>(j) - 10.f, -1.7f);
+      cloud.points.emplace_back(0.5f * static_cast<float>(i) - 10.f, 8.f,
+                                0.2f * static_cast<float>(j) - 1.7f);
+      cloud.points.emplace_back(-8.f, 0.5f * static_cast<float>(i) - 10.f,
+                                0.2f * static_cast<float>(j) - 1.7f);
+    }
+  Odometry odom(cfg, Eigen::Isometry3d::Identity());
+  const PreparedScan scan = odom.prepare(cloud, 0, 0);
+  Relocalizer search(cfg);
+  BusyMap busy;
+  for (int k = 0; k < 2; ++k) {
+    Relocalization r;
+    ASSERT_NO_THROW(r = search.addStacked(scan, 1, Eigen::Isometry3d::Identity(), busy, {}));
+    EXPECT_FALSE(r.pose);
+    EXPECT_NE(r.problem.find("could not search now"), std::string::npos) << r.problem;
+  }
+  EXPECT_EQ(busy.calls, 2);  // asked again at the next search
+}
+
 // A searching robot (Relocalizer): its scans stacked by its own odometry, the place accepted
 // once it led on at least relocalize_confirm_scans consecutive scans, never before; a robot in a
 // world that is not in the map is never accepted.

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,14 @@ struct SpaceCheck {
 };
 
 /// What relocalization needs of the map service (MapClient over LCM, or an in-process map).
+/// What a MapAccess throws when the map service cannot answer now (its searches all taken, or the
+/// map replaced while the search ran, after MapClient's resends): nothing was learnt, and the
+/// same search may be asked again later.
+class MapBusy : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class MapAccess {
  public:
   virtual ~MapAccess() = default;

@@ -36,7 +36,8 @@ class SharedMapSearch {
   void start(PreparedScan stacked, int scans, const Eigen::Isometry3d& motion,
              std::optional<PoseHint> hint, std::int64_t seq, const Eigen::Isometry3d& own_pose);
   /// The outcome once the running search has finished; nullopt while it runs or when none was
-  /// started. Rethrows the search's failure (the map service failing after its retries).
+  /// started. Rethrows the search's failure (the map service failing after its retries; a
+  /// service that could not search now only ends that search without a place: MapBusy).
   std::optional<SearchOutcome> poll();
   /// Waits for the running search; its outcome (nullopt when none runs).
   std::optional<SearchOutcome> wait();
