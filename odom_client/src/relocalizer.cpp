@@ -1,5 +1,8 @@
 #include "socc/odom/relocalizer.hpp"
 
+#include <string>
+#include <utility>
+
 namespace socc::odom {
 namespace {
 
@@ -60,24 +63,22 @@ Relocalization Relocalizer::addStacked(const PreparedScan& stacked, int scans,
     if (!poses.empty()) verified = verifyPlaces(config_, stacked, points, map, poses, problem);
   } catch (const MapBusy& busy) {
     // The followed places missed this search's motion: confirmation starts again.
-    places_.clear();
-    Relocalization out;
-    out.stacked = scans;
-    out.problem = std::string("the map service could not search now: ") + busy.what();
-    return out;
+    return noPlace(scans, std::string("the map service could not search now: ") + busy.what());
   }
-  if (poses.empty()) {
-    places_.clear();
-    Relocalization out;
-    out.stacked = scans;
-    out.problem = "no candidate pose: the scans match nothing in the map";
-    return out;
-  }
+  if (poses.empty()) return noPlace(scans, "no candidate pose: the scans match nothing in the map");
   Relocalization verdict = places_.update(motion, std::move(verified));
   verdict.candidates = static_cast<int>(candidates.size());
   verdict.stacked = scans;
   if (!problem.empty() && !verdict.pose) verdict.problem = problem;
   return verdict;
+}
+
+Relocalization Relocalizer::noPlace(int scans, std::string problem) {
+  places_.clear();
+  Relocalization out;
+  out.stacked = scans;
+  out.problem = std::move(problem);
+  return out;
 }
 
 }  // namespace socc::odom

@@ -5,7 +5,7 @@
 
 #include "socc/pose_conversion.hpp"
 #include "socc/reply_header_t.hpp"
-#include "socc/rpc/status_names.hpp"
+#include "socc/rpc/resend_rule.hpp"
 
 namespace socc::odom {
 
@@ -17,18 +17,20 @@ std::string callError(const char* what, const rpc::CallError& e, int attempts) {
   return out.str();
 }
 
+bool costsOnlyTheSearch(const rpc::CallError& e, NoReply no_reply) {
+  if (e.timed_out) return no_reply == NoReply::kBusy;
+  return rpc::matchingRule(e.status, e.message, {rpc::searchesBusyRule({})}) == 0;
+}
+
 namespace {
 
-// A LOCALIZE that failed: MapBusy when the server could not search now (rpc/status_names.hpp,
-// kSearchesBusy), which a search may simply ask again later; any other failure as it is.
-[[noreturn]] void localizeFailed(const rpc::CallError& e, int attempts) {
-  const std::string what = callError("LOCALIZE", e, attempts);
-  if (!e.timed_out && e.status == reply_header_t::RESOURCE_EXHAUSTED &&
-      e.message.size() >= rpc::kSearchesBusy.size() &&
-      e.message.compare(e.message.size() - rpc::kSearchesBusy.size(), rpc::kSearchesBusy.size(),
-                        rpc::kSearchesBusy) == 0)
-    throw MapBusy(what);
-  throw std::runtime_error(what);
+// A failed search call: MapBusy when the search may simply be asked again later
+// (costsOnlyTheSearch), any other failure as it is.
+[[noreturn]] void searchFailed(const char* what, const rpc::CallError& e, int attempts,
+                               NoReply no_reply) {
+  const std::string text = callError(what, e, attempts);
+  if (costsOnlyTheSearch(e, no_reply)) throw MapBusy(text);
+  throw std::runtime_error(text);
 }
 
 }  // namespace
@@ -43,7 +45,7 @@ std::vector<Eigen::Isometry3d> ServiceMapAccess::candidates(
     request.hint_yaw_tolerance = hint->yaw_tolerance;
   }
   const rpc::Result<localize_reply_t> reply = client_.localize(std::move(request));
-  if (!reply.ok()) localizeFailed(reply.error, reply.attempts);
+  if (!reply.ok()) searchFailed("LOCALIZE", reply.error, reply.attempts, no_reply_);
   std::vector<Eigen::Isometry3d> out;
   for (const pose3d_t& pose : reply.reply->pose) {
     if (!checkPose(pose, 1e7).empty()) continue;  // a malformed candidate is no candidate
@@ -58,7 +60,7 @@ std::vector<SpaceCheck> ServiceMapAccess::check(const std::vector<Eigen::Vector3
   for (const Eigen::Isometry3d& pose : poses) request.check_pose.push_back(toLcm(pose));
   request.num_check = static_cast<std::int32_t>(request.check_pose.size());
   const rpc::Result<localize_reply_t> reply = client_.localize(std::move(request));
-  if (!reply.ok()) localizeFailed(reply.error, reply.attempts);
+  if (!reply.ok()) searchFailed("LOCALIZE", reply.error, reply.attempts, no_reply_);
   std::vector<SpaceCheck> out;
   for (std::int32_t i = 0; i < reply.reply->num_checked; ++i)
     out.push_back({reply.reply->observed[static_cast<std::size_t>(i)],
@@ -70,7 +72,7 @@ LocalMap ServiceMapAccess::chunk(const Eigen::Vector3d& center) {
   chunk_request_t request = rpc::sphereChunkRequest(center, config_.chunk_radius);
   request.occupancy_threshold = static_cast<float>(config_.occupancy_threshold);
   const rpc::Result<chunk_reply_t> reply = client_.getChunk(request);
-  if (!reply.ok()) throw std::runtime_error(callError("GET_CHUNK", reply.error, reply.attempts));
+  if (!reply.ok()) searchFailed("GET_CHUNK", reply.error, reply.attempts, no_reply_);
   return LocalMap::fromChunk(*reply.reply, config_.occupancy_threshold);
 }
 

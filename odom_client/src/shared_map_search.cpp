@@ -21,7 +21,8 @@ void SharedMapSearch::start(PreparedScan stacked, int scans, const Eigen::Isomet
   if (running()) throw std::logic_error("SharedMapSearch: a search is running");
   running_ = std::async(std::launch::async, [this, stacked = std::move(stacked), scans, motion,
                                              hint = std::move(hint), seq, own_pose] {
-    ServiceMapAccess map(client_, config_);
+    // This robot maps without the service: a search that got no reply is a search without a place.
+    ServiceMapAccess map(client_, config_, NoReply::kBusy);
     SearchOutcome outcome;
     outcome.found = relocalizer_.addStacked(stacked, scans, motion, map, hint);
     outcome.seq = seq;

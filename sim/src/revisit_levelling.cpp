@@ -8,9 +8,10 @@
 #include <initializer_list>
 #include <optional>
 #include <stdexcept>
-#include <unordered_map>
 #include <utility>
 #include <vector>
+
+#include "socc/sim/planar_cells.hpp"
 
 namespace socc::sim {
 namespace {
@@ -49,36 +50,25 @@ struct RevisitPair {
   double difference;
 };
 
-std::int64_t cellKey(const Eigen::Vector2d& xy, double cell) {
-  const auto ix = static_cast<std::int64_t>(std::floor(xy.x() / cell));
-  const auto iy = static_cast<std::int64_t>(std::floor(xy.y() / cell));
-  return ix * 2000003 + iy;
-}
-
 std::vector<RevisitPair> revisitPairs(const Poses& poses, const RouteGeometry& g,
                                       const RevisitLevelling& p) {
-  const double cell = p.radius;
-  std::unordered_map<std::int64_t, std::vector<std::size_t>> cells;
+  PlanarCells earlier(p.radius);
   std::vector<RevisitPair> pairs;
   for (std::size_t j = 0; j < poses.size(); ++j) {
     const Eigen::Vector2d xy = poses[j].translation().head<2>();
     std::optional<RevisitPair> best;
     double best_distance = p.radius;
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy) {
-        const auto it = cells.find(cellKey(xy + cell * Eigen::Vector2d(dx, dy), cell));
-        if (it == cells.end()) continue;
-        for (const std::size_t i : it->second) {
-          const Eigen::Vector2d offset = xy - poses[i].translation().head<2>();
-          const double distance = offset.norm();
-          if (g.s[j] - g.s[i] < p.min_path || distance >= best_distance) continue;
-          const double rise = g.heading[i] ? g.grade[i] * offset.dot(*g.heading[i]) : 0.0;
-          best = RevisitPair{i, j, poses[i].translation().z() + rise - poses[j].translation().z()};
-          best_distance = distance;
-        }
-      }
+    earlier.visitNear(xy, p.radius, [&](std::uint32_t i) {
+      const Eigen::Vector2d offset = xy - poses[i].translation().head<2>();
+      const double distance = offset.norm();
+      if (g.s[j] - g.s[i] < p.min_path || distance >= best_distance) return false;
+      const double rise = g.heading[i] ? g.grade[i] * offset.dot(*g.heading[i]) : 0.0;
+      best = RevisitPair{i, j, poses[i].translation().z() + rise - poses[j].translation().z()};
+      best_distance = distance;
+      return false;
+    });
     if (best) pairs.push_back(*best);
-    cells[cellKey(xy, cell)].push_back(j);
+    earlier.add(xy, static_cast<std::uint32_t>(j));
   }
   return pairs;
 }

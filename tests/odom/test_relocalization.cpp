@@ -11,6 +11,7 @@
 #include "in_process_map.hpp"
 #include "socc/kitti_io.hpp"
 #include "socc/odom/relocalizer.hpp"
+#include "socc/odom/service_map_access.hpp"
 
 namespace {
 
@@ -155,6 +156,26 @@ TEST(Relocalizer, ABusyMapServiceCostsTheSearchNotTheRobot) {
     EXPECT_NE(r.problem.find("could not search now"), std::string::npos) << r.problem;
   }
   EXPECT_EQ(busy.calls, 2);  // asked again at the next search
+}
+
+// Which failed search calls only cost the search (ServiceMapAccess throws MapBusy): the busy
+// refusal always, no reply only for a robot that maps without the service (own frame).
+TEST(ServiceMapAccess, OnlyABusyOrForOwnFrameSilentServiceCostsTheSearch) {
+  const socc::rpc::CallError busy{socc::reply_header_t::RESOURCE_EXHAUSTED,
+                                  std::string("the map was replaced while the search ran: ") +
+                                      std::string(socc::rpc::kSearchesBusy),
+                                  false};
+  const socc::rpc::CallError rate{socc::reply_header_t::RESOURCE_EXHAUSTED,
+                                  std::string(socc::rpc::kRateLimited), false};
+  const socc::rpc::CallError silent{socc::reply_header_t::INTERNAL, "no reply", true};
+  const socc::rpc::CallError bad{socc::reply_header_t::INVALID_ARGUMENT, "too many points", false};
+  for (const NoReply no_reply : {NoReply::kFails, NoReply::kBusy}) {
+    EXPECT_TRUE(costsOnlyTheSearch(busy, no_reply));
+    EXPECT_FALSE(costsOnlyTheSearch(rate, no_reply));
+    EXPECT_FALSE(costsOnlyTheSearch(bad, no_reply));
+  }
+  EXPECT_FALSE(costsOnlyTheSearch(silent, NoReply::kFails));
+  EXPECT_TRUE(costsOnlyTheSearch(silent, NoReply::kBusy));
 }
 
 // A searching robot (Relocalizer): its scans stacked by its own odometry, the place accepted

@@ -37,7 +37,6 @@ struct SpaceCheck {
   double free = 0.0;      // of those, the share in voxels the map holds free
 };
 
-/// What relocalization needs of the map service (MapClient over LCM, or an in-process map).
 /// What a MapAccess throws when the map service cannot answer now (its searches all taken, or the
 /// map replaced while the search ran, after MapClient's resends): nothing was learnt, and the
 /// same search may be asked again later.
@@ -46,6 +45,7 @@ class MapBusy : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// What relocalization needs of the map service (MapClient over LCM, or an in-process map).
 class MapAccess {
  public:
   virtual ~MapAccess() = default;

@@ -7,6 +7,7 @@
 // (verifyPlaces); a place is accepted once it has led by the margin on relocalize_confirm_scans
 // consecutive scans (PlaceTracker).
 #include <optional>
+#include <string>
 
 #include "socc/odom/place_tracker.hpp"
 #include "socc/odom/relocalization.hpp"
@@ -29,6 +30,9 @@ class Relocalizer {
                             MapAccess& map, const std::optional<PoseHint>& hint);
 
  private:
+  /// A search that follows no place any more (problem: why).
+  Relocalization noPlace(int scans, std::string problem);
+
   OdomConfig config_;
   ScanStack stack_;
   PlaceTracker places_;

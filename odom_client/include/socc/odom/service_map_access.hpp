@@ -7,11 +7,18 @@
 
 namespace socc::odom {
 
+/// What a map service that gave no reply (after MapClient's retries) means to a search: the end
+/// of the run (a robot that needs the service to go on), or only of that search (MapBusy: an
+/// own-frame robot, which maps without the service and writes nothing to it before its merge).
+enum class NoReply { kFails, kBusy };
+
 class ServiceMapAccess : public MapAccess {
  public:
-  ServiceMapAccess(rpc::MapClient& client, const OdomConfig& config)
-      : client_(client), config_(config) {}
-  /// Throws std::runtime_error when the service fails (after MapClient's retries).
+  ServiceMapAccess(rpc::MapClient& client, const OdomConfig& config,
+                   NoReply no_reply = NoReply::kFails)
+      : client_(client), config_(config), no_reply_(no_reply) {}
+  /// Throw MapBusy when the service cannot answer now (costsOnlyTheSearch), std::runtime_error
+  /// when it fails otherwise (after MapClient's retries).
   std::vector<Eigen::Isometry3d> candidates(const std::vector<Eigen::Vector3f>& scan,
                                             const std::optional<PoseHint>& hint, int max) override;
   LocalMap chunk(const Eigen::Vector3d& center) override;
@@ -21,7 +28,13 @@ class ServiceMapAccess : public MapAccess {
  private:
   rpc::MapClient& client_;
   const OdomConfig& config_;
+  NoReply no_reply_;
 };
+
+/// Whether a failed call of a search ends only that search: the server's refusal while all its
+/// searches are taken (or the map was replaced during the search; rpc::kSearchesBusy), or no
+/// reply at all when no_reply is kBusy.
+bool costsOnlyTheSearch(const rpc::CallError& e, NoReply no_reply);
 
 /// "LOCALIZE failed after 2 attempt(s): ... (STATUS)": the one wording of a failed call.
 std::string callError(const char* what, const rpc::CallError& e, int attempts);

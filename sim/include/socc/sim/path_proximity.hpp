@@ -1,12 +1,8 @@
 #pragma once
 // "Is this spot too close to the route?" queries used while placing objects, so that nothing
 // is built on the road, including where a looping route crosses or revisits itself.
-#include <tsl/robin_map.h>
-
-#include <cstdint>
-#include <vector>
-
 #include "socc/sim/path.hpp"
+#include "socc/sim/planar_cells.hpp"
 
 namespace socc::sim {
 
@@ -22,11 +18,9 @@ class PathProximity {
 
  private:
   bool search(const Eigen::Vector2d& xy, double radius, const double* s, double window) const;
-  std::int64_t key(int ix, int iy) const;
 
   const Path& path_;
-  double cell_size_;
-  tsl::robin_map<std::int64_t, std::vector<std::uint32_t>> cells_;
+  PlanarCells cells_;
 };
 
 }  // namespace socc::sim
