@@ -12,6 +12,7 @@
 #include <iostream>
 #include <iterator>
 
+#include "../temp_dir.hpp"
 #include "consistency_restore.hpp"
 #include "consistency_service.hpp"
 #include "gravity_reference.hpp"
@@ -370,14 +371,7 @@ TEST(GravityReference, KeyframeAndWaitingRecordsKeepItAndOldRecordsReadWithout) 
   EXPECT_FALSE(decodeWaiting(encodeWaiting(waiting)).keyframe.gravity);
 }
 
-struct TempDir {
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "socc_grav_XXXXXX").string();
-    path = mkdtemp(pattern.data());
-  }
-  ~TempDir() { std::filesystem::remove_all(path); }
-  std::filesystem::path path;
-};
+using socc::testing::TempDir;
 
 LabeledCloud wallScan() {
   LabeledCloud cloud;
@@ -394,7 +388,7 @@ TEST(GravityReference, AServiceStoresAndRestoresItsKeyframesReferences) {
   // Keyframes 0, 2 carry a reference, 1 none (sigma 0 never becomes one), 3 waits for the held
   // worker at the checkpoint: all come back from the store with what they carried.
   TempDir dir;
-  const auto file = dir.path / "store";
+  const auto file = dir.path() / "store";
   ConsistencyParams params;
   const auto at = [](int i) { return pose({4.0 * i, 0.0, 0.0}, 0.0); };
   const auto ref = [](int i) {
@@ -409,8 +403,8 @@ TEST(GravityReference, AServiceStoresAndRestoresItsKeyframesReferences) {
     live.checkpoint(5, 1);
     EXPECT_EQ(live.stats().gravity_keyframes, 2);  // the held one is not processed yet
     TempDir out;
-    live.write(out.path);
-    std::ifstream stats(out.path / "stats.txt");
+    live.write(out.path());
+    std::ifstream stats(out.path() / "stats.txt");
     const std::string text((std::istreambuf_iterator<char>(stats)), {});
     EXPECT_NE(text.find("gravity_keyframes 2\n"), std::string::npos) << text;
   }  // killed with keyframe 3 waiting

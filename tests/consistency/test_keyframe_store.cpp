@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <cstdlib>
 #include <fstream>
 
+#include "../temp_dir.hpp"
 #include "consistency_restore.hpp"
 #include "consistency_service.hpp"
 #include "keyframe_store.hpp"
@@ -14,14 +14,7 @@
 namespace socc::consistency {
 namespace {
 
-struct StoreDir {
-  StoreDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "socc_store_XXXXXX").string();
-    path = mkdtemp(pattern.data());
-  }
-  ~StoreDir() { std::filesystem::remove_all(path); }
-  std::filesystem::path path;
-};
+using StoreDir = socc::testing::TempDir;
 
 Eigen::Isometry3d poseAt(double x, double yaw) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -80,7 +73,7 @@ void writeSample(const std::filesystem::path& file) {
 
 TEST(KeyframeStore, RecordsReadBackAsWritten) {
   StoreDir dir;
-  const auto file = dir.path / "map.snap.consistency";
+  const auto file = dir.path() / "map.snap.consistency";
   writeSample(file);
   const StoreContents c = KeyframeStore::read(file);
   EXPECT_TRUE(c.problem.empty()) << c.problem;
@@ -157,7 +150,7 @@ TEST(KeyframeStore, AWaitingRecordKeepsItsFormAndTheOldFormsReadAsBefore) {
 TEST(KeyframeStore, AnOldStoresPoseOnlyWaitingKeyframeIsRestoredAsAPose) {
   // Written before reduction on arrival: a keyframe that waited without its scan (form 0).
   StoreDir dir;
-  const auto file = dir.path / "store";
+  const auto file = dir.path() / "store";
   {
     auto store = KeyframeStore::create(file, false, true);
     StoredWaiting old;
@@ -181,7 +174,7 @@ TEST(KeyframeStore, AnOldStoresPoseOnlyWaitingKeyframeIsRestoredAsAPose) {
 
 TEST(KeyframeStore, ATornOrCorruptTailIsDroppedWithAMessageAndCutOnResume) {
   StoreDir dir;
-  const auto file = dir.path / "store";
+  const auto file = dir.path() / "store";
   writeSample(file);
   const std::uint64_t whole = std::filesystem::file_size(file);
   const std::uint64_t last = whole - KeyframeStore::read(file).checkpoints.size() * (13 + 28 + 4);
@@ -215,7 +208,7 @@ TEST(KeyframeStore, ATornOrCorruptTailIsDroppedWithAMessageAndCutOnResume) {
 
 TEST(KeyframeStore, ABadHeaderIsAClearError) {
   StoreDir dir;
-  const auto file = dir.path / "store";
+  const auto file = dir.path() / "store";
   std::ofstream(file) << "not a store at all";
   try {
     KeyframeStore::read(file);
@@ -237,12 +230,12 @@ TEST(KeyframeStore, ABadHeaderIsAClearError) {
               std::string::npos)
         << e.what();
   }
-  EXPECT_THROW(KeyframeStore::read(dir.path / "missing"), std::runtime_error);
+  EXPECT_THROW(KeyframeStore::read(dir.path() / "missing"), std::runtime_error);
 }
 
 TEST(KeyframeStore, ARestoredServiceHoldsTheSameKeyframesAndGraph) {
   StoreDir dir;
-  const auto file = dir.path / "store";
+  const auto file = dir.path() / "store";
   ConsistencyParams store_params;
   store_params.keyframe_distance = 3.0;
   std::vector<ConsistencyService::KeyframePose> before;
@@ -305,7 +298,7 @@ TEST(KeyframeStore, KeyframesWaitingForTheWorkerAtACheckpointSurviveAKill) {
   // Three keyframes wait for a held worker when the map checkpoints (its snapshot cuts the
   // journal that holds their integrations); the process dies before the worker stored them.
   StoreDir dir;
-  const auto file = dir.path / "store";
+  const auto file = dir.path() / "store";
   ConsistencyParams store_params;
   store_params.keyframe_distance = 3.0;
   ConsistencyService never_killed(store_params, map::MapConfig{});
@@ -362,16 +355,16 @@ TEST(KeyframeStore, KeyframesReducedOnArrivalSurviveACheckpointAndAKill) {
   // arrival. After the kill and restart the store holds the same keyframes, points and scans
   // included, as one written by a worker that never fell behind.
   StoreDir dir;
-  const auto file = dir.path / "store";
+  const auto file = dir.path() / "store";
   ConsistencyParams store_params;
   store_params.keyframe_distance = 3.0;
   {
     ConsistencyService kept_up(store_params, map::MapConfig{}, {},
-                               KeyframeStore::create(dir.path / "kept_up", false, true));
+                               KeyframeStore::create(dir.path() / "kept_up", false, true));
     observeAll(kept_up, 0, 8);
     kept_up.flush();
   }
-  const StoreContents expected = KeyframeStore::read(dir.path / "kept_up");
+  const StoreContents expected = KeyframeStore::read(dir.path() / "kept_up");
   ASSERT_EQ(expected.keyframes.size(), 5u);
   store_params.max_pending_scans = 1;
   {

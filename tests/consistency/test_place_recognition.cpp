@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "../temp_dir.hpp"
 #include "consistency_restore.hpp"
 #include "consistency_service.hpp"
 #include "service/map_service.hpp"
@@ -454,9 +455,8 @@ TEST(MapCorrection, TheServiceSwapsTheGridInAndTellsTheRobotItsCorrectionOnce) {
 
 TEST(MapCorrection, AServiceRestartedFromItsStoreRebuildsWithTheKeyframesFromBeforeTheRestart) {
   const Drive d = correctionDrive();
-  const std::filesystem::path file =
-      std::filesystem::temp_directory_path() /
-      ("socc_restart_store_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  const socc::testing::TempDir dir;
+  const std::filesystem::path file = dir / "store";
   constexpr std::size_t kBeforeRestart = 40;  // most of the first lap: no closure yet
   {
     ConsistencyService live(correctionParams(), map::MapConfig{}, {},
@@ -527,7 +527,6 @@ TEST(MapCorrection, AServiceRestartedFromItsStoreRebuildsWithTheKeyframesFromBef
   const std::unique_ptr<RebuiltGrid> resumed = interrupted.takeRebuild();
   ASSERT_TRUE(resumed);
   EXPECT_EQ(resumed->keyframes, static_cast<int>(d.scans.size()));
-  std::filesystem::remove(file);
 }
 
 }  // namespace

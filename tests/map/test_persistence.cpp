@@ -4,11 +4,11 @@
 #include <octomap/OcTree.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 
+#include "../temp_dir.hpp"
 #include "socc/chunk_request_t.hpp"
 #include "socc/render_request_t.hpp"
 #include "test_helpers.hpp"
@@ -19,23 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::query;
 
-class TempDir {
- public:
-  TempDir() {
-    path_ = fs::temp_directory_path() /
-            ("socc_test_map_" + std::to_string(::getpid()) + "_" + std::to_string(counter_++));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-
- private:
-  static inline int counter_ = 0;
-  fs::path path_;
-};
+using socc::testing::TempDir;
 
 SemanticOccupancyMap sampleMap() {
   MapConfig cfg;

@@ -4,12 +4,12 @@
 // (also the held first one), and the request carries it (gravity_sigma 0 without); a
 // recording's IMU attitude as each scan's reference (withImuAttitude).
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
+#include "../temp_dir.hpp"
 #include "socc/kitti_io.hpp"
 #include "socc/odom/odometry.hpp"
 #include "socc/odom/scan_preparer.hpp"
@@ -25,8 +25,7 @@ namespace {
 
 // Four one-point scans; gravity.txt with the given lines (none: no file).
 fs::path kittiDir(const std::string& name, const std::optional<std::string>& gravity) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("socc_gravity_src_" + std::to_string(::getpid())) / name;
+  const fs::path dir = socc::testing::processTempDir() / name;
   fs::remove_all(dir);
   fs::create_directories(dir / "velodyne");
   for (int k = 0; k < 4; ++k) {

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <map>
 
+#include "../temp_dir.hpp"
 #include "socc/sensors/hesai_decoder.hpp"
-#include "temp_dir.hpp"
 #include "vendor_packets.hpp"
 
 namespace socc::sensors {
@@ -75,7 +75,7 @@ Eigen::Vector3d expectedHesaiPoint(int block_azimuth, int laser, double distance
 
 class HesaiModels : public ::testing::TestWithParam<std::string> {
  protected:
-  test_io::TempDir dir;
+  socc::testing::TempDir dir;
 };
 
 // One complete rotation between two cuts at 0 deg: every point where the manual puts it, at the
@@ -165,7 +165,7 @@ HesaiUnit dualUnit(int block, int laser) {
 }
 
 TEST(HesaiDual, ReturnsAndSelection) {
-  test_io::TempDir dir;
+  socc::testing::TempDir dir;
   HesaiSpec s;
   s.model = "pandar64";
   s.return_mode = 0x39;
@@ -298,7 +298,7 @@ TEST_F(HesaiBadInput, DamagedPacketsAreCountedDrops) {
 }
 
 TEST_F(HesaiBadInput, PacketsOfAnotherModelAreRefused) {
-  test_io::TempDir dir;
+  socc::testing::TempDir dir;
   HesaiSpec p40;
   p40.model = "pandar40p";
   const HesaiStream other = hesaiStream(p40, 0, 60);
@@ -327,7 +327,7 @@ TEST_F(HesaiBadInput, PacketsOfAnotherModelAreRefused) {
 }
 
 TEST(HesaiCalibration, WrongFilesAreRefusedWithTheirReason) {
-  test_io::TempDir dir;
+  socc::testing::TempDir dir;
   const auto message = [&](const std::string& model, const std::string& csv) {
     SensorConfig c;
     c.model = model;

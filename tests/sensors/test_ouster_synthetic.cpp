@@ -5,8 +5,8 @@
 #include <cmath>
 #include <map>
 
+#include "../temp_dir.hpp"
 #include "socc/sensors/ouster_decoder.hpp"
-#include "temp_dir.hpp"
 #include "vendor_packets.hpp"
 
 namespace socc::sensors {
@@ -74,7 +74,7 @@ OusterDecoded decodeOuster(const SensorConfig& config, const std::vector<Packet>
 
 class OusterProfiles : public ::testing::TestWithParam<std::string> {
  protected:
-  test_io::TempDir dir;
+  socc::testing::TempDir dir;
 };
 
 TEST_P(OusterProfiles, DecodeTheDocumentedGeometryTimesAndReturns) {
@@ -124,7 +124,7 @@ INSTANTIATE_TEST_SUITE_P(Ouster, OusterProfiles,
                                            "RNG19_RFL8_SIG16_NIR16_DUAL"));
 
 TEST(OusterDual, ReturnSelection) {
-  test_io::TempDir dir;
+  socc::testing::TempDir dir;
   OusterSpec s;
   s.profile = "RNG19_RFL8_SIG16_NIR16_DUAL";
   SensorConfig config;
@@ -154,7 +154,7 @@ class OusterBadInput : public ::testing::Test {
     config.model = "os1-16";
     config.calibration = dir.write("meta.json", test_packets::ousterMetadata(s));
   }
-  test_io::TempDir dir;
+  socc::testing::TempDir dir;
   OusterSpec s;
   SensorConfig config;
 };

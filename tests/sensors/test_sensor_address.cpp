@@ -10,13 +10,13 @@
 
 #include <algorithm>
 
+#include "../temp_dir.hpp"
 #include "pcap_writer.hpp"
 #include "raw_sensor_data.hpp"
 #include "socc/sensors/decoded_scan_stream.hpp"
 #include "socc/sensors/pcap_source.hpp"
 #include "socc/sensors/recording.hpp"
 #include "socc/sensors/udp_source.hpp"
-#include "temp_dir.hpp"
 #include "velodyne_model_cases.hpp"
 
 namespace socc::sensors {
@@ -105,7 +105,7 @@ class TwoSendersCapture : public ::testing::Test {
     const std::vector<Packet> second = fromSender(test::vlp16(false), 300, kSecondVlp16, t0);
     const std::vector<Packet> hdl = fromSender(test::hdl32e(), 400, kHdl32e, t0 + 150'000);
     // A private directory: ctest runs each case as its own process, in parallel.
-    dir_ = std::make_unique<test_io::TempDir>();
+    dir_ = std::make_unique<socc::testing::TempDir>();
     real_ = writeCapture(dir_->path(), "real.pcap", real);
     second_ = writeCapture(dir_->path(), "second.pcap", second);
     hdl_ = writeCapture(dir_->path(), "hdl.pcap", hdl);
@@ -113,7 +113,7 @@ class TwoSendersCapture : public ::testing::Test {
   }
   static void TearDownTestSuite() { dir_.reset(); }
   void SetUp() override { SOCC_REQUIRE_RAW_SENSORS(); }
-  static inline std::unique_ptr<test_io::TempDir> dir_;
+  static inline std::unique_ptr<socc::testing::TempDir> dir_;
   static inline std::filesystem::path real_, second_, hdl_, mixed_;
 };
 

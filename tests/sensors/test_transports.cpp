@@ -9,6 +9,7 @@
 #include <fstream>
 #include <random>
 
+#include "../temp_dir.hpp"
 #include "pcap_writer.hpp"
 #include "raw_sensor_data.hpp"
 #include "socc/sensors/pcap_source.hpp"
@@ -19,7 +20,7 @@ namespace socc::sensors {
 namespace {
 
 std::filesystem::path temp(const std::string& name) {
-  return std::filesystem::path(::testing::TempDir()) / name;
+  return socc::testing::processTempDir() / name;
 }
 
 std::vector<std::uint8_t> pattern(std::size_t n, int seed) {

@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "../temp_dir.hpp"
 #include "socc/sensors/sensor_config.hpp"
 #include "velodyne_model_cases.hpp"
 
@@ -24,8 +25,7 @@ Decoded decode(const test::ModelCase& m, const std::vector<Packet>& packets, Sen
   config.model = m.model;
   config.keep_partial = true;
   if (m.needs_calibration) {
-    // One file per case: ctest runs the cases of a model in parallel.
-    config.calibration = std::filesystem::path(::testing::TempDir()) /
+    config.calibration = socc::testing::processTempDir() /
                          (m.model + (m.mode == 0x39 ? "_dual" : "") + "_calibration.yaml");
     test::writeYamlCalibration(config.calibration, m.vert_deg, m.resolution);
   }

@@ -2,13 +2,13 @@
 // second sensor on the port, lost and reordered packets. A clear error or a counted drop; never
 // a crash, never a point that was not in the packets.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <fstream>
 #include <functional>
 #include <memory>
 
+#include "../temp_dir.hpp"
 #include "raw_sensor_data.hpp"
 #include "socc/sensors/recording.hpp"
 #include "socc/sensors/sensor_config.hpp"
@@ -123,9 +123,7 @@ std::vector<Packet> hdl64DualPackets() {
 
 SensorConfig hdl64Config() {
   SensorConfig c = model("hdl64e");
-  // One file per process: ctest runs the tests of this file in parallel processes.
-  c.calibration = std::filesystem::path(::testing::TempDir()) /
-                  ("hdl64e_streams_" + std::to_string(::getpid()) + ".yaml");
+  c.calibration = socc::testing::processTempDir() / "hdl64e.yaml";
   test::writeYamlCalibration(c.calibration, test::hdl64e(true).vert_deg, 0.002);
   return c;
 }
@@ -306,10 +304,10 @@ TEST(VelodyneStreams, WrongCalibrationFiles) {
   const std::vector<Packet> p32 = test::makePackets(test::vlp32c(), 40, 1'000'000u);
   EXPECT_THROW(run(c, p32), std::runtime_error);
   // Not a calibration at all.
-  c.calibration = std::filesystem::path(::testing::TempDir()) / "garbage.yaml";
+  c.calibration = socc::testing::processTempDir() / "garbage.yaml";
   std::ofstream(c.calibration) << "lasers: [1, 2, {x: ]]\n";
   EXPECT_THROW(makeDecoder(c), std::runtime_error);
-  c.calibration = std::filesystem::path(::testing::TempDir()) / "garbage.xml";
+  c.calibration = socc::testing::processTempDir() / "garbage.xml";
   std::ofstream(c.calibration) << "<boost_serialization><DB><points_><item><px><id_>zero";
   EXPECT_THROW(makeDecoder(c), std::runtime_error);
   c.calibration = "/nonexistent/calibration.yaml";

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "../temp_dir.hpp"
 #include "service/map_service.hpp"
 #include "socc/channels.hpp"
 #include "socc/labels.hpp"
@@ -82,25 +83,6 @@ std::vector<std::uint8_t> encode(const Message& message) {
   return bytes;
 }
 
-/// A fresh empty directory under the system temp dir, removed by the destructor.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    path_ = std::filesystem::temp_directory_path() /
-            ("socc_service_test_" + std::to_string(rd()) + std::to_string(rd()));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+using TempDir = socc::testing::TempDir;
 
 }  // namespace socc::service::test

@@ -1,11 +1,11 @@
 // gravity.txt: one "ux uy uz sigma_rad" line per frame; malformed lines are errors naming the
 // file and line.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 
+#include "../temp_dir.hpp"
 #include "socc/gravity_file.hpp"
 
 namespace fs = std::filesystem;
@@ -14,10 +14,9 @@ namespace socc {
 namespace {
 
 fs::path writeFile(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / ("socc_gravity_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  std::ofstream(dir / name) << text;
-  return dir / name;
+  const fs::path file = socc::testing::processTempDir() / name;
+  std::ofstream(file) << text;
+  return file;
 }
 
 std::string errorOf(const fs::path& file) {

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "../temp_dir.hpp"
 #include "socc/kitti_io.hpp"
 #include "socc/labels.hpp"
 
@@ -12,9 +13,7 @@ namespace socc {
 namespace {
 
 fs::path tempDir() {
-  fs::path d = fs::temp_directory_path() / ("socc_io_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+  return socc::testing::processTempDir().path();
 }
 
 TEST(KittiIo, BinRoundTrip) {

@@ -1,9 +1,9 @@
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 
+#include "../temp_dir.hpp"
 #include "socc/yaml_fields.hpp"
 
 namespace fs = std::filesystem;
@@ -29,7 +29,7 @@ struct Vars {
 };
 
 fs::path write(const std::string& text) {
-  const fs::path p = fs::temp_directory_path() / ("socc_yaml_" + std::to_string(::getpid()));
+  const fs::path p = socc::testing::processTempDir() / "config.yaml";
   std::ofstream(p) << text;
   return p;
 }
