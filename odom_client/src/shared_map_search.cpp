@@ -21,8 +21,10 @@ void SharedMapSearch::start(PreparedScan stacked, int scans, const Eigen::Isomet
   if (running()) throw std::logic_error("SharedMapSearch: a search is running");
   running_ = std::async(std::launch::async, [this, stacked = std::move(stacked), scans, motion,
                                              hint = std::move(hint), seq, own_pose] {
-    // This robot maps without the service: a search that got no reply is a search without a place.
-    ServiceMapAccess map(client_, config_, NoReply::kBusy);
+    // This robot maps without the service: when the server answered it before, a search that
+    // got no reply (a loaded server) is a search without a place; a server that never answered
+    // may not be running at all, and the run ends with the error as before.
+    ServiceMapAccess map(client_, config_, client_.answered() ? NoReply::kBusy : NoReply::kFails);
     SearchOutcome outcome;
     outcome.found = relocalizer_.addStacked(stacked, scans, motion, map, hint);
     outcome.seq = seq;

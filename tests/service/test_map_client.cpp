@@ -97,6 +97,7 @@ TEST(MapClient, TimesOutWithoutServer) {
   EXPECT_FALSE(result.ok());
   EXPECT_TRUE(result.error.timed_out);
   EXPECT_EQ(result.attempts, 2);
+  EXPECT_FALSE(client.answered());  // a server that never answered: perhaps not running
 }
 
 TEST(MapClient, RequestWithInconsistentArraysIsNotSent) {
@@ -212,8 +213,10 @@ TEST(MapClient, ReportTrackingOverUdp) {
   InProcessServer server(url);
   ASSERT_TRUE(server.good());
   rpc::MapClient client(clientOptions(url, "robot1"));
+  EXPECT_FALSE(client.answered());
   const auto early = client.reportTracking(robot_status_request_t::LOST, "no frames", 0, 0);
   EXPECT_EQ(early.error.status, +reply_header_t::NOT_FOUND);
+  EXPECT_TRUE(client.answered());  // a refusal is an answer too
 
   ASSERT_TRUE(client.integrate(test::scan("robot1", 1)).ok());
   const auto lost = client.reportTracking(robot_status_request_t::LOST, "diverged", 1, 100000);

@@ -68,6 +68,7 @@ struct MapClient::Impl {
   // so late duplicates of an answered request are dropped.
   std::unordered_map<std::int64_t, std::vector<std::uint8_t>> pending;
   std::atomic<std::int64_t> next_request_id{0};
+  std::atomic<bool> answered{false};  // a reply to one of this client's requests arrived
   std::atomic<bool> stop{false};
   std::thread receiver;
 
@@ -85,6 +86,7 @@ struct MapClient::Impl {
     if (it == pending.end() || !it->second.empty()) return;
     const auto* bytes = static_cast<const std::uint8_t*>(rbuf.data);
     it->second.assign(bytes, bytes + rbuf.data_size);
+    answered.store(true);
     arrived.notify_all();
   }
 
@@ -234,6 +236,10 @@ MapClient::~MapClient() {
 
 const ClientOptions& MapClient::options() const {
   return impl_->options;
+}
+
+bool MapClient::answered() const {
+  return impl_->answered.load();
 }
 
 Result<integrate_reply_t> MapClient::integrate(integrate_request_t request) {

@@ -8,8 +8,9 @@
 namespace socc::odom {
 
 /// What a map service that gave no reply (after MapClient's retries) means to a search: the end
-/// of the run (a robot that needs the service to go on), or only of that search (MapBusy: an
-/// own-frame robot, which maps without the service and writes nothing to it before its merge).
+/// of the run (a robot that needs the service to go on, or a server that never answered), or
+/// only of that search (MapBusy: an own-frame robot, which maps without the service and writes
+/// nothing to it before its merge, searching a server that answered it before).
 enum class NoReply { kFails, kBusy };
 
 class ServiceMapAccess : public MapAccess {

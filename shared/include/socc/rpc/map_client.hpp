@@ -67,6 +67,9 @@ class MapClient {
   MapClient& operator=(const MapClient&) = delete;
 
   const ClientOptions& options() const;
+  /// Whether the server ever replied to this client (any status): a server that answered
+  /// before and is silent now is busy or gone, one that never answered may not be running.
+  bool answered() const;
 
   /// The header fields (request id, client id, reply channel, time, auth) are filled in here.
   Result<integrate_reply_t> integrate(integrate_request_t request);
@@ -84,13 +87,13 @@ class MapClient {
                                          std::int32_t max_keyframes = 10000);
   Result<map_command_reply_t> command(map_command_request_t request);
   Result<render_reply_t> render(render_request_t request);
+  /// LOCALIZE: ranked candidate poses of a scan in the map (docs/relocalization.md); waits up to
+  /// 30 s per attempt (a search over a large map takes seconds).
+  Result<localize_reply_t> localize(localize_request_t request);
   /// ROBOT_STATUS: reports this client's (= robot's) tracking state (robot_status_request_t
   /// constants) at frame seq / scan time utime. LOST and RELOCALIZING make the server refuse
   /// its INTEGRATEs (FAILED_PRECONDITION) until it reports TRACKING or DEGRADED again.
   /// NOT_FOUND before the robot's first accepted INTEGRATE.
-  /// LOCALIZE: ranked candidate poses of a scan in the map (docs/relocalization.md); waits up to
-  /// 30 s per attempt (a search over a large map takes seconds).
-  Result<localize_reply_t> localize(localize_request_t request);
   Result<robot_status_reply_t> reportTracking(std::int8_t tracking_state, const std::string& reason,
                                               std::int64_t seq, std::int64_t utime);
 
