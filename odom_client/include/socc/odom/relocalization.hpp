@@ -38,8 +38,9 @@ struct SpaceCheck {
 };
 
 /// What a MapAccess throws when the map service cannot answer now (its searches all taken, or the
-/// map replaced while the search ran, after MapClient's resends): nothing was learnt, and the
-/// same search may be asked again later.
+/// map replaced while the search ran, after MapClient's resends; for a robot in its own frame
+/// also no reply from a server that answered it before: ServiceMapAccess's NoReply): nothing
+/// was learnt, and the same search may be asked again later.
 class MapBusy : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
