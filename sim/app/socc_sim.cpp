@@ -7,7 +7,7 @@
 
 #include "socc/kitti_io.hpp"
 #include "socc/sim/realism.hpp"
-#include "socc/sim/revisit_levelling.hpp"
+#include "socc/sim/road_heights.hpp"
 #include "socc/sim/scene.hpp"
 #include "socc/sim/sequence_writer.hpp"
 #include "socc/version.hpp"
@@ -40,16 +40,17 @@ struct Arguments {
   bool quiet = false;
 };
 
-// The route's heights levelled where it revisits a street (unless --recorded-heights), so that
-// the world has one road there (revisit_levelling.hpp).
-socc::Poses levelledPoses(socc::Poses poses, const Arguments& a) {
-  if (a.recorded_heights) return poses;
-  LevelledRoute levelled = levelRevisits(poses);
-  if (levelled.revisit_pairs > 0 && !a.quiet)
-    std::cerr << "levelled the route's revisits (" << levelled.revisit_pairs
-              << " poses on a street driven before): heights changed by up to "
-              << std::round(levelled.max_change * 100.0) / 100.0 << " m\n";
-  return std::move(levelled.poses);
+// The route at the heights of the road it drove (unless --recorded-heights): the recorded
+// attitude's grade, one height at each revisit (road_heights.hpp). Returns each pose's change.
+std::vector<double> roadHeights(socc::Poses& poses, const Arguments& a) {
+  if (a.recorded_heights) return {};
+  RoadHeights road = fuseRoadHeights(poses);
+  if (!a.quiet)
+    std::cerr << "heights fused with the recorded attitude (" << road.revisit_pairs
+              << " poses tied to a street driven before): changed by up to "
+              << std::round(road.max_change * 100.0) / 100.0 << " m\n";
+  poses = std::move(road.poses);
+  return std::move(road.change);
 }
 
 int run(const Arguments& a) {
@@ -63,6 +64,7 @@ int run(const Arguments& a) {
   disableRealism(realism, a.realism_off);
   scaleRealism(realism, a.realism_scale);
   scene_options.body_motion = realism.motion;
+  std::vector<double> height_change;
   if (a.kitti_poses) {
     socc::Poses poses = socc::readKittiPoses(*a.kitti_poses);
     if (a.calib) poses = socc::cameraToLidarPoses(poses, socc::readKittiCalibTr(*a.calib));
@@ -72,7 +74,8 @@ int run(const Arguments& a) {
                 << " poses; generating that many frames\n";
       scene_options.frames = poses.size();
     }
-    scene_options.poses = levelledPoses(std::move(poses), a);
+    height_change = roadHeights(poses, a);
+    scene_options.poses = std::move(poses);
   }
   LidarModel model = lidarPreset(a.sensor);
   model.range_noise = a.noise;
@@ -89,6 +92,7 @@ int run(const Arguments& a) {
   options.scan = {a.distortion, a.seed, &realism, a.sensor_seed};
   const std::string imu = a.imu.value_or(a.realism == "kitti" ? "ins" : "none");
   options.imu = imuPreset(imu);
+  options.recorded_height_change = std::move(height_change);
   const SequenceSummary summary = writeSequence(a.out, scene, model, options);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -108,7 +112,8 @@ int main(int argc, char** argv) {
       "socc-sim: ray-casts a procedurally generated, seeded world into a synthetic LiDAR\n"
       "sequence with exact ground truth, written in the KITTI layout (velodyne/, labels/ with\n"
       "raw SemanticKITTI ids, poses.txt in the LiDAR frame, calib.txt, times.txt, with\n"
-      "--distortion point_times/, with an --imu gravity.txt). Same seed -> identical files.\n"
+      "--distortion point_times/, with an --imu gravity.txt, with --kitti-poses\n"
+      "poses_recorded_heights.txt). Same seed -> identical files.\n"
       "Default: 100 frames of an urban street (HDL-64, 9 m/s, moving cars and pedestrians)."};
   app.set_version_flag("--version", socc::versionLine("socc-sim"));
   Arguments a;
@@ -143,10 +148,11 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile)
       ->needs(kitti);
   app.add_flag("--recorded-heights", a.recorded_heights,
-               "Keep --kitti-poses' heights as recorded. By default, where the route comes back "
-               "to a street it drove before, the passes' height difference (KITTI's GPS/INS "
-               "height drift, up to 6 m) is spread along the drive between them, so that the "
-               "world has one road there (docs/simulator.md \"Revisits at one height\")")
+               "Keep --kitti-poses' heights as recorded. By default the world is built at the "
+               "heights of the road the recorded attitude drove (KITTI's GPS heights climb 16 m "
+               "under a level car on 08 and do not close at revisits, up to 6 m), tied to one "
+               "height at every revisit; poses_recorded_heights.txt then holds the ground truth "
+               "at the recorded heights (docs/simulator.md \"Road heights\")")
       ->needs(kitti);
   app.add_option("--speed", a.speed, "Speed along the route [m/s] (default per scene)")
       ->check(CLI::NonNegativeNumber)

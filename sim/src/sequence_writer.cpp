@@ -34,7 +34,11 @@ SequenceSummary writeSequence(const fs::path& out, const Scene& scene, const Lid
   for (const char* dir : {"velodyne", "labels"}) fs::create_directories(out / dir);
   if (options.write_point_times) fs::create_directories(out / "point_times");
 
+  const std::vector<double>& change = options.recorded_height_change;
+  if (!change.empty() && change.size() < options.frames)
+    throw std::invalid_argument("writeSequence: a recorded height change per frame is needed");
   Poses poses;
+  Poses recorded;
   std::string times;
   const Eigen::Isometry3d first_inverse = scene.trajectory.poseAt(0.0).inverse();
   LabelScore labels;
@@ -59,6 +63,8 @@ SequenceSummary writeSequence(const fs::path& out, const Scene& scene, const Lid
     const Eigen::Isometry3d pose = scene.trajectory.poseAt(t);
     // KITTI convention: poses relative to the first frame.
     poses.push_back(first_inverse * pose);
+    if (!change.empty())
+      recorded.push_back(first_inverse * Eigen::Translation3d(0.0, 0.0, -change[k]) * pose);
     // The up direction in the sensor frame at the pose's time, independent of frame 0's tilt.
     if (imu) gravity.push_back(imu->measure(pose.linear(), t));
     char line[32];
@@ -68,6 +74,10 @@ SequenceSummary writeSequence(const fs::path& out, const Scene& scene, const Lid
   }
   progress.finish();
   writeKittiPoses(out / "poses.txt", poses);
+  if (!change.empty())
+    writeKittiPoses(out / "poses_recorded_heights.txt", recorded);
+  else
+    fs::remove(out / "poses_recorded_heights.txt");  // a stale one would belong to another route
   writeText(out / "times.txt", times);
   writeText(out / "calib.txt", "Tr: 1 0 0 0 0 1 0 0 0 0 1 0\n");
   if (imu)

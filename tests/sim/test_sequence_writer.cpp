@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <stdexcept>
 
 #include "socc/gravity_file.hpp"
 #include "socc/kitti_io.hpp"
@@ -113,6 +114,31 @@ TEST_F(SequenceWriter, AnImuWritesGravityAndChangesNothingElse) {
   options.show_progress = false;
   writeSequence(ins, buildScene({}), lidarPreset("vlp16"), options);
   EXPECT_FALSE(fs::exists(ins / "gravity.txt"));
+}
+
+TEST_F(SequenceWriter, TheRecordedHeightsReferenceDiffersOnlyInHeight) {
+  const Scene scene = buildScene({});  // level at frame 0: its z is the map's z
+  SequenceOptions options;
+  options.frames = 3;
+  options.show_progress = false;
+  options.recorded_height_change = {0.0, 0.5, -1.25};
+  const fs::path out = tempDir("recorded");
+  writeSequence(out, scene, lidarPreset("vlp16"), options);
+  const Poses road = readKittiPoses(out / "poses.txt");
+  const Poses recorded = readKittiPoses(out / "poses_recorded_heights.txt");
+  ASSERT_EQ(recorded.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_TRUE(recorded[k].linear().isApprox(road[k].linear(), 1e-9)) << k;
+    const Eigen::Vector3d moved = recorded[k].translation() - road[k].translation();
+    EXPECT_NEAR(moved.z(), -options.recorded_height_change[k], 1e-6) << k;
+    EXPECT_NEAR(moved.head<2>().norm(), 0.0, 1e-6) << k;
+  }
+  // Written again without one: no stale reference of another route.
+  options.recorded_height_change.clear();
+  writeSequence(out, scene, lidarPreset("vlp16"), options);
+  EXPECT_FALSE(fs::exists(out / "poses_recorded_heights.txt"));
+  options.recorded_height_change = {0.0};  // fewer than the frames
+  EXPECT_THROW(writeSequence(out, scene, lidarPreset("vlp16"), options), std::invalid_argument);
 }
 
 TEST_F(SequenceWriter, UnwritableDirectoryThrows) {

@@ -4,7 +4,10 @@
 //   poses.txt (LiDAR-frame GT relative to frame 0, 3x4)  calib.txt (identity Tr)  times.txt
 //   gravity.txt (with an attitude sensor: the up direction in the sensor frame,
 //   socc/gravity_file.hpp)
+//   poses_recorded_heights.txt (with recorded_height_change: poses.txt at a recording's heights,
+//   the reference its published drift figures are scored against)
 #include <filesystem>
+#include <vector>
 
 #include "socc/sim/attitude_sensor.hpp"
 #include "socc/sim/lidar_model.hpp"
@@ -21,6 +24,9 @@ struct SequenceOptions {
   ScanOptions scan;
   /// The attitude sensor whose readings go to gravity.txt; none (no error term): no file.
   ImuErrors imu = {};
+  /// Per frame [m]: the route's height minus the height its recording gives that frame (a
+  /// --kitti-poses route on the road's heights, road_heights.hpp); empty: no such file.
+  std::vector<double> recorded_height_change;
 };
 
 struct SequenceSummary {

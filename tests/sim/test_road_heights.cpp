@@ -1,11 +1,12 @@
-// Recorded routes whose heights do not close are levelled at their revisits, and nothing else.
+// The road under a recorded route: its grade follows the attitude, its heights the GPS over long
+// distances, its revisits meet; only heights change.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
-#include "socc/sim/revisit_levelling.hpp"
+#include "socc/sim/road_heights.hpp"
 
 namespace socc::sim {
 namespace {
@@ -23,7 +24,8 @@ Eigen::Isometry3d poseAt(const Eigen::Vector3d& p, const Eigen::Vector2d& headin
 }
 
 // Out 200 m along +x, a U-turn, back 200 m in the other lane (3.5 m to the left), one pose a
-// metre, on flat ground recorded with a height drift of `drift` per metre driven.
+// metre, on flat ground recorded with a height drift of `drift` per metre driven and an attitude
+// that agrees with it (a pitch bias: nose up both ways), so only the revisit says it is flat.
 Poses outAndBack(double drift) {
   std::vector<Eigen::Vector2d> xy;
   for (int x = 0; x <= 200; ++x) xy.emplace_back(x, 0.0);
@@ -44,9 +46,9 @@ Poses outAndBack(double drift) {
   return poses;
 }
 
-TEST(RevisitLevelling, ThePassesOfARevisitedStreetComeToOneHeight) {
+TEST(RoadHeights, ThePassesOfARevisitedStreetComeToOneHeight) {
   const Poses recorded = outAndBack(0.01);  // 4 m apart where the drive ends
-  const LevelledRoute levelled = levelRevisits(recorded);
+  const RoadHeights levelled = fuseRoadHeights(recorded);
   ASSERT_EQ(levelled.poses.size(), recorded.size());
   EXPECT_GT(levelled.revisit_pairs, 100u);
   EXPECT_GT(levelled.max_change, 1.0);
@@ -64,42 +66,73 @@ TEST(RevisitLevelling, ThePassesOfARevisitedStreetComeToOneHeight) {
                          << recorded.back().translation().z() - recorded[0].translation().z();
 }
 
-TEST(RevisitLevelling, OnlyHeightsChange) {
+TEST(RoadHeights, OnlyHeightsChange) {
   const Poses recorded = outAndBack(0.01);
-  const LevelledRoute levelled = levelRevisits(recorded);
+  const RoadHeights levelled = fuseRoadHeights(recorded);
   for (std::size_t k = 0; k < recorded.size(); ++k) {
     EXPECT_TRUE(levelled.poses[k].linear().isApprox(recorded[k].linear(), 0.0)) << k;
     EXPECT_EQ(levelled.poses[k].translation().head<2>(), recorded[k].translation().head<2>());
   }
 }
 
-TEST(RevisitLevelling, ARouteThatNeverComesBackIsUnchanged) {
-  Poses straight;
-  for (int x = 0; x < 300; ++x)
-    straight.push_back(poseAt(Eigen::Vector3d(x, 0.0, 0.02 * x), Eigen::Vector2d::UnitX(), 0.02));
-  const LevelledRoute levelled = levelRevisits(straight);
-  EXPECT_EQ(levelled.revisit_pairs, 0u);
-  for (std::size_t k = 0; k < straight.size(); ++k)
-    EXPECT_TRUE(levelled.poses[k].isApprox(straight[k], 0.0)) << k;
+// A straight route along +x, one pose a metre, at `height(x)` with the attitude `grade(x)`.
+template <typename Height, typename Grade>
+Poses straightRoute(int metres, Height height, Grade grade) {
+  Poses route;
+  for (int x = 0; x < metres; ++x)
+    route.push_back(poseAt(Eigen::Vector3d(x, 0.0, height(x)), Eigen::Vector2d::UnitX(), grade(x)));
+  return route;
 }
 
-TEST(RevisitLevelling, AStreetCrossedAgainComesToOneHeightToo) {
+TEST(RoadHeights, HeightsThatAgreeWithTheAttitudeStay) {
+  const Poses hill = straightRoute(
+      600, [](double x) { return 10.0 * std::sin(x / 100.0); },
+      [](double x) { return 0.1 * std::cos(x / 100.0); });
+  const RoadHeights road = fuseRoadHeights(hill);
+  EXPECT_EQ(road.revisit_pairs, 0u);
+  EXPECT_LT(road.max_change, 0.05);  // the bend term rounds its crests (curvature 0.001 / m)
+}
+
+TEST(RoadHeights, AGpsLiftUnderALevelCarIsFlattened) {
+  // KITTI 08's start: the recorded heights climb 10 m within 30 m, the pitch stays level.
+  const Poses lift = straightRoute(
+      400, [](double x) { return std::clamp((x - 50.0) / 3.0, 0.0, 10.0); },
+      [](double) { return 0.0; });
+  const RoadHeights road = fuseRoadHeights(lift);
+  double steepest = 0.0;
+  for (std::size_t k = 0; k + 10 < road.poses.size(); ++k)
+    steepest = std::max(
+        steepest,
+        std::abs(road.poses[k + 10].translation().z() - road.poses[k].translation().z()) / 10.0);
+  EXPECT_LT(steepest, 0.03) << "recorded: 0.33";
+  EXPECT_GT(road.max_change, 5.0);
+}
+
+TEST(RoadHeights, AnAttitudeBiasDoesNotRunAway) {
+  // 3 km on level ground, the pitch 0.5 deg nose up: integrated, 26 m of climb.
+  const Poses biased = straightRoute(
+      3000, [](double) { return 0.0; }, [](double) { return 0.0087; });
+  const RoadHeights road = fuseRoadHeights(biased);
+  EXPECT_LT(road.max_change, 7.0);  // about twice bias * gps_sigma / grade_sigma
+}
+
+TEST(RoadHeights, AStreetCrossedAgainComesToOneHeightToo) {
   Poses route;  // east along y = 0; then, after a drive round, north across it recorded 6 m higher
   for (int x = -100; x <= 100; ++x)
     route.push_back(poseAt(Eigen::Vector3d(x, 0.0, 0.0), Eigen::Vector2d::UnitX(), 0.0));
   for (int y = -100; y <= 100; ++y)
     route.push_back(poseAt(Eigen::Vector3d(0.0, y, 6.0), Eigen::Vector2d::UnitY(), 0.0));
-  const LevelledRoute levelled = levelRevisits(route);
+  const RoadHeights levelled = fuseRoadHeights(route);
   EXPECT_GT(levelled.revisit_pairs, 0u);
   EXPECT_NEAR(levelled.poses[201 + 100].translation().z(), levelled.poses[100].translation().z(),
               0.1);
 }
 
-TEST(RevisitLevelling, StandingStillAtTheStartAndAtTheTurnIsFine) {
+TEST(RoadHeights, StandingStillAtTheStartAndAtTheTurnIsFine) {
   Poses route = outAndBack(0.01);
   route.insert(route.begin(), 10, route.front());     // waits before driving off
   route.insert(route.begin() + 215, 20, route[215]);  // and at the turn
-  const LevelledRoute levelled = levelRevisits(route);
+  const RoadHeights levelled = fuseRoadHeights(route);
   EXPECT_GT(levelled.revisit_pairs, 100u);
   for (const Eigen::Isometry3d& pose : levelled.poses) ASSERT_TRUE(pose.matrix().allFinite());
   EXPECT_TRUE(levelled.poses[0].isApprox(levelled.poses[9], 1e-12));

@@ -1,4 +1,4 @@
-#include "socc/sim/revisit_levelling.hpp"
+#include "socc/sim/road_heights.hpp"
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
@@ -16,13 +16,21 @@
 namespace socc::sim {
 namespace {
 
-// The route as driven: horizontal arc length, direction of travel (none while standing) and
-// grade at each pose.
+// The route as driven: horizontal arc length, direction of travel (none while standing), and
+// the road's grade along it by the recorded attitude (the slope of the sensor's x-y plane).
 struct RouteGeometry {
   std::vector<double> s;
   std::vector<std::optional<Eigen::Vector2d>> heading;
-  std::vector<double> grade;
+  std::vector<double> attitude_grade;
 };
+
+double attitudeGrade(const Eigen::Isometry3d& pose, const std::optional<Eigen::Vector2d>& heading) {
+  const Eigen::Vector3d up = pose.linear().col(2);
+  Eigen::Vector2d along = pose.linear().col(0).head<2>();  // standing: the way it faces
+  if (heading) along = *heading;
+  if (along.norm() < 1e-9 || up.z() < 1e-3) return 0.0;
+  return -up.head<2>().dot(along.normalized()) / up.z();
+}
 
 RouteGeometry routeGeometry(const Poses& poses) {
   const std::size_t n = poses.size();
@@ -33,11 +41,9 @@ RouteGeometry routeGeometry(const Poses& poses) {
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t a = k > 0 ? k - 1 : 0;
     const std::size_t b = std::min(k + 1, n - 1);
-    const double ds = g.s[b] - g.s[a];
-    if (ds < 0.05) continue;
-    const Eigen::Vector3d d = poses[b].translation() - poses[a].translation();
-    g.heading[k] = d.head<2>() / d.head<2>().norm();
-    g.grade[k] = d.z() / ds;
+    const Eigen::Vector2d d = (poses[b].translation() - poses[a].translation()).head<2>();
+    if (g.s[b] - g.s[a] >= 0.05) g.heading[k] = d / d.norm();
+    g.attitude_grade[k] = attitudeGrade(poses[k], g.heading[k]);
   }
   return g;
 }
@@ -51,7 +57,7 @@ struct RevisitPair {
 };
 
 std::vector<RevisitPair> revisitPairs(const Poses& poses, const RouteGeometry& g,
-                                      const RevisitLevelling& p) {
+                                      const RoadHeightModel& p) {
   PlanarCells earlier(p.radius);
   std::vector<RevisitPair> pairs;
   for (std::size_t j = 0; j < poses.size(); ++j) {
@@ -62,7 +68,7 @@ std::vector<RevisitPair> revisitPairs(const Poses& poses, const RouteGeometry& g
       const Eigen::Vector2d offset = xy - poses[i].translation().head<2>();
       const double distance = offset.norm();
       if (g.s[j] - g.s[i] < p.min_path || distance >= best_distance) return false;
-      const double rise = g.heading[i] ? g.grade[i] * offset.dot(*g.heading[i]) : 0.0;
+      const double rise = g.heading[i] ? g.attitude_grade[i] * offset.dot(*g.heading[i]) : 0.0;
       best = RevisitPair{i, j, poses[i].translation().z() + rise - poses[j].translation().z()};
       best_distance = distance;
       return false;
@@ -99,7 +105,7 @@ class NormalEquations {
     h.setFromTriplets(h_.begin(), h_.end());
     const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(h);
     if (solver.info() != Eigen::Success)
-      throw std::runtime_error("levelRevisits: the height corrections' system is singular");
+      throw std::runtime_error("fuseRoadHeights: the height corrections' system is singular");
     return solver.solve(b_);
   }
 
@@ -125,25 +131,33 @@ std::vector<double> alongPath(const std::vector<double>& s, const std::vector<do
   return u;
 }
 
-// The height correction along the path (every kStep metres of arc length, 0 at the start) that
-// brings the pairs together at the least cost of a random walk of the recorded heights and of
-// bends of the levelled road (roads bend up and down gently; a pass whose recorded heights bend
-// sharply is the one to move).
+// The height correction along the path (every kStep metres of arc length, 0 at the start): the
+// road's grade follows the attitude, its heights the recorded ones up to an offset (GPS errors
+// are mostly a slowly wandering offset), its grade bends gently (so suspension pitch is smoothed
+// out), and the passes of every revisit meet. Unknowns: the corrections, then the offset.
 std::vector<double> solveCorrections(const Poses& poses, const RouteGeometry& g,
                                      const std::vector<RevisitPair>& pairs,
-                                     const RevisitLevelling& p) {
+                                     const RoadHeightModel& p) {
   const auto m = static_cast<std::size_t>(std::floor(g.s.back() / kStep)) + 2;
   std::vector<double> z(poses.size());
   for (std::size_t k = 0; k < poses.size(); ++k) z[k] = poses[k].translation().z();
   const std::vector<double> height = alongPath(g.s, z, m);
-  NormalEquations equations(static_cast<Eigen::Index>(m));
+  const std::vector<double> attitude = alongPath(g.s, g.attitude_grade, m);
+  const auto offset = static_cast<Eigen::Index>(m);
+  NormalEquations equations(offset + 1);
   equations.add({{0, 1.0}}, 0.0, 1e8);
-  const double walk = 1.0 / (p.drift_sigma * p.drift_sigma * kStep);
+  const double gps = kStep / (p.gps_sigma * p.gps_sigma);
+  const double grade = kStep / (p.grade_sigma * p.grade_sigma);
   const double bend = kStep / (p.bend_sigma * p.bend_sigma);
   const double h2 = kStep * kStep;
-  for (std::size_t q = 0; q + 1 < m; ++q) {
+  for (std::size_t q = 0; q < m; ++q) {
     const auto i = static_cast<Eigen::Index>(q);
-    equations.add({{i, -1.0}, {i + 1, 1.0}}, 0.0, walk);
+    equations.add({{i, 1.0}, {offset, -1.0}}, 0.0, gps);
+    if (q + 1 == m) break;
+    const double recorded_grade = (height[q + 1] - height[q]) / kStep;
+    const double attitude_grade = 0.5 * (attitude[q] + attitude[q + 1]);
+    equations.add({{i, -1.0 / kStep}, {i + 1, 1.0 / kStep}}, attitude_grade - recorded_grade,
+                  grade);
     if (q == 0) continue;
     const double recorded_bend = (height[q - 1] - 2.0 * height[q] + height[q + 1]) / h2;
     equations.add({{i - 1, 1.0 / h2}, {i, -2.0 / h2}, {i + 1, 1.0 / h2}}, -recorded_bend, bend);
@@ -160,24 +174,22 @@ std::vector<double> solveCorrections(const Poses& poses, const RouteGeometry& g,
     equations.add({{j, 1.0 - tj}, {j + 1, tj}, {i, ti - 1.0}, {i + 1, -ti}}, r.difference, revisit);
   }
   const Eigen::VectorXd u = equations.solve();
-  return {u.data(), u.data() + static_cast<Eigen::Index>(m)};
+  return {u.data(), u.data() + offset};
 }
 
 }  // namespace
 
-LevelledRoute levelRevisits(const Poses& poses, const RevisitLevelling& params) {
-  LevelledRoute out{poses, 0, 0.0};
+RoadHeights fuseRoadHeights(const Poses& poses, const RoadHeightModel& model) {
+  RoadHeights out{poses, std::vector<double>(poses.size(), 0.0), 0, 0.0};
   if (poses.size() < 2) return out;
   const RouteGeometry g = routeGeometry(poses);
-  const std::vector<RevisitPair> pairs = revisitPairs(poses, g, params);
+  const std::vector<RevisitPair> pairs = revisitPairs(poses, g, model);
   out.revisit_pairs = pairs.size();
-  if (pairs.empty()) return out;
-  const std::vector<double> correction = solveCorrections(poses, g, pairs, params);
-  // Heights only: the recorded attitude (an INS's, far better than its GPS heights) stays.
+  const std::vector<double> correction = solveCorrections(poses, g, pairs, model);
   for (std::size_t k = 0; k < poses.size(); ++k) {
-    const double change = sampleAt(correction, g.s[k]) - sampleAt(correction, 0.0);
-    out.poses[k].translation().z() += change;
-    out.max_change = std::max(out.max_change, std::abs(change));
+    out.change[k] = sampleAt(correction, g.s[k]) - sampleAt(correction, 0.0);
+    out.poses[k].translation().z() += out.change[k];
+    out.max_change = std::max(out.max_change, std::abs(out.change[k]));
   }
   return out;
 }
