@@ -48,7 +48,9 @@ std::vector<double> roadHeights(socc::Poses& poses, const Arguments& a) {
   if (!a.quiet)
     std::cerr << "heights fused with the recorded attitude (" << road.revisit_pairs
               << " poses tied to a street driven before): changed by up to "
-              << std::round(road.max_change * 100.0) / 100.0 << " m\n";
+              << std::round(road.max_change * 100.0) / 100.0 << " m; the sensor pitched "
+              << std::round(road.sensor_pitch * 180.0 / M_PI * 100.0) / 100.0
+              << " deg against the road\n";
   poses = std::move(road.poses);
   return std::move(road.change);
 }

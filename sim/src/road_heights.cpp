@@ -16,12 +16,15 @@
 namespace socc::sim {
 namespace {
 
-// The route as driven: horizontal arc length, direction of travel (none while standing), and
-// the road's grade along it by the recorded attitude (the slope of the sensor's x-y plane).
+// The route as driven: horizontal arc length, direction of travel (none while standing), the
+// road's grade along it by the recorded attitude (the slope of the sensor's x-y plane) and the
+// way the sensor faces (+1 forwards, -1 reversing: a sensor pitched against the road tilts the
+// grade it gives by that sign).
 struct RouteGeometry {
   std::vector<double> s;
   std::vector<std::optional<Eigen::Vector2d>> heading;
   std::vector<double> attitude_grade;
+  std::vector<double> facing;
 };
 
 double attitudeGrade(const Eigen::Isometry3d& pose, const std::optional<Eigen::Vector2d>& heading) {
@@ -35,7 +38,7 @@ double attitudeGrade(const Eigen::Isometry3d& pose, const std::optional<Eigen::V
 RouteGeometry routeGeometry(const Poses& poses) {
   const std::size_t n = poses.size();
   RouteGeometry g{std::vector<double>(n, 0.0), std::vector<std::optional<Eigen::Vector2d>>(n),
-                  std::vector<double>(n, 0.0)};
+                  std::vector<double>(n, 0.0), std::vector<double>(n, 1.0)};
   for (std::size_t k = 1; k < n; ++k)
     g.s[k] = g.s[k - 1] + (poses[k].translation() - poses[k - 1].translation()).head<2>().norm();
   for (std::size_t k = 0; k < n; ++k) {
@@ -44,6 +47,8 @@ RouteGeometry routeGeometry(const Poses& poses) {
     const Eigen::Vector2d d = (poses[b].translation() - poses[a].translation()).head<2>();
     if (g.s[b] - g.s[a] >= 0.05) g.heading[k] = d / d.norm();
     g.attitude_grade[k] = attitudeGrade(poses[k], g.heading[k]);
+    if (g.heading[k] && g.heading[k]->dot(poses[k].linear().col(0).head<2>()) < 0.0)
+      g.facing[k] = -1.0;
   }
   return g;
 }
@@ -132,20 +137,28 @@ std::vector<double> alongPath(const std::vector<double>& s, const std::vector<do
 }
 
 // The height correction along the path (every kStep metres of arc length, 0 at the start): the
-// road's grade follows the attitude, its heights the recorded ones up to an offset (GPS errors
-// are mostly a slowly wandering offset), its grade bends gently (so suspension pitch is smoothed
-// out), and the passes of every revisit meet. Unknowns: the corrections, then the offset.
-std::vector<double> solveCorrections(const Poses& poses, const RouteGeometry& g,
-                                     const std::vector<RevisitPair>& pairs,
-                                     const RoadHeightModel& p) {
+// road's grade follows the attitude but for the sensor's constant pitch against the road (KITTI's
+// LiDAR: 0.5-1.0 deg nose down, which integrates to metres per 300 m), its heights the recorded
+// ones up to an offset (GPS errors are mostly a slowly wandering offset), its grade bends gently
+// (so suspension pitch is smoothed out), and the passes of every revisit meet.
+struct Corrections {
+  std::vector<double> along_path;  // every kStep metres
+  double pitch = 0.0;              // the sensor's pitch against the road, as a grade
+};
+
+Corrections solveCorrections(const Poses& poses, const RouteGeometry& g,
+                             const std::vector<RevisitPair>& pairs, const RoadHeightModel& p) {
   const auto m = static_cast<std::size_t>(std::floor(g.s.back() / kStep)) + 2;
   std::vector<double> z(poses.size());
   for (std::size_t k = 0; k < poses.size(); ++k) z[k] = poses[k].translation().z();
   const std::vector<double> height = alongPath(g.s, z, m);
   const std::vector<double> attitude = alongPath(g.s, g.attitude_grade, m);
-  const auto offset = static_cast<Eigen::Index>(m);
-  NormalEquations equations(offset + 1);
+  const std::vector<double> facing = alongPath(g.s, g.facing, m);
+  const auto offset = static_cast<Eigen::Index>(m);  // unknowns: the corrections, then these two
+  const Eigen::Index pitch = offset + 1;
+  NormalEquations equations(pitch + 1);
   equations.add({{0, 1.0}}, 0.0, 1e8);
+  equations.add({{pitch, 1.0}}, 0.0, 1.0 / (p.pitch_sigma * p.pitch_sigma));
   const double gps = kStep / (p.gps_sigma * p.gps_sigma);
   const double grade = kStep / (p.grade_sigma * p.grade_sigma);
   const double bend = kStep / (p.bend_sigma * p.bend_sigma);
@@ -156,8 +169,9 @@ std::vector<double> solveCorrections(const Poses& poses, const RouteGeometry& g,
     if (q + 1 == m) break;
     const double recorded_grade = (height[q + 1] - height[q]) / kStep;
     const double attitude_grade = 0.5 * (attitude[q] + attitude[q + 1]);
-    equations.add({{i, -1.0 / kStep}, {i + 1, 1.0 / kStep}}, attitude_grade - recorded_grade,
-                  grade);
+    const double sign = 0.5 * (facing[q] + facing[q + 1]);
+    equations.add({{i, -1.0 / kStep}, {i + 1, 1.0 / kStep}, {pitch, sign}},
+                  attitude_grade - recorded_grade, grade);
     if (q == 0) continue;
     const double recorded_bend = (height[q - 1] - 2.0 * height[q] + height[q + 1]) / h2;
     equations.add({{i - 1, 1.0 / h2}, {i, -2.0 / h2}, {i + 1, 1.0 / h2}}, -recorded_bend, bend);
@@ -174,7 +188,7 @@ std::vector<double> solveCorrections(const Poses& poses, const RouteGeometry& g,
     equations.add({{j, 1.0 - tj}, {j + 1, tj}, {i, ti - 1.0}, {i + 1, -ti}}, r.difference, revisit);
   }
   const Eigen::VectorXd u = equations.solve();
-  return {u.data(), u.data() + offset};
+  return {{u.data(), u.data() + offset}, u[pitch]};
 }
 
 }  // namespace
@@ -185,9 +199,11 @@ RoadHeights fuseRoadHeights(const Poses& poses, const RoadHeightModel& model) {
   const RouteGeometry g = routeGeometry(poses);
   const std::vector<RevisitPair> pairs = revisitPairs(poses, g, model);
   out.revisit_pairs = pairs.size();
-  const std::vector<double> correction = solveCorrections(poses, g, pairs, model);
+  const Corrections correction = solveCorrections(poses, g, pairs, model);
+  out.sensor_pitch = std::atan(correction.pitch);
+  const std::vector<double>& u = correction.along_path;
   for (std::size_t k = 0; k < poses.size(); ++k) {
-    out.change[k] = sampleAt(correction, g.s[k]) - sampleAt(correction, 0.0);
+    out.change[k] = sampleAt(u, g.s[k]) - sampleAt(u, 0.0);
     out.poses[k].translation().z() += out.change[k];
     out.max_change = std::max(out.max_change, std::abs(out.change[k]));
   }

@@ -5,7 +5,8 @@
 // climb 16 m within its first 45 m while its pitch says the road is level (docs/simulator.md
 // "Road heights"). A world built at those heights has two road slabs at a revisit and ramps
 // under a level car, places no real drive comes to. fuseRoadHeights gives the road that the
-// recorded attitude drove (its grade follows the vehicle's pitch over short distances), the GPS
+// recorded attitude drove (its grade follows the vehicle's pitch over short distances, but for
+// the sensor's constant pitch against the road, estimated: 0.5-1.0 deg on KITTI), the GPS
 // heights over long ones (beyond gps_sigma / grade_sigma metres: an attitude's grade error
 // integrates into height drift) and one height at every revisit, as a pose graph spreads a
 // loop's error. Only heights change: the attitude stays as recorded.
@@ -23,8 +24,9 @@ struct RoadHeightModel {
   // The road's grade against the vehicle's pitch (suspension pitch with braking and load,
   // about +-0.5 deg, and the sensor's mounting), over each metre of road.
   double grade_sigma = 0.005;
-  double gps_sigma = 1.5;     // [m] the recorded heights' error, over each metre of road
-  double bend_sigma = 0.001;  // [1/m] how fast the road's grade may change
+  double pitch_sigma = 0.035;  // the sensor's constant pitch against the road (a prior, 2 deg)
+  double gps_sigma = 1.5;      // [m] the recorded heights' error, over each metre of road
+  double bend_sigma = 0.001;   // [1/m] how fast the road's grade may change
 };
 
 struct RoadHeights {
@@ -32,6 +34,7 @@ struct RoadHeights {
   std::vector<double> change;     // [m] per pose: its height minus the recorded one
   std::size_t revisit_pairs = 0;  // poses tied to an earlier pass
   double max_change = 0.0;        // [m] the largest |change|
+  double sensor_pitch = 0.0;      // [rad] the sensor's pitch against the road (+: nose up)
 };
 
 /// poses (sensor poses, +z up) at the heights of the road they drove; the first pose keeps its
