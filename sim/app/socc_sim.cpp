@@ -2,12 +2,14 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <iostream>
 #include <optional>
 
 #include "socc/kitti_io.hpp"
 #include "socc/sim/realism.hpp"
 #include "socc/sim/road_heights.hpp"
+#include "socc/sim/road_report.hpp"
 #include "socc/sim/scene.hpp"
 #include "socc/sim/sequence_writer.hpp"
 #include "socc/version.hpp"
@@ -28,6 +30,7 @@ struct Arguments {
   std::optional<fs::path> kitti_poses;
   std::optional<fs::path> calib;
   bool recorded_heights = false;
+  bool road_report = false;
   std::optional<double> speed;
   double noise = 0.02;
   double dropout = 0.0;
@@ -55,7 +58,38 @@ std::vector<double> roadHeights(socc::Poses& poses, const Arguments& a) {
   return std::move(road.change);
 }
 
+socc::Poses routePoses(const Arguments& a) {
+  socc::Poses poses = socc::readKittiPoses(*a.kitti_poses);
+  if (a.calib) poses = socc::cameraToLidarPoses(poses, socc::readKittiCalibTr(*a.calib));
+  if (poses.size() < 2) throw std::runtime_error(a.kitti_poses->string() + ": need >= 2 poses");
+  return poses;
+}
+
+// --road-report: the route's heights against its attitude, recorded and as fused (the table of
+// docs/simulator.md "Road heights").
+int printRoadReport(const Arguments& a) {
+  const RoadReport report = roadReport(routePoses(a));
+  const auto degrees = [](double rad) { return rad * 180.0 / M_PI; };
+  const auto row = [](const char* name, double recorded, double road) {
+    std::cout << std::left << std::setw(36) << name << std::right << std::setw(10) << recorded
+              << std::setw(10) << road << '\n';
+  };
+  std::cout << std::fixed << std::setprecision(3) << a.kitti_poses->string() << ": "
+            << report.heights.poses.size() << " poses, the sensor pitched "
+            << degrees(report.heights.sensor_pitch) << " deg against the road, "
+            << report.heights.revisit_pairs << " poses tied to a street driven before, heights "
+            << "changed by up to " << report.heights.max_change << " m\n"
+            << std::setw(56) << "recorded      road\n";
+  row("grade vs attitude, 10 m [deg RMS]", degrees(report.recorded.grade_rms),
+      degrees(report.road.grade_rms));
+  row("steepest 10 m [%]", 100.0 * report.recorded.steepest, 100.0 * report.road.steepest);
+  row("worst revisit difference [m]", report.recorded.worst_revisit, report.road.worst_revisit);
+  return 0;
+}
+
 int run(const Arguments& a) {
+  if (a.road_report) return printRoadReport(a);
+  if (a.out.empty()) throw std::runtime_error("--out is required");
   SceneOptions scene_options;
   scene_options.type = parseSceneType(a.scene);
   scene_options.route = a.trajectory;
@@ -68,9 +102,7 @@ int run(const Arguments& a) {
   scene_options.body_motion = realism.motion;
   std::vector<double> height_change;
   if (a.kitti_poses) {
-    socc::Poses poses = socc::readKittiPoses(*a.kitti_poses);
-    if (a.calib) poses = socc::cameraToLidarPoses(poses, socc::readKittiCalibTr(*a.calib));
-    if (poses.size() < 2) throw std::runtime_error(a.kitti_poses->string() + ": need >= 2 poses");
+    socc::Poses poses = routePoses(a);
     if (scene_options.frames > poses.size()) {
       std::cerr << "note: " << a.kitti_poses->string() << " has " << poses.size()
                 << " poses; generating that many frames\n";
@@ -119,7 +151,7 @@ int main(int argc, char** argv) {
       "Default: 100 frames of an urban street (HDL-64, 9 m/s, moving cars and pedestrians)."};
   app.set_version_flag("--version", socc::versionLine("socc-sim"));
   Arguments a;
-  app.add_option("--out", a.out, "Output directory (created)")->required();
+  app.add_option("--out", a.out, "Output directory (created; required but with --road-report)");
   app.add_option("--scene", a.scene, "World to build around the trajectory")
       ->check(CLI::IsMember({"street", "corridor", "zigzag", "office", "indoor"}))
       ->capture_default_str();
@@ -155,6 +187,11 @@ int main(int argc, char** argv) {
                "under a level car on 08 and do not close at revisits, up to 6 m), tied to one "
                "height at every revisit; poses_recorded_heights.txt then holds the ground truth "
                "at the recorded heights (docs/simulator.md \"Road heights\")")
+      ->needs(kitti);
+  app.add_flag("--road-report", a.road_report,
+               "Print how --kitti-poses' recorded heights and the fused road's fit the recorded "
+               "attitude (grade against attitude, steepest 10 m, worst revisit difference, the "
+               "sensor's pitch against the road) and exit; no sequence is written")
       ->needs(kitti);
   app.add_option("--speed", a.speed, "Speed along the route [m/s] (default per scene)")
       ->check(CLI::NonNegativeNumber)

@@ -11,54 +11,18 @@
 #include <utility>
 #include <vector>
 
+#include "route_geometry.hpp"
 #include "socc/sim/planar_cells.hpp"
 
 namespace socc::sim {
 namespace {
 
-// The route as driven: horizontal arc length, direction of travel (none while standing), the
-// road's grade along it by the recorded attitude (the slope of the sensor's x-y plane) and the
-// way the sensor faces (+1 forwards, -1 reversing: a sensor pitched against the road tilts the
-// grade it gives by that sign).
-struct RouteGeometry {
-  std::vector<double> s;
-  std::vector<std::optional<Eigen::Vector2d>> heading;
-  std::vector<double> attitude_grade;
-  std::vector<double> facing;
-};
-
-double attitudeGrade(const Eigen::Isometry3d& pose, const std::optional<Eigen::Vector2d>& heading) {
-  const Eigen::Vector3d up = pose.linear().col(2);
-  Eigen::Vector2d along = pose.linear().col(0).head<2>();  // standing: the way it faces
-  if (heading) along = *heading;
-  if (along.norm() < 1e-9 || up.z() < 1e-3) return 0.0;
-  return -up.head<2>().dot(along.normalized()) / up.z();
-}
-
-RouteGeometry routeGeometry(const Poses& poses) {
-  const std::size_t n = poses.size();
-  RouteGeometry g{std::vector<double>(n, 0.0), std::vector<std::optional<Eigen::Vector2d>>(n),
-                  std::vector<double>(n, 0.0), std::vector<double>(n, 1.0)};
-  for (std::size_t k = 1; k < n; ++k)
-    g.s[k] = g.s[k - 1] + (poses[k].translation() - poses[k - 1].translation()).head<2>().norm();
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t a = k > 0 ? k - 1 : 0;
-    const std::size_t b = std::min(k + 1, n - 1);
-    const Eigen::Vector2d d = (poses[b].translation() - poses[a].translation()).head<2>();
-    if (g.s[b] - g.s[a] >= 0.05) g.heading[k] = d / d.norm();
-    g.attitude_grade[k] = attitudeGrade(poses[k], g.heading[k]);
-    if (g.heading[k] && g.heading[k]->dot(poses[k].linear().col(0).head<2>()) < 0.0)
-      g.facing[k] = -1.0;
-  }
-  return g;
-}
-
-// A later pose j on a street an earlier pose i drove: (z_j + c_j) - (z_i + c_i) should be the
-// earlier pass's rise to j along its direction, i.e. c_j - c_i = difference.
+// A later pose j on a street an earlier pose i drove: the road at j is the earlier pass's road
+// at i's arc length moved on by j's offset along i's heading (the earlier pass's own heights
+// give the rise, so neither the attitude nor the sensor's pitch enters).
 struct RevisitPair {
-  std::size_t i;
+  double s_earlier;
   std::size_t j;
-  double difference;
 };
 
 std::vector<RevisitPair> revisitPairs(const Poses& poses, const RouteGeometry& g,
@@ -73,8 +37,8 @@ std::vector<RevisitPair> revisitPairs(const Poses& poses, const RouteGeometry& g
       const Eigen::Vector2d offset = xy - poses[i].translation().head<2>();
       const double distance = offset.norm();
       if (g.s[j] - g.s[i] < p.min_path || distance >= best_distance) return false;
-      const double rise = g.heading[i] ? g.attitude_grade[i] * offset.dot(*g.heading[i]) : 0.0;
-      best = RevisitPair{i, j, poses[i].translation().z() + rise - poses[j].translation().z()};
+      const double along = g.heading[i] ? offset.dot(*g.heading[i]) : 0.0;
+      best = RevisitPair{std::clamp(g.s[i] + along, 0.0, g.s.back()), j};
       best_distance = distance;
       return false;
     });
@@ -86,13 +50,6 @@ std::vector<RevisitPair> revisitPairs(const Poses& poses, const RouteGeometry& g
 
 // A function of arc length sampled every kStep metres.
 constexpr double kStep = 0.5;
-
-double sampleAt(const std::vector<double>& u, double s) {
-  const double x = std::clamp(s / kStep, 0.0, static_cast<double>(u.size() - 1));
-  const auto a = static_cast<std::size_t>(std::floor(x));
-  const std::size_t b = std::min(a + 1, u.size() - 1);
-  return u[a] + (x - static_cast<double>(a)) * (u[b] - u[a]);
-}
 
 // Least squares over a few unknowns at a time: each row adds weight * (sum a_i x_i - target)^2.
 class NormalEquations {
@@ -120,22 +77,6 @@ class NormalEquations {
   std::vector<Eigen::Triplet<double>> h_;
 };
 
-// Values given at the poses as a function of arc length, sampled every kStep metres.
-std::vector<double> alongPath(const std::vector<double>& s, const std::vector<double>& value,
-                              std::size_t m) {
-  std::vector<double> u(m);
-  std::size_t k = 0;
-  for (std::size_t q = 0; q < m; ++q) {
-    const double at = static_cast<double>(q) * kStep;
-    while (k + 1 < s.size() && s[k + 1] < at) ++k;
-    const std::size_t next = std::min(k + 1, s.size() - 1);
-    const double span = s[next] - s[k];
-    const double t = span > 0.0 ? std::clamp((at - s[k]) / span, 0.0, 1.0) : 0.0;
-    u[q] = value[k] + t * (value[next] - value[k]);
-  }
-  return u;
-}
-
 // The height correction along the path (every kStep metres of arc length, 0 at the start): the
 // road's grade follows the attitude but for the sensor's constant pitch against the road (KITTI's
 // LiDAR: 0.5-1.0 deg nose down, which integrates to metres per 300 m), its heights the recorded
@@ -149,11 +90,9 @@ struct Corrections {
 Corrections solveCorrections(const Poses& poses, const RouteGeometry& g,
                              const std::vector<RevisitPair>& pairs, const RoadHeightModel& p) {
   const auto m = static_cast<std::size_t>(std::floor(g.s.back() / kStep)) + 2;
-  std::vector<double> z(poses.size());
-  for (std::size_t k = 0; k < poses.size(); ++k) z[k] = poses[k].translation().z();
-  const std::vector<double> height = alongPath(g.s, z, m);
-  const std::vector<double> attitude = alongPath(g.s, g.attitude_grade, m);
-  const std::vector<double> facing = alongPath(g.s, g.facing, m);
+  const std::vector<double> height = alongPath(g.s, heightsOf(poses), kStep, m);
+  const std::vector<double> attitude = alongPath(g.s, g.attitude_grade, kStep, m);
+  const std::vector<double> facing = alongPath(g.s, g.facing, kStep, m);
   const auto offset = static_cast<Eigen::Index>(m);  // unknowns: the corrections, then these two
   const Eigen::Index pitch = offset + 1;
   NormalEquations equations(pitch + 1);
@@ -178,14 +117,16 @@ Corrections solveCorrections(const Poses& poses, const RouteGeometry& g,
   }
   const double revisit = 1.0 / (p.revisit_sigma * p.revisit_sigma);
   for (const RevisitPair& r : pairs) {
-    const auto at = [&](std::size_t k) {
-      const double x = g.s[k] / kStep;
+    const auto at = [](double s) {
+      const double x = s / kStep;
       const auto a = static_cast<Eigen::Index>(std::floor(x));
       return std::pair{a, x - static_cast<double>(a)};
     };
-    const auto [i, ti] = at(r.i);
-    const auto [j, tj] = at(r.j);
-    equations.add({{j, 1.0 - tj}, {j + 1, tj}, {i, ti - 1.0}, {i + 1, -ti}}, r.difference, revisit);
+    const auto [i, ti] = at(r.s_earlier);
+    const auto [j, tj] = at(g.s[r.j]);
+    const double difference =
+        sampleAt(height, kStep, r.s_earlier) - sampleAt(height, kStep, g.s[r.j]);
+    equations.add({{j, 1.0 - tj}, {j + 1, tj}, {i, ti - 1.0}, {i + 1, -ti}}, difference, revisit);
   }
   const Eigen::VectorXd u = equations.solve();
   return {{u.data(), u.data() + offset}, u[pitch]};
@@ -203,7 +144,7 @@ RoadHeights fuseRoadHeights(const Poses& poses, const RoadHeightModel& model) {
   out.sensor_pitch = std::atan(correction.pitch);
   const std::vector<double>& u = correction.along_path;
   for (std::size_t k = 0; k < poses.size(); ++k) {
-    out.change[k] = sampleAt(u, g.s[k]) - sampleAt(u, 0.0);
+    out.change[k] = sampleAt(u, kStep, g.s[k]) - sampleAt(u, kStep, 0.0);
     out.poses[k].translation().z() += out.change[k];
     out.max_change = std::max(out.max_change, std::abs(out.change[k]));
   }

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "socc/sim/road_heights.hpp"
+#include "socc/sim/road_report.hpp"
 
 namespace socc::sim {
 namespace {
@@ -141,6 +142,50 @@ TEST(RoadHeights, StandingStillAtTheStartAndAtTheTurnIsFine) {
   EXPECT_GT(levelled.revisit_pairs, 100u);
   for (const Eigen::Isometry3d& pose : levelled.poses) ASSERT_TRUE(pose.matrix().allFinite());
   EXPECT_TRUE(levelled.poses[0].isApprox(levelled.poses[9], 1e-12));
+}
+
+TEST(RoadHeights, ARevisitIsTiedWithoutTheSensorsPitch) {
+  // Up a hill street to its crest and down it again in the same lane, the heights exact, the
+  // sensor 1 deg nose up against the road; the way up recorded every 6 m, so a pose of the way
+  // down lies up to 3 m along the street from the nearest pose up. The pitch must not enter its
+  // tie (0.0175 * 3 m = 5 cm a tie).
+  const double pitch = std::tan(M_PI / 180.0);
+  const auto height = [](double x) { return 8.0 * std::sin(M_PI * x / 600.0); };
+  const auto grade = [](double x) { return 8.0 * M_PI / 600.0 * std::cos(M_PI * x / 600.0); };
+  Poses route;
+  for (int x = 0; x <= 300; x += 6)
+    route.push_back(
+        poseAt(Eigen::Vector3d(x, 0.0, height(x)), Eigen::Vector2d::UnitX(), grade(x) + pitch));
+  for (int x = 299; x >= 0; --x)
+    route.push_back(
+        poseAt(Eigen::Vector3d(x, 0.0, height(x)), -Eigen::Vector2d::UnitX(), -grade(x) + pitch));
+  const RoadHeights road = fuseRoadHeights(route);
+  EXPECT_GT(road.revisit_pairs, 200u);
+  EXPECT_LT(road.max_change, 0.02);  // tied with the attitude's grade: 0.37 m
+  EXPECT_NEAR(road.sensor_pitch, M_PI / 180.0, 0.001);
+}
+
+TEST(RoadReport, MeasuresTheRecordedHeightsAndTheRoadAgainstTheAttitude) {
+  const Poses recorded = outAndBack(0.01);  // a height drift the attitude shares: no grade error
+  const RoadReport report = roadReport(recorded);
+  EXPECT_LT(report.recorded.grade_rms, 0.001);
+  EXPECT_NEAR(report.recorded.steepest, 0.01, 1e-3);
+  EXPECT_EQ(report.recorded.worst_revisit, 0.0);         // the lanes are 3.5 m apart: not one place
+  EXPECT_GT(roadFit(recorded, 4.0).worst_revisit, 3.0);  // 4 m apart where the drive ends
+  EXPECT_LT(roadFit(report.heights.poses, 4.0).worst_revisit, 0.05);
+  EXPECT_EQ(report.heights.poses.size(), recorded.size());
+}
+
+TEST(RoadReport, AGpsLiftIsAGradeErrorAndASteepStretch) {
+  const Poses lift = straightRoute(
+      1000, [](double x) { return std::clamp((x - 50.0) / 3.0, 0.0, 10.0); },
+      [](double) { return 0.0; });
+  const RoadReport report = roadReport(lift);
+  EXPECT_NEAR(report.recorded.steepest, 1.0 / 3.0, 0.01);
+  EXPECT_GT(report.recorded.grade_rms, 0.05);
+  EXPECT_LT(report.road.steepest, 0.02);
+  EXPECT_LT(report.road.grade_rms, 0.01);
+  EXPECT_EQ(report.recorded.worst_revisit, 0.0);
 }
 
 }  // namespace
