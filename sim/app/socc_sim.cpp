@@ -151,7 +151,7 @@ int main(int argc, char** argv) {
       "Default: 100 frames of an urban street (HDL-64, 9 m/s, moving cars and pedestrians)."};
   app.set_version_flag("--version", socc::versionLine("socc-sim"));
   Arguments a;
-  app.add_option("--out", a.out, "Output directory (created; required but with --road-report)");
+  app.add_option("--out", a.out, "Output directory (created); required unless --road-report");
   app.add_option("--scene", a.scene, "World to build around the trajectory")
       ->check(CLI::IsMember({"street", "corridor", "zigzag", "office", "indoor"}))
       ->capture_default_str();
