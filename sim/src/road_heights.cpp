@@ -117,10 +117,9 @@ Corrections solveCorrections(const Poses& poses, const RouteGeometry& g,
   }
   const double revisit = 1.0 / (p.revisit_sigma * p.revisit_sigma);
   for (const RevisitPair& r : pairs) {
-    const auto at = [](double s) {
-      const double x = s / kStep;
-      const auto a = static_cast<Eigen::Index>(std::floor(x));
-      return std::pair{a, x - static_cast<double>(a)};
+    const auto at = [m](double s) {
+      const SampleBracket b = bracketOf(m, kStep, s);
+      return std::pair{static_cast<Eigen::Index>(b.before), b.fraction};
     };
     const auto [i, ti] = at(r.s_earlier);
     const auto [j, tj] = at(g.s[r.j]);

@@ -18,9 +18,9 @@ double worstRevisit(const Poses& poses, const std::vector<double>& s, double rad
   PlanarCells earlier(radius);
   double worst = 0.0;
   for (std::size_t j = 0; j < poses.size(); ++j) {
-    const Eigen::Vector3d& p = poses[j].translation();
+    const Eigen::Vector3d p = poses[j].translation();
     earlier.visitNear(p.head<2>(), radius, [&](std::uint32_t i) {
-      const Eigen::Vector3d& q = poses[i].translation();
+      const Eigen::Vector3d q = poses[i].translation();
       if (s[j] - s[i] >= min_path && (p - q).head<2>().norm() < radius)
         worst = std::max(worst, std::abs(p.z() - q.z()));
       return false;

@@ -55,11 +55,15 @@ std::vector<double> alongPath(const std::vector<double>& s, const std::vector<do
   return u;
 }
 
+SampleBracket bracketOf(std::size_t size, double step, double s) {
+  const double x = std::clamp(s / step, 0.0, static_cast<double>(size - 1));
+  const std::size_t before = std::min(static_cast<std::size_t>(std::floor(x)), size - 2);
+  return {before, x - static_cast<double>(before)};
+}
+
 double sampleAt(const std::vector<double>& u, double step, double s) {
-  const double x = std::clamp(s / step, 0.0, static_cast<double>(u.size() - 1));
-  const auto a = static_cast<std::size_t>(std::floor(x));
-  const std::size_t b = std::min(a + 1, u.size() - 1);
-  return u[a] + (x - static_cast<double>(a)) * (u[b] - u[a]);
+  const auto [a, t] = bracketOf(u.size(), step, s);
+  return u[a] + t * (u[a + 1] - u[a]);
 }
 
 }  // namespace socc::sim

@@ -31,7 +31,16 @@ std::vector<double> heightsOf(const Poses& poses);
 std::vector<double> alongPath(const std::vector<double>& s, const std::vector<double>& value,
                               double step, std::size_t m);
 
-/// u (sampled every step metres of arc length) at arc length s, linearly interpolated.
+/// Where arc length s falls among `size` (>= 2) samples taken every step metres: the sample
+/// before it (never the last) and the fraction of the way to the next; clamped to the samples.
+struct SampleBracket {
+  std::size_t before;
+  double fraction;
+};
+SampleBracket bracketOf(std::size_t size, double step, double s);
+
+/// u (sampled every step metres of arc length, >= 2 samples) at arc length s, linearly
+/// interpolated.
 double sampleAt(const std::vector<double>& u, double step, double s);
 
 }  // namespace socc::sim
