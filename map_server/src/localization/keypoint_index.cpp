@@ -1,5 +1,7 @@
 #include "keypoint_index.hpp"
 
+#include <cmath>
+#include <limits>
 #include <nanoflann.hpp>
 
 namespace socc::localization {
@@ -28,6 +30,40 @@ struct KeypointIndex::Tree {
   Index index;
 };
 
+namespace {
+
+// The nearest point within a squared distance bound: the tree's branches farther than the bound
+// are never entered, where a plain nearest-neighbour search goes on to the nearest keypoint
+// however far (most points of a wrong hypothesis land far from every keypoint). It returns what
+// that search returns when its nearest is within the bound: the first point visited at the
+// smallest distance (nanoflann hands a leaf's points over while they are below worstDist()).
+class NearestWithinBound {
+ public:
+  explicit NearestWithinBound(float bound2)
+      : worst_(std::nextafter(bound2, std::numeric_limits<float>::infinity())) {}
+  bool full() const { return true; }
+  bool addPoint(float d2, unsigned index) {
+    if (d2 < worst_) {
+      worst_ = d2;
+      index_ = index;
+      found_ = true;
+    }
+    return true;
+  }
+  float worstDist() const { return worst_; }
+  std::optional<KeypointIndex::Nearest> result() const {
+    if (!found_) return std::nullopt;
+    return KeypointIndex::Nearest{static_cast<int>(index_), worst_};
+  }
+
+ private:
+  float worst_;
+  unsigned index_ = 0;
+  bool found_ = false;
+};
+
+}  // namespace
+
 KeypointIndex::KeypointIndex() = default;
 KeypointIndex::KeypointIndex(pcl::PointCloud<pcl::PointNormal>::ConstPtr keypoints) {
   if (keypoints && !keypoints->empty()) tree_ = std::make_unique<Tree>(std::move(keypoints));
@@ -39,10 +75,9 @@ KeypointIndex& KeypointIndex::operator=(KeypointIndex&&) noexcept = default;
 std::optional<KeypointIndex::Nearest> KeypointIndex::nearestWithin(const Eigen::Vector3f& p,
                                                                    float radius2) const {
   if (!tree_) return std::nullopt;
-  unsigned nearest = 0;
-  float d2 = 0.f;
-  if (tree_->index.knnSearch(p.data(), 1, &nearest, &d2) != 1 || d2 > radius2) return std::nullopt;
-  return Nearest{static_cast<int>(nearest), d2};
+  NearestWithinBound result(radius2);
+  tree_->index.findNeighbors(result, p.data(), nanoflann::SearchParams());
+  return result.result();
 }
 
 }  // namespace socc::localization
