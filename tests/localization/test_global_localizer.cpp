@@ -47,3 +47,18 @@ TEST(GlobalLocalizer, KittiReverseRevisitIsAmongTheCandidates) {
   EXPECT_LT(best.translation().norm(), 3.0);
   EXPECT_LT(degrees(best), 10.0);
 }
+
+// A map with nothing to match (a fleet's first robots in their own frames ask it every few
+// scans): no candidates, and the scan is not described, which is most of a search's cost.
+TEST(GlobalLocalizer, AnEmptyMapIsAnsweredWithoutDescribingTheScan) {
+  const fs::path dir = socc::test::kittiPairsDir("08");
+  if (!fs::exists(dir)) GTEST_SKIP() << "shared data folder absent: " << dir;
+  const socc::map::SemanticOccupancyMap map{socc::map::MapConfig{}};
+  GlobalLocalizer localizer;
+  const LocalizeAnswer answer =
+      localizer.localize(map, socc::test::kittiPairScan("08", 1500).points, std::nullopt, 4);
+  EXPECT_TRUE(answer.candidates.empty());
+  EXPECT_EQ(answer.map_keypoints, 0u);
+  EXPECT_EQ(answer.scan_keypoints, 0u);
+  EXPECT_EQ(answer.search.draws, 0);
+}

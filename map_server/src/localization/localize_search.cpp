@@ -30,9 +30,12 @@ void LocalizeSearch::run(const std::atomic<bool>* cancel) {
   found_.clear();
   const IndexedFeatures* map = map_ ? &map_->get() : nullptr;
   answer_.map_keypoints = map ? map->cloud.size() : 0;
+  // Nothing to match against: the scan's descriptors (most of a search's cost on a small map)
+  // are not computed. Robots in their own frame ask an empty map this every few scans.
+  if (answer_.map_keypoints < 3) return;
   const FeatureCloud source = describe(scan_, params_.features);
   answer_.scan_keypoints = source.size();
-  if (source.size() < 3 || answer_.map_keypoints < 3) return;
+  if (source.size() < 3) return;
   if (hint_) {
     // Only the map a scan from within the hint can see: a smaller feature tree, fewer lookalikes.
     const IndexedFeatures target(nearHint(map->cloud, *hint_, reachOf(source)));

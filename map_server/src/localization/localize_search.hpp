@@ -43,8 +43,8 @@ struct PoseCandidate {
 struct LocalizeAnswer {
   std::vector<PoseCandidate> candidates;  // best first
   std::size_t map_keypoints = 0;
-  std::size_t scan_keypoints = 0;
-  SearchStats search;  // the budget the search spent
+  std::size_t scan_keypoints = 0;  // 0 when not described: the map has fewer than 3 keypoints
+  SearchStats search;              // the budget the search spent
 };
 
 class LocalizeSearch {
