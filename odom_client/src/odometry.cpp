@@ -232,8 +232,9 @@ FrameEstimate Odometry::estimateWith(const PreparedScan& scan, const LocalMap& m
   }
   for (int pass = 0; pass < config_.deskew_iterations; ++pass) {
     // The twist measured from the last pose to this one is the prior of the sweep's own.
+    const Vector6d measured = twistTo(mid, scan.time());
     std::optional<SweepTwistPrior> prior;
-    if (anchored && scan.cloud.hasTimes()) prior = sweepPrior(twist, twistTo(mid, scan.time()));
+    if (anchored && scan.cloud.hasTimes()) prior = sweepPrior(twist, measured);
     const Sweep s = registerSweep(scan, map, mid, twist, sigma, prior ? &*prior : nullptr, &params);
     out.registration = s.registration;
     out.registered_points = s.points();
@@ -242,7 +243,13 @@ FrameEstimate Odometry::estimateWith(const PreparedScan& scan, const LocalMap& m
     if (!anchored || !scan.cloud.hasTimes()) break;
     const Vector6d next =
         prior ? Vector6d(twist + s.registration.twist_correction) : twistTo(mid, scan.time());
-    const bool done = settled(next - twist, config_.frame_period);
+    // The prior held the twist near the motion to the pose before this pass. Where the pass moved
+    // the pose, that motion moved with it and the next pass's twist may too: in a turn that slows
+    // down, stopping here left each sweep deskewed with the last one's turn rate (indoor zigzags
+    // with a VLP-16: 0.7 deg of heading per turn; docs/robustness.md "Short paths on three seeds").
+    const bool moved =
+        prior && !settled(twistTo(mid, scan.time()) - measured, config_.frame_period);
+    const bool done = settled(next - twist, config_.frame_period) && !moved;
     twist = next;
     if (done) break;
   }
