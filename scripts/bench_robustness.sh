@@ -8,8 +8,8 @@
 # that change), <= 1.2x on constant-velocity routes (+ 0.01 % for noise). A path shorter than
 # 50 m (the indoor and slow cases) is run on 3 seeds (the case's, +1000, +2000) and the ratio of
 # the mean errors is judged: the error there is ATE max over a few tens of metres, and one seed's
-# ratio spreads from 0.5 to 2 where the means agree (docs/robustness.md "Short paths on three
-# seeds"). The featureless corridor must be flagged degenerate on most frames and never unhealthy
+# ratio spread from 0.5 to 1.35 over seeds whose means agreed (docs/robustness.md "Short paths on
+# three seeds"). The featureless corridor must be flagged degenerate on most frames and never unhealthy
 # or lost (it coasts).
 #
 # Usage: scripts/bench_robustness.sh [--build BUILD] [--out OUT] [--frames N] [--config ODOM_YAML]
