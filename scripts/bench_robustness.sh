@@ -139,7 +139,7 @@ simulate() {  # dir distortion(0|1) seed_shift args... -> sequence in dir
 }
 
 side_by_side() {  # seq_dir case_out: socc LiDAR only (with / without semantics) and the peers
-  local seq="$1" dir="$2" p name cmd est
+  local seq="$1" dir="$2" p name cmd est variant
   for variant in lidar lidar_no_semantics; do
     local extra=(--no-gravity)
     [ $variant = lidar_no_semantics ] && extra+=(--no-semantics)
