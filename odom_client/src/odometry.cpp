@@ -241,14 +241,14 @@ FrameEstimate Odometry::estimateWith(const PreparedScan& scan, const LocalMap& m
     out.deskew_passes = pass + 1;
     mid = s.registration.pose;
     if (!anchored || !scan.cloud.hasTimes()) break;
+    const Vector6d measured_after = twistTo(mid, scan.time());
     const Vector6d next =
-        prior ? Vector6d(twist + s.registration.twist_correction) : twistTo(mid, scan.time());
+        prior ? Vector6d(twist + s.registration.twist_correction) : measured_after;
     // The prior held the twist near the motion to the pose before this pass. Where the pass moved
     // the pose, that motion moved with it and the next pass's twist may too: in a turn that slows
     // down, stopping here left each sweep deskewed with the last one's turn rate (indoor zigzags
     // with a VLP-16: 0.7 deg of heading per turn; docs/robustness.md "Short paths on three seeds").
-    const bool moved =
-        prior && !settled(twistTo(mid, scan.time()) - measured, config_.frame_period);
+    const bool moved = prior && !settled(measured_after - measured, config_.frame_period);
     const bool done = settled(next - twist, config_.frame_period) && !moved;
     twist = next;
     if (done) break;
