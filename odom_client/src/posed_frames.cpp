@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 
-#include "socc/odom/scan_map.hpp"
 #include "socc/odom/voxel_downsampling.hpp"
 
 namespace socc::odom {
@@ -43,7 +42,10 @@ PosedFrames::PosedFrames(std::size_t max_frames)
 void PosedFrames::push(const FrameEstimate& frame) {
   last_motion_ =
       frames_.empty() ? Eigen::Isometry3d::Identity() : frames_.back().pose.inverse() * frame.pose;
-  frames_.push_back({thinnedCloud(frame.cloud, kKeptSpacing), frame.pose, frame.seq, frame.utime});
+  LabeledCloud cloud = thinnedCloud(frame.cloud, kKeptSpacing);
+  std::vector<CloudVoxel> voxels = cloudVoxels(cloud, frame.pose, kTargetVoxel);
+  voxels.shrink_to_fit();  // reserved for a voxel every few points; kept for 10 frames
+  frames_.push_back({std::move(cloud), frame.pose, frame.seq, frame.utime, std::move(voxels)});
   while (frames_.size() > max_frames_) frames_.pop_front();
 }
 
@@ -57,9 +59,9 @@ Eigen::Isometry3d PosedFrames::newestPose() const {
 }
 
 LocalMap PosedFrames::target() const {
-  LabeledCloud all;
-  for (const Frame& f : frames_) appendMoved(f.cloud, f.pose, all);
-  return buildScanMap(all, kTargetVoxel);
+  std::vector<const std::vector<CloudVoxel>*> parts;
+  for (const Frame& f : frames_) parts.push_back(&f.voxels);
+  return buildVoxelMap(mergedVoxels(parts));
 }
 
 PreparedScan PosedFrames::stacked(std::size_t count, double reference_time) const {
@@ -78,7 +80,8 @@ PreparedScan PosedFrames::stacked(std::size_t count, double reference_time) cons
 
 std::size_t PosedFrames::bytes() const {
   std::size_t total = 0;
-  for (const Frame& f : frames_) total += cloudBytes(f.cloud);
+  for (const Frame& f : frames_)
+    total += cloudBytes(f.cloud) + f.voxels.capacity() * sizeof(CloudVoxel);
   return total;
 }
 

@@ -75,13 +75,49 @@ MapVoxel toMapVoxel(const CloudVoxel& voxel, EigenSolver solver) {
   return v;
 }
 
-std::vector<MapVoxel> scanVoxels(const LabeledCloud& cloud, double voxel_size) {
-  std::vector<MapVoxel> voxels;
-  for (const CloudVoxel& v : cloudVoxels(cloud, Eigen::Isometry3d::Identity(), voxel_size))
+std::vector<CloudVoxel> mergedVoxels(const std::vector<const std::vector<CloudVoxel>*>& parts) {
+  std::size_t most = 0;
+  for (const std::vector<CloudVoxel>* part : parts) most += part->size();
+  tsl::robin_map<VoxelIndex, std::uint32_t, VoxelIndexHash> slot_of;
+  slot_of.reserve(most);
+  std::vector<CloudVoxel> merged;
+  merged.reserve(most);
+  for (const std::vector<CloudVoxel>* part : parts) {
+    for (const CloudVoxel& v : *part) {
+      const auto [it, inserted] =
+          slot_of.try_emplace(v.key, static_cast<std::uint32_t>(merged.size()));
+      if (inserted) {
+        merged.push_back(v);
+        continue;
+      }
+      CloudVoxel& m = merged[it->second];
+      m.moments.add(v.moments);
+      for (int c = 0; c < kNumClasses; ++c) m.labels[c] += v.labels[c];
+    }
+  }
+  return merged;
+}
+
+namespace {
+
+std::vector<MapVoxel> mapVoxels(const std::vector<CloudVoxel>& voxels) {
+  std::vector<MapVoxel> out;
+  out.reserve(voxels.size());
+  for (const CloudVoxel& v : voxels)
     // Iterative: the start-up of a sparse sensor registers against this map, and the closed
     // form's noise in line-like voxels swung it by metres (test_closed_loop, office/vlp32).
-    voxels.push_back(toMapVoxel(v, EigenSolver::kIterative));
-  return voxels;
+    out.push_back(toMapVoxel(v, EigenSolver::kIterative));
+  return out;
+}
+
+}  // namespace
+
+LocalMap buildVoxelMap(const std::vector<CloudVoxel>& voxels) {
+  return LocalMap(mapVoxels(voxels));
+}
+
+std::vector<MapVoxel> scanVoxels(const LabeledCloud& cloud, double voxel_size) {
+  return mapVoxels(cloudVoxels(cloud, Eigen::Isometry3d::Identity(), voxel_size));
 }
 
 LocalMap buildScanMap(const LabeledCloud& cloud, double voxel_size) {

@@ -1,7 +1,9 @@
-// socc/voxel.hpp: keys floor towards -inf, moments of shifted data, features of both solvers.
+// socc/voxel.hpp: keys floor towards -inf, moments of shifted data and added in parts, features
+// of both solvers.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "socc/voxel.hpp"
 
@@ -27,6 +29,25 @@ TEST(Voxel, MomentsFarFromTheOriginKeepTheirCovariance) {
   EXPECT_NEAR(cov(1, 1), 1e-6 / 3.0, 1e-12);
   EXPECT_NEAR(cov(2, 2), 0.0, 1e-12);
   EXPECT_TRUE(sampleCovariance(m.m2(), 1).isZero());
+}
+
+TEST(Voxel, MomentsAddedInPartsAreThoseOfAllThePoints) {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 30; ++i)
+    points.emplace_back(5.0 + 0.013 * (i % 7), -3.0 + 0.029 * (i % 5), 1.0 + 0.004 * i);
+  PointMoments all, front, back, none;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    all.add(points[i]);
+    (i < 11 ? front : back).add(points[i]);
+  }
+  front.add(none);  // nothing added
+  none.add(front);  // an empty one takes the other's first point
+  EXPECT_EQ(none.first, points[0]);
+  front.add(back);
+  EXPECT_EQ(front.count, all.count);
+  EXPECT_EQ(front.first, all.first);
+  EXPECT_NEAR((front.mean() - all.mean()).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((front.m2() - all.m2()).norm(), 0.0, 1e-12);
 }
 
 TEST(Voxel, FeaturesOfAPlaneAgreeAcrossSolvers) {

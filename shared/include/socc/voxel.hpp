@@ -56,6 +56,20 @@ struct PointMoments {
     sum += d;
     sum_sq.noalias() += d * d.transpose();
   }
+  /// Adds the points of other (as if added one by one after these, up to rounding).
+  void add(const PointMoments& other) {
+    if (other.count == 0) return;
+    if (count == 0) {
+      *this = other;
+      return;
+    }
+    const Eigen::Vector3d d = other.first - first;  // other's points are d + their deviations
+    const double n = other.count;
+    sum_sq.noalias() += other.sum_sq + d * other.sum.transpose() + other.sum * d.transpose();
+    sum_sq.noalias() += n * d * d.transpose();
+    sum += other.sum + n * d;
+    count += other.count;
+  }
   Eigen::Vector3d mean() const { return first + sum / static_cast<double>(count); }
   /// Sum of squared deviations from the mean.
   Eigen::Matrix3d m2() const { return sum_sq - sum * sum.transpose() / static_cast<double>(count); }

@@ -6,9 +6,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <vector>
 
 #include "socc/odom/local_map.hpp"
 #include "socc/odom/odometry.hpp"
+#include "socc/odom/scan_map.hpp"
 #include "socc/point_cloud.hpp"
 
 namespace socc::odom {
@@ -37,7 +39,7 @@ class PosedFrames {
   /// The newest count frames in the newest one's frame, as one scan with its seq and stamp (no
   /// point times; mid_time: reference_time, where the deskewed points are).
   PreparedScan stacked(std::size_t count, double reference_time) const;
-  /// Memory of the kept clouds [bytes].
+  /// Memory of the kept clouds and their voxels [bytes].
   std::size_t bytes() const;
 
  private:
@@ -46,6 +48,9 @@ class PosedFrames {
     Eigen::Isometry3d pose;  // the frames' common frame
     std::int64_t seq = 0;
     std::int64_t utime = 0;
+    // The cloud's voxels in the common frame, made once: the target merges them every frame
+    // (re-voxelizing every kept cloud was most of an own-frame robot's time a scan).
+    std::vector<CloudVoxel> voxels;
   };
   std::size_t max_frames_;
   std::deque<Frame> frames_;

@@ -36,6 +36,14 @@ std::vector<CloudVoxel> cloudVoxels(const LabeledCloud& cloud, const Eigen::Isom
 /// normal and planarity from solver.
 MapVoxel toMapVoxel(const CloudVoxel& voxel, EigenSolver solver);
 
+/// The voxels of several clouds (cloudVoxels of one voxel size), in order, merged into the voxels
+/// of their concatenation: each keeps the first point of the first part that has it; the moments'
+/// sums differ by rounding only.
+std::vector<CloudVoxel> mergedVoxels(const std::vector<const std::vector<CloudVoxel>*>& parts);
+
+/// The map of these voxels (their normals from the iterative solver, as buildScanMap's).
+LocalMap buildVoxelMap(const std::vector<CloudVoxel>& voxels);
+
 LocalMap buildScanMap(const LabeledCloud& cloud, double voxel_size);
 
 /// The voxels of buildScanMap, in the order of their first points in cloud.
