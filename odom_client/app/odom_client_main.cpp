@@ -39,7 +39,7 @@ struct Args {
   std::string scan_lcm_url;               // --live: where scans arrive; empty = lcm_url
   std::vector<std::string> config_files;  // --config, layered in order
   bool live = false, no_semantics = false, no_gravity = false, resume = false, quiet = false,
-       relocalize = false, own_frame = false, no_revised = false;
+       relocalize = false, own_frame = false, found_map = false, no_revised = false;
   double revised_wait_s = 30.0;  // --revised-wait
   double hint_radius = 0.0, hint_yaw_tolerance_deg = 180.0;
   double frame_period = 0.0;  // --frame-period; 0: the config's frame_period
@@ -143,16 +143,25 @@ void addOptions(CLI::App& app, Args& a) {
       "find the first scan's pose in the server's map (LOCALIZE + verification, "
       "docs/relocalization.md) unless --initial-pose gives it; a robot that gets lost searches "
       "again");
-  app.add_flag(
-         "--own-frame", a.own_frame,
-         "a robot with no pose in the server's map yet (e.g. switched on where nobody has "
-         "mapped): maps in its own frame (identity at its first scan) and integrates "
-         "nothing while it searches the shared map (every scan for relocalize_timeout, then "
-         "every own_frame_search_period); once a place is verified and confirmed it is merged: its "
-         "kept scans go into the shared map and it goes on there. Exits 5 when the input "
-         "ends before the merge (poses_own_frame_*.txt instead of poses_*.txt; "
-         "docs/relocalization.md \"Own frame\")")
-      ->excludes(reloc_opt);
+  auto* own_frame_opt =
+      app.add_flag(
+             "--own-frame", a.own_frame,
+             "a robot with no pose in the server's map yet (e.g. switched on where nobody has "
+             "mapped): maps in its own frame (identity at its first scan) and integrates "
+             "nothing while it searches the shared map (every scan for relocalize_timeout, then "
+             "every own_frame_search_period); once a place is verified and confirmed it is merged: "
+             "its "
+             "kept scans go into the shared map and it goes on there. Exits 5 when the input "
+             "ends before the merge (poses_own_frame_*.txt instead of poses_*.txt; "
+             "docs/relocalization.md \"Own frame\")")
+          ->excludes(reloc_opt);
+  app.add_flag("--found-map", a.found_map,
+               "--own-frame on a server whose map is empty: this robot founds the map, its own "
+               "frame (its first scan) the map frame, and goes on tracking in it; a map that is "
+               "not empty (another robot founded it first) is searched as without the flag. For "
+               "fleets in which no robot has a pose; a robot started with --initial-pose would "
+               "not share the founder's frame (docs/relocalization.md \"Founding an empty map\")")
+      ->needs(own_frame_opt);
   app.add_option("--pose-hint", a.pose_hint,
                  "--relocalize: search near \"x y z yaw\" [m, rad] (map frame) only; needs "
                  "--hint-radius")
@@ -415,6 +424,7 @@ int main(int argc, char** argv) {
     }
     options.relocalize = args.relocalize;
     options.own_frame = args.own_frame;
+    options.found_map = args.found_map;
     if (!args.pose_hint.empty()) options.hint = parseHint(args);
     if (args.resume) resumeFromServer(client, args, config, options);
     if (args.resume && !args.input.empty() &&

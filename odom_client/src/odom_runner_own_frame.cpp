@@ -38,6 +38,7 @@ void OdomRunner::startOwnFrame(Odometry& odometry, const PreparedScan& scan) {
   own_rows_begin_ = trajectory_.poses.size();
   own_since_utime_ = scan.utime;
   own_search_.emplace(config_, client_);
+  found_tried_ = false;
   if (config_.own_frame_look_back)
     own_sweep_.emplace(config_.relocalize_stack_scans, config_.own_frame_look_back_gap);
   std::cerr << "odom_client: mapping in its own frame while searching the shared map\n";
@@ -92,6 +93,10 @@ bool OdomRunner::ownSearchDue(std::int64_t utime) const {
 std::string OdomRunner::followSearch(Odometry& odometry, const FrameEstimate& newest, bool kept) {
   // Only a trusted frame is where the odometry goes on in the shared map, and what is stacked.
   if (!kept) return {};
+  if (options_.found_map && !found_tried_) {
+    found_tried_ = true;  // once: a map founded by another robot is searched from then on
+    if (foundSharedMap(odometry, newest)) return std::exchange(jump_, {});
+  }
   std::optional<SearchOutcome> done = ownSearchOutcome(false);
   if (!done && !ownSearchRunning() && ownSearchDue(newest.utime)) {
     launchSearch(newest);
@@ -188,10 +193,39 @@ void OdomRunner::mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest,
   const FrameBridge bridge = kept_place && kept_place->seq < search.seq
                                  ? bridgeTo(*kept_place, search.seq, shared_T_own)
                                  : FrameBridge(shared_T_own);
+  joinSharedMap(odometry, newest, bridge, shared_T_own, found.map_epoch);
+  ++relocalizations_;
+}
+
+bool OdomRunner::foundSharedMap(Odometry& odometry, const FrameEstimate& newest) {
+  // The first kept scan founds the map at its own-frame pose: the own frame is the map frame.
+  const OwnKeyframe& first = own_->keyframes().front();
+  integrate_request_t request =
+      rpc::makeIntegrateRequest(first.seq, first.utime, first.pose, first.cloud, first.gravity);
+  request.map_epoch = integrate_request_t::FOUND_MAP;
+  const auto reply = client_.integrate(std::move(request));
+  if (!reply.ok()) {
+    if (reply.error.status != reply_header_t::FAILED_PRECONDITION)
+      throw std::runtime_error(callError("INTEGRATE", reply.error, reply.attempts));
+    std::cerr << "odom_client: not founding the shared map: " << reply.error.message << "\n";
+    return false;
+  }
+  std::cerr << "odom_client: founded the shared map at frame " << first.seq
+            << " (it was empty): its own frame is the map frame\n";
+  const Eigen::Isometry3d same = Eigen::Isometry3d::Identity();
+  joinSharedMap(odometry, {newest.seq, newest.utime, newest.pose, newest.cloud, newest.gravity},
+                FrameBridge(same), same, reply.reply->map_epoch);
+  return true;
+}
+
+void OdomRunner::joinSharedMap(Odometry& odometry, const OwnKeyframe& newest,
+                               const FrameBridge& bridge, const Eigen::Isometry3d& shared_T_own,
+                               std::int64_t epoch) {
   const std::vector<OwnKeyframe> kept = mergedKeyframes(own_->keyframes(), newest, bridge);
   // The own-frame stretch reaches the shared map in order, before the robot's next frame: the
-  // server sees a robot's first integration and then plausible steps.
-  for (const OwnKeyframe& k : kept) integrateKept(k, found.map_epoch);
+  // server sees a robot's first integration and then plausible steps (a founder's first kept
+  // scan is in already: sent again, it is acknowledged as a duplicate).
+  for (const OwnKeyframe& k : kept) integrateKept(k, epoch);
   for (std::size_t i = own_rows_begin_; i < trajectory_.poses.size(); ++i)
     trajectory_.poses[i] = bridge.at(trajectory_.seqs[i]) * trajectory_.poses[i];
   odometry.moveFrame(shared_T_own);  // as a map correction, the map's up turned too
@@ -212,7 +246,6 @@ void OdomRunner::mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest,
   own_sweep_.reset();
   kept_place_.reset();
   localized_ = true;
-  ++relocalizations_;
 }
 
 void OdomRunner::integrateKept(const OwnKeyframe& keyframe, std::int64_t epoch) {

@@ -66,6 +66,11 @@ if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
              COMMAND bash ${_socc_mr_script} own_frame ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>
                      ${_socc_mr_lcmlog})
     set_tests_properties(integration.own_frame PROPERTIES LABELS integration TIMEOUT 600 COST 280)
+    # Issue 30 stage 4: on an empty server an own-frame robot with --found-map founds the map;
+    # a second one is refused and merged into it (docs/relocalization.md "Founding an empty map").
+    add_test(NAME integration.found_map
+             COMMAND bash ${_socc_mr_script} found_map ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
+    set_tests_properties(integration.found_map PROPERTIES LABELS integration TIMEOUT 360 COST 60)
     # Issue 27: a robot tracks with short round trips (no timeout, no unhealthy frame) while
     # another robot's LOCALIZE searches run on the server's search thread.
     add_test(NAME integration.busy_search

@@ -3,7 +3,7 @@
 # socc-cli processes and lcm-logplayer over UDP multicast on loopback (random group, port
 # 50000-59999).
 #
-# Usage: multirobot_test.sh logplayer|robots|client_restart|server_restart|lost|relocalize|own_frame|health|busy_search --server BIN --client BIN --cli BIN
+# Usage: multirobot_test.sh logplayer|robots|client_restart|server_restart|lost|relocalize|own_frame|found_map|health|busy_search --server BIN --client BIN --cli BIN
 #                           [--to-lcmlog BIN] [--sim BIN] [--data DIR]
 #   logplayer: socc-to-lcmlog converts frames 0-7 of DATA/kitti_00_first16 to a log,
 #              odom_client --live consumes it from lcm-logplayer; its poses must equal an offline
@@ -64,12 +64,19 @@
 #              mapped frames 40-50 only: E's newest scans are never in F's map, its kept ones
 #              are; at the end of its input it looks back over them, is merged once at a kept
 #              scan, and every pose of its run is within 0.1 m / 1 deg (median) of the GT.
+#   found_map: on an empty server robot A (--own-frame --found-map, frames 0-30 of a socc-sim
+#              street) founds the map: its own frame (its first scan, the GT's origin) is the
+#              map frame, and every pose of its run is within 0.1 m / 1 deg (median) of the GT.
+#              Robot B (the same flags, frames 10-30) is refused the founding (the map is not
+#              empty), searches the map and is merged into A's frame exactly once, its poses
+#              within 0.1 m / 1 deg (median). Two robots founding at once: test_service
+#              MapServiceHandlers.OneRobotFoundsAnEmptyMapAndOnlyAnEmptyOne.
 set -euo pipefail
-usage() { sed -n '2,66p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+usage() { sed -n '2,73p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
 case "${1:-}" in
   -h|--help) usage 0 ;;
-  logplayer|robots|client_restart|server_restart|lost|relocalize|own_frame|health|busy_search) mode=$1; shift ;;
+  logplayer|robots|client_restart|server_restart|lost|relocalize|own_frame|found_map|health|busy_search) mode=$1; shift ;;
   *) usage 2 ;;
 esac
 server_bin="" client_bin="" cli_bin="" to_lcmlog_bin="" sim_bin="" data=""
@@ -638,6 +645,31 @@ own_frame() {
   fi
   stop_server
   look_back
+}
+
+found_map() {
+  [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
+  "$sim_bin" --frames 31 --sensor vlp32 --quiet --max-range 25 --speed 15 --out "$work/here" \
+    --seed 7 >/dev/null || fail "socc-sim failed"
+  printf 'relocalize_timeout: 0.1\nown_frame_search_period: 0.5\n' >"$work/found.yaml"
+  start_server empty
+  run_client founder --kitti "$work/here" --own-frame --found-map --config "$work/found.yaml"
+  ((rc == 0)) || fail "robot A exited $rc: $(tail -5 "$work/founder.log")"
+  grep -q "founded the shared map at frame 0 " "$work/founder.log" ||
+    fail "robot A did not found the empty map at its first scan: $(grep -m3 'shared map' "$work/founder.log")"
+  [[ $(wc -l <"$work/founder/poses_tum.txt") == 31 ]] || fail "robot A: not one map-frame pose per scan"
+  within_10cm_1deg "$work/founder/poses_tum.txt" "$work/here/poses.txt" "robot A (founder), every scan"
+
+  run_client joiner --kitti "$work/here" --first-frame 10 --own-frame --found-map --config "$work/found.yaml"
+  ((rc == 0)) || fail "robot B exited $rc: $(tail -5 "$work/joiner.log")"
+  grep -q "not founding the shared map: the map is not empty" "$work/joiner.log" ||
+    fail "robot B was not refused the founding: $(grep -m3 'shared map' "$work/joiner.log")"
+  grep -q "founded the shared map" "$work/joiner.log" && fail "robot B founded a map A had founded"
+  [[ $(grep -c "found the shared map" "$work/joiner.log") == 1 ]] ||
+    fail "robot B was not merged exactly once: $(grep -m3 'shared map' "$work/joiner.log")"
+  echo "robot B: $(grep -m1 'found the shared map' "$work/joiner.log" | sed 's/^odom_client: //')"
+  within_10cm_1deg "$work/joiner/poses_tum.txt" "$work/here/poses.txt" "robot B, every scan"
+  stop_server
 }
 
 # Part of own_frame: robot E passed the place another robot mapped without searching there (a

@@ -47,6 +47,26 @@ TEST(Durability, SnapshotPlusJournalReplayEqualsLiveMap) {
   EXPECT_FALSE(restored.integrate(scan("robot1", 7)).duplicate);
 }
 
+TEST(Durability, AFoundingScanIsReplayedAndTheMapStaysFounded) {
+  Files files;
+  std::vector<std::uint8_t> live_content;
+  {
+    MapService live(test::smallConfig(files.dir.path()));
+    live.openDurability(files.durability(), std::nullopt);
+    integrate_request_t founding = scan("founder", 1);
+    founding.map_epoch = integrate_request_t::FOUND_MAP;
+    ASSERT_EQ(live.integrate(founding).header.status, +reply_header_t::OK);
+    live.integrate(scan("founder", 2, 0.4));
+    live_content = test::content(live.getChunk(test::everything()));
+  }  // killed: the founding scan is in the journal only
+  MapService restored(test::smallConfig(files.dir.path()));
+  restored.openDurability(files.durability(), std::nullopt);
+  EXPECT_EQ(test::content(restored.getChunk(test::everything())), live_content);
+  integrate_request_t late = scan("late", 1, 2.0);
+  late.map_epoch = integrate_request_t::FOUND_MAP;
+  EXPECT_EQ(restored.integrate(late).header.status, +reply_header_t::FAILED_PRECONDITION);
+}
+
 TEST(Durability, JournalEntriesAlreadyInTheSnapshotAreSkipped) {
   // Crash between writing the snapshot and restarting the journal: both hold scans 1..2.
   Files files;

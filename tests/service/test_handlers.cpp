@@ -36,6 +36,38 @@ TEST(MapServiceHandlers, IntegrateAppliesOnceAndAcknowledgesRetries) {
   EXPECT_EQ(service.integrations(), 3);
 }
 
+// A founding scan (map_epoch FOUND_MAP) goes into an empty map only: the first of two robots
+// founding at once founds it, the other is told to search it and nothing of it is applied.
+TEST(MapServiceHandlers, OneRobotFoundsAnEmptyMapAndOnlyAnEmptyOne) {
+  MapService service(test::smallConfig());
+  const auto founding = [](const std::string& robot, std::int64_t seq, double x) {
+    integrate_request_t request = scan(robot, seq, x);
+    request.map_epoch = integrate_request_t::FOUND_MAP;
+    return request;
+  };
+  const integrate_reply_t founded = service.integrate(founding("first", 1, 0.0));
+  ASSERT_EQ(founded.header.status, +reply_header_t::OK) << founded.header.message;
+  EXPECT_NE(founded.map_epoch, 0);
+  EXPECT_TRUE(service.integrate(founding("first", 1, 0.0)).duplicate) << "a retry";
+  const auto content = test::content(service.getChunk(test::everything()));
+
+  const integrate_reply_t second = service.integrate(founding("second", 1, 3.0));
+  EXPECT_EQ(second.header.status, +reply_header_t::FAILED_PRECONDITION);
+  EXPECT_NE(second.header.message.find("not empty"), std::string::npos) << second.header.message;
+  EXPECT_EQ(test::content(service.getChunk(test::everything())), content);
+  EXPECT_EQ(service.robots().find("second"), nullptr);
+  // The founder goes on as any robot; the other's scans placed in the map (after its search)
+  // are taken as anyone's.
+  EXPECT_EQ(service.integrate(scan("first", 2, 0.5)).header.status, +reply_header_t::OK);
+  EXPECT_EQ(service.integrate(scan("second", 1, 3.0)).header.status, +reply_header_t::OK);
+
+  // A cleared server is empty again; a robot known without voxels is not.
+  map_command_request_t clear{};
+  clear.command = map_command_request_t::CLEAR;
+  ASSERT_EQ(service.command(clear).header.status, +reply_header_t::OK);
+  EXPECT_EQ(service.integrate(founding("third", 7, 1.0)).header.status, +reply_header_t::OK);
+}
+
 TEST(MapServiceHandlers, IntegrateWithInconsistentRowsIsInvalid) {
   // Only possible in-process (decode() always yields full rows); toCloud() and the journal's
   // encode() would read past a short row.

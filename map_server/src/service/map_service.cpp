@@ -60,6 +60,12 @@ Status MapService::applyIntegrate(const integrate_request_t& request, integrate_
   }
   // A journal replay keeps the grid it rebuilds (the swap's checkpoint holds a corrected one).
   if (judge && consistency_) swapInRebuiltGrid();
+  // Two robots founding at once would write two unrelated frames into one grid: requests are
+  // applied one at a time, so the first founds and the others are told to search the map.
+  if (judge && request.map_epoch == integrate_request_t::FOUND_MAP && !holdsNothing())
+    return Status::failedPrecondition(
+        "the map is not empty (founded by another robot, or loaded): a robot founds an empty map "
+        "only; search it instead");
   if (Status s = admitRobot(request, judge); !s.ok()) return s;
   const LabeledCloud cloud = toCloud(request);
   const Eigen::Isometry3d sent = fromLcm(request.sensor_pose);
@@ -137,6 +143,10 @@ void MapService::swapInRebuiltGrid() {
     std::cerr << "map_server: warning: no checkpoint of the corrected grid (" << e.what()
               << "): a restart replays the journal onto the last snapshot, uncorrected\n";
   }
+}
+
+bool MapService::holdsNothing() const {
+  return robots_.size() == 0 && map_.stats().num_voxels == 0;
 }
 
 Status MapService::admitRobot(const integrate_request_t& request, bool judge) {

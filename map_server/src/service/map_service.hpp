@@ -140,6 +140,8 @@ class MapService {
   void attachReplayGuard(auth::ReplayGuard& guard) { replay_guard_ = &guard; }
 
  private:
+  /// No robot known and no voxel: a robot may found the map (integrate_request_t::FOUND_MAP).
+  bool holdsNothing() const;
   /// judge: live requests pass admitIntegrate; journal replay does not (each entry passed it
   /// when it arrived, and the tracking reports since then are not journaled).
   Status applyIntegrate(const integrate_request_t& request, integrate_reply_t& reply, bool judge,

@@ -48,6 +48,9 @@ struct RunOptions {
   // --own-frame (without an initial pose): maps in its own frame from the first scan and keeps
   // searching the shared map; merged into it when found (docs/relocalization.md "Own frame").
   bool own_frame = false;
+  // --found-map (with own_frame): on an empty server the robot founds the map, its own frame the
+  // map frame (docs/relocalization.md "Founding an empty map").
+  bool found_map = false;
   bool progress = true;
   const std::atomic<bool>* stop = nullptr;  // set (e.g. by SIGINT) to end after the current frame
 };
@@ -154,6 +157,13 @@ class OdomRunner {
   /// place found looking back if there is one (FrameBridge); shared from here on.
   void mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest, const SearchOutcome& search,
                      const std::optional<SearchOutcome>& kept_place);
+  /// --found-map: the first kept scan founds the map (integrate_request_t::FOUND_MAP) and the
+  /// robot goes on in it, its own frame the map frame; false when the map was not empty.
+  bool foundSharedMap(Odometry& odometry, const FrameEstimate& newest);
+  /// The kept scans (newest last) integrated in the shared frame through bridge (map instance
+  /// epoch), the own-frame rows and the odometry moved by shared_T_own: tracking from here on.
+  void joinSharedMap(Odometry& odometry, const OwnKeyframe& newest, const FrameBridge& bridge,
+                     const Eigen::Isometry3d& shared_T_own, std::int64_t epoch);
   /// The own frame's move from the kept place's placement to shared_T_own at seq.
   FrameBridge bridgeTo(const SearchOutcome& kept_place, std::int64_t seq,
                        const Eigen::Isometry3d& shared_T_own) const;
@@ -185,6 +195,7 @@ class OdomRunner {
   std::optional<SharedMapSearch> own_search_;     // the newest scans'
   std::optional<SharedMapSearch> own_look_back_;  // the kept scans' (a new one per sweep)
   std::optional<KeptPlaceSweep> own_sweep_;       // none: own_frame_look_back off
+  bool found_tried_ = false;                      // --found-map: the founding INTEGRATE was sent
   bool look_back_next_ = false;
   bool look_back_in_map_ = false;  // the last look back's best place explained enough of it
   std::optional<SearchOutcome> kept_place_;  // found looking back, the newest place not yet
