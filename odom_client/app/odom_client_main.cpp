@@ -150,8 +150,7 @@ void addOptions(CLI::App& app, Args& a) {
              "mapped): maps in its own frame (identity at its first scan) and integrates "
              "nothing while it searches the shared map (every scan for relocalize_timeout, then "
              "every own_frame_search_period); once a place is verified and confirmed it is merged: "
-             "its "
-             "kept scans go into the shared map and it goes on there. Exits 5 when the input "
+             "its kept scans go into the shared map and it goes on there. Exits 5 when the input "
              "ends before the merge (poses_own_frame_*.txt instead of poses_*.txt; "
              "docs/relocalization.md \"Own frame\")")
           ->excludes(reloc_opt);
