@@ -29,6 +29,14 @@ std::string mergeText(const Eigen::Isometry3d& shared_T_own, const FrameBridge& 
   return out.str();
 }
 
+// A kept scan's INTEGRATE, its pose in the frame of map instance epoch (or FOUND_MAP).
+integrate_request_t keptScanRequest(const OwnKeyframe& keyframe, std::int64_t epoch) {
+  integrate_request_t request = rpc::makeIntegrateRequest(
+      keyframe.seq, keyframe.utime, keyframe.pose, keyframe.cloud, keyframe.gravity);
+  request.map_epoch = epoch;
+  return request;
+}
+
 }  // namespace
 
 void OdomRunner::startOwnFrame(Odometry& odometry, const PreparedScan& scan) {
@@ -200,10 +208,7 @@ void OdomRunner::mergeOwnFrame(Odometry& odometry, const OwnKeyframe& newest,
 bool OdomRunner::foundSharedMap(Odometry& odometry, const FrameEstimate& newest) {
   // The first kept scan founds the map at its own-frame pose: the own frame is the map frame.
   const OwnKeyframe& first = own_->keyframes().front();
-  integrate_request_t request =
-      rpc::makeIntegrateRequest(first.seq, first.utime, first.pose, first.cloud, first.gravity);
-  request.map_epoch = integrate_request_t::FOUND_MAP;
-  const auto reply = client_.integrate(std::move(request));
+  const auto reply = client_.integrate(keptScanRequest(first, integrate_request_t::FOUND_MAP));
   if (!reply.ok()) {
     if (reply.error.status != reply_header_t::FAILED_PRECONDITION)
       throw std::runtime_error(callError("INTEGRATE", reply.error, reply.attempts));
@@ -249,10 +254,7 @@ void OdomRunner::joinSharedMap(Odometry& odometry, const OwnKeyframe& newest,
 }
 
 void OdomRunner::integrateKept(const OwnKeyframe& keyframe, std::int64_t epoch) {
-  integrate_request_t request = rpc::makeIntegrateRequest(
-      keyframe.seq, keyframe.utime, keyframe.pose, keyframe.cloud, keyframe.gravity);
-  request.map_epoch = epoch;
-  const auto reply = client_.integrate(std::move(request));
+  const auto reply = client_.integrate(keptScanRequest(keyframe, epoch));
   if (reply.ok()) return;
   if (reply.error.status == reply_header_t::FAILED_PRECONDITION) {  // judged implausible
     std::cerr << "odom_client: warning: the server refused kept scan " << keyframe.seq << ": "
