@@ -23,6 +23,7 @@ struct Arguments {
   std::string scene = "street";
   std::string sensor = "hdl64";
   std::size_t frames = 100;
+  std::size_t every = 1;
   std::uint64_t seed = 1;
   std::optional<std::uint64_t> sensor_seed;
   fs::path out;
@@ -93,7 +94,12 @@ int run(const Arguments& a) {
   SceneOptions scene_options;
   scene_options.type = parseSceneType(a.scene);
   scene_options.route = a.trajectory;
-  scene_options.frames = a.frames;
+  SequenceOptions options;
+  options.frames = a.frames;
+  options.every = a.every;
+  scene_options.frames = sweepsSpanned(options);
+  if (scene_options.frames > 100000)
+    throw std::runtime_error("--frames x --every spans more than 100000 sweeps");
   scene_options.speed = a.speed;
   scene_options.seed = a.seed;
   Realism realism = realismPreset(a.realism);
@@ -104,9 +110,10 @@ int run(const Arguments& a) {
   if (a.kitti_poses) {
     socc::Poses poses = routePoses(a);
     if (scene_options.frames > poses.size()) {
+      options.frames = (poses.size() - 1) / options.every + 1;
+      scene_options.frames = sweepsSpanned(options);
       std::cerr << "note: " << a.kitti_poses->string() << " has " << poses.size()
-                << " poses; generating that many frames\n";
-      scene_options.frames = poses.size();
+                << " poses; generating " << options.frames << " frames\n";
     }
     height_change = roadHeights(poses, a);
     scene_options.poses = std::move(poses);
@@ -118,8 +125,6 @@ int run(const Arguments& a) {
 
   const auto start = std::chrono::steady_clock::now();
   const Scene scene = buildScene(scene_options);
-  SequenceOptions options;
-  options.frames = scene_options.frames;
   options.frame_period = scene_options.frame_period;
   options.write_point_times = a.distortion;
   options.show_progress = !a.quiet;
@@ -130,9 +135,10 @@ int run(const Arguments& a) {
   const SequenceSummary summary = writeSequence(a.out, scene, model, options);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::cout << "wrote " << options.frames << " frames (" << a.scene << ", " << a.sensor << ") to "
-            << a.out.string() << " in " << seconds << " s (realism " << a.realism << ", imu " << imu
-            << ")\n";
+  std::cout << "wrote " << options.frames << " frames"
+            << (options.every > 1 ? " (every " + std::to_string(options.every) + "th sweep)" : "")
+            << " (" << a.scene << ", " << a.sensor << ") to " << a.out.string() << " in " << seconds
+            << " s (realism " << a.realism << ", imu " << imu << ")\n";
   if (summary.label_classes > 0)
     std::cout << "labels: mIoU " << 100.0 * summary.label_miou << " % against the exact labels ("
               << summary.label_classes << " classes)\n";
@@ -160,6 +166,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--frames", a.frames, "Number of frames (10 Hz)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{100000}))
+      ->capture_default_str();
+  app.add_option("--every", a.every,
+                 "Write every Nth sweep only: a recording of the 10 Hz sensor at 1/N of its rate "
+                 "(e.g. 5: 2 Hz); its frames are sweeps 0, N, 2N, ... of the 10 Hz sequence, "
+                 "byte for byte, and --frames counts the frames written")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1000}))
       ->capture_default_str();
   app.add_option("--seed", a.seed, "Seed of the world, noise and dropouts")->capture_default_str();
   app.add_option("--sensor-seed", a.sensor_seed,

@@ -34,9 +34,10 @@ SequenceSummary writeSequence(const fs::path& out, const Scene& scene, const Lid
   for (const char* dir : {"velodyne", "labels"}) fs::create_directories(out / dir);
   if (options.write_point_times) fs::create_directories(out / "point_times");
 
+  if (options.every == 0) throw std::invalid_argument("writeSequence: every must be >= 1");
   const std::vector<double>& change = options.recorded_height_change;
-  if (!change.empty() && change.size() < options.frames)
-    throw std::invalid_argument("writeSequence: a recorded height change per frame is needed");
+  if (!change.empty() && change.size() < sweepsSpanned(options))
+    throw std::invalid_argument("writeSequence: a recorded height change per sweep is needed");
   Poses poses;
   Poses recorded;
   std::string times;
@@ -48,14 +49,21 @@ SequenceSummary writeSequence(const fs::path& out, const Scene& scene, const Lid
                 options.scan.sensor_seed.value_or(options.scan.seed));
   std::vector<std::optional<GravityReference>> gravity;
   ProgressBar progress("socc-sim", options.frames, options.show_progress);
-  for (std::size_t k = 0; k < options.frames; ++k) {
+  for (std::size_t i = 0; i < options.frames; ++i) {
+    const std::size_t k = i * options.every;  // the sweep
     const double t = options.frame_period * static_cast<double>(k);
+    // The attitude sensor reads the sweeps not written too, so that its readings of the
+    // written ones are those of the full-rate sequence.
+    for (std::size_t skipped = i == 0 ? k : k + 1 - options.every; imu && skipped < k; ++skipped) {
+      const double ts = options.frame_period * static_cast<double>(skipped);
+      imu->measure(scene.trajectory.poseAt(ts).linear(), ts);
+    }
     const SimulatedScan scan = simulateScan(scene, model, t, k, options.scan);
-    writeKittiBin(out / "velodyne" / frameName(k, ".bin"), scan.points, &scan.reflectance);
-    writeSemanticKittiLabels(out / "labels" / frameName(k, ".label"), scan.labels);
+    writeKittiBin(out / "velodyne" / frameName(i, ".bin"), scan.points, &scan.reflectance);
+    writeSemanticKittiLabels(out / "labels" / frameName(i, ".label"), scan.labels);
     if (!scan.exact_labels.empty()) labels.add(scan.exact_labels, scan.labels);
     if (options.write_point_times) {
-      std::ofstream f(out / "point_times" / frameName(k, ".bin"), std::ios::binary);
+      std::ofstream f(out / "point_times" / frameName(i, ".bin"), std::ios::binary);
       f.write(reinterpret_cast<const char*>(scan.times.data()),
               static_cast<std::streamsize>(scan.times.size() * sizeof(float)));
       if (!f) throw std::runtime_error((out / "point_times").string() + ": cannot write");

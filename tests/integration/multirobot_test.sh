@@ -718,23 +718,23 @@ look_back() {
   stop_server
 }
 
-# pcd_folder KITTI_DIR STEP DEST [STAMPED]: every STEP-th scan of KITTI_DIR as DEST/NNNNNN.pcd
-# (binary x y z, no time field) and the matching GT poses in DEST.poses; STAMPED: file names are
-# the scans' times (1.6e9 s + times.txt).
+# pcd_folder KITTI_DIR DEST [STAMPED]: the scans of KITTI_DIR as DEST/NNNNNN.pcd (binary x y z,
+# no time field) and their GT poses in DEST.poses; STAMPED: file names are the scans' times
+# (1.6e9 s + times.txt).
 pcd_folder() {
   python3 - "$@" <<'PY'
 import os, sys
-src, step, dest = sys.argv[1], int(sys.argv[2]), sys.argv[3]
-stamped = len(sys.argv) > 4
+src, dest = sys.argv[1], sys.argv[2]
+stamped = len(sys.argv) > 3
 os.makedirs(dest, exist_ok=True)
 times = [float(t) for t in open(f"{src}/times.txt")]
 poses = open(f"{src}/poses.txt").read().splitlines()
 with open(dest + ".poses", "w") as gt:
-    for k in range(0, len(times), step):
+    for k in range(len(times)):
         raw = open(f"{src}/velodyne/{k:06d}.bin", "rb").read()
         n = len(raw) // 16
         xyz = b"".join(raw[i * 16:i * 16 + 12] for i in range(n))
-        name = f"{1.6e9 + times[k]:.6f}" if stamped else f"{k // step:06d}"
+        name = f"{1.6e9 + times[k]:.6f}" if stamped else f"{k:06d}"
         with open(f"{dest}/{name}.pcd", "wb") as f:
             f.write((f"VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
                      f"WIDTH {n}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {n}\n"
@@ -787,14 +787,14 @@ health() {
   [[ -x $sim_bin ]] || fail "socc-sim binary '$sim_bin' missing (--sim)"
   # Each robot in its own map (they all start at the origin of their own world).
   start_server walk
-  # A walk near buildings recorded at 2 Hz: every 5th frame of a 10 Hz run, as .pcd.
-  "$sim_bin" --out "$work/walk" --frames 100 --sensor vlp32 --speed 1.5 --trajectory figure8 \
-    --seed 5 --quiet >/dev/null || fail "socc-sim failed"
-  pcd_folder "$work/walk" 5 "$work/walk_2hz"
+  # A walk near buildings recorded at 2 Hz: every 5th sweep of a 10 Hz sensor, as .pcd.
+  "$sim_bin" --out "$work/walk" --frames 20 --every 5 --sensor vlp32 --speed 1.5 \
+    --trajectory figure8 --seed 5 --quiet >/dev/null || fail "socc-sim failed"
+  pcd_folder "$work/walk" "$work/walk_2hz"
   tracks walk_2hz "$work/walk_2hz.poses" --pcd-dir "$work/walk_2hz"
   grep -q "scan times: none in the file names: assuming 0.1 s" "$work/walk_2hz.log" ||
     fail "walk_2hz: no start-up message about the assumed frame period"
-  pcd_folder "$work/walk" 5 "$work/walk_stamped" stamped
+  pcd_folder "$work/walk" "$work/walk_stamped" stamped
   stop_server
   start_server walk_stamped
   tracks walk_stamped "$work/walk_stamped.poses" --pcd-dir "$work/walk_stamped"

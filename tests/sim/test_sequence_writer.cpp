@@ -4,10 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "socc/gravity_file.hpp"
 #include "socc/kitti_io.hpp"
@@ -34,16 +37,17 @@ class SequenceWriter : public ::testing::Test {
 };
 
 fs::path generate(const std::string& name, std::uint64_t seed, std::size_t frames = 3,
-                  const ImuErrors& imu = {}) {
+                  const ImuErrors& imu = {}, std::size_t every = 1) {
+  SequenceOptions options;
+  options.frames = frames;
+  options.every = every;
   SceneOptions scene_options;
-  scene_options.frames = frames;
+  scene_options.frames = sweepsSpanned(options);
   scene_options.seed = seed;
   const Scene scene = buildScene(scene_options);
   LidarModel model = lidarPreset("vlp16");
   model.range_noise = 0.02;
   model.dropout = 0.05;
-  SequenceOptions options;
-  options.frames = frames;
   options.write_point_times = true;
   options.show_progress = false;
   options.scan = {true, seed};
@@ -114,6 +118,42 @@ TEST_F(SequenceWriter, AnImuWritesGravityAndChangesNothingElse) {
   options.show_progress = false;
   writeSequence(ins, buildScene({}), lidarPreset("vlp16"), options);
   EXPECT_FALSE(fs::exists(ins / "gravity.txt"));
+}
+
+std::vector<std::string> lines(const fs::path& f) {
+  std::vector<std::string> out;
+  std::ifstream in(f);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+// A recording at a third of the sensor's rate: sweeps 0, 3 and 6 of the full-rate sequence,
+// scans, labels, point times, poses, times and attitude readings alike.
+TEST_F(SequenceWriter, EveryNthSweepWritesTheFullRateSequencesFramesByteForByte) {
+  const fs::path full = generate("full", 7, 7, imuPreset("ins"));
+  const fs::path third = generate("third", 7, 3, imuPreset("ins"), 3);
+  for (const char* dir : {"velodyne", "labels", "point_times"}) {
+    std::size_t written = 0;
+    for (const auto& e : fs::directory_iterator(third / dir)) {
+      const std::size_t i = std::stoul(e.path().stem().string());
+      char sweep[16];
+      std::snprintf(sweep, sizeof(sweep), "%06zu", 3 * i);
+      const fs::path same = full / dir / (sweep + e.path().extension().string());
+      EXPECT_EQ(contents(e.path()), contents(same)) << e.path() << " against " << same;
+      ++written;
+    }
+    EXPECT_EQ(written, 3u) << dir;
+  }
+  for (const char* file : {"poses.txt", "times.txt", "gravity.txt"}) {
+    const std::vector<std::string> all = lines(full / file);
+    ASSERT_EQ(all.size(), 7u) << file;
+    EXPECT_EQ(lines(third / file), (std::vector<std::string>{all[0], all[3], all[6]})) << file;
+  }
+  SequenceOptions none;
+  none.every = 0;
+  none.show_progress = false;
+  EXPECT_THROW(writeSequence(tempDir("none"), buildScene({}), lidarPreset("vlp16"), none),
+               std::invalid_argument);
 }
 
 TEST_F(SequenceWriter, TheRecordedHeightsReferenceDiffersOnlyInHeight) {

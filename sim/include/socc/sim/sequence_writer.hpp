@@ -17,8 +17,13 @@
 namespace socc::sim {
 
 struct SequenceOptions {
-  std::size_t frames = 100;
-  double frame_period = 0.1;  // [s]
+  std::size_t frames = 100;   // frames written
+  double frame_period = 0.1;  // [s] of the sensor's sweeps
+  /// Every how many sweeps a frame is written: frame i is sweep i * every, as a recording of
+  /// the sensor at 1 / every of its rate (e.g. 5: a 10 Hz LiDAR recorded at 2 Hz); the frames
+  /// are those of the full-rate sequence, byte for byte. The scene must span
+  /// sweepsSpanned(options) sweeps.
+  std::size_t every = 1;
   bool write_point_times = false;
   bool show_progress = true;
   ScanOptions scan;
@@ -35,6 +40,11 @@ struct SequenceSummary {
   double label_miou = 1.0;
   int label_classes = 0;
 };
+
+/// The sweeps from the first written frame to the last, both included.
+inline std::size_t sweepsSpanned(const SequenceOptions& options) {
+  return options.frames == 0 ? 0 : (options.frames - 1) * options.every + 1;
+}
 
 /// Throws std::runtime_error when the directory cannot be written.
 SequenceSummary writeSequence(const std::filesystem::path& out, const Scene& scene,
