@@ -136,7 +136,7 @@ int run(const Arguments& a) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "wrote " << options.frames << " frames"
-            << (options.every > 1 ? " (every " + std::to_string(options.every) + "th sweep)" : "")
+            << (options.every > 1 ? " (one sweep in " + std::to_string(options.every) + ")" : "")
             << " (" << a.scene << ", " << a.sensor << ") to " << a.out.string() << " in " << seconds
             << " s (realism " << a.realism << ", imu " << imu << ")\n";
   if (summary.label_classes > 0)
