@@ -49,7 +49,7 @@ if(TARGET map_server AND TARGET odom_client AND TARGET socc-cli)
     # lap, a recording with dropped scans.
     add_test(NAME integration.odom_health
              COMMAND bash ${_socc_mr_script} health ${_socc_mr_bins} --sim $<TARGET_FILE:socc-sim>)
-    set_tests_properties(integration.odom_health PROPERTIES LABELS integration TIMEOUT 480 COST 151)
+    set_tests_properties(integration.odom_health PROPERTIES LABELS integration TIMEOUT 480 COST 116)
     # Relocalization: a robot joins A's map without a pose, one from an unmapped place is not
     # localized (exit 4), a kidnapped robot recovers (docs/relocalization.md).
     add_test(NAME integration.relocalize
