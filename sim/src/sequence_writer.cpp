@@ -31,13 +31,13 @@ void writeText(const fs::path& file, const std::string& text) {
 
 SequenceSummary writeSequence(const fs::path& out, const Scene& scene, const LidarModel& model,
                               const SequenceOptions& options) {
-  for (const char* dir : {"velodyne", "labels"}) fs::create_directories(out / dir);
-  if (options.write_point_times) fs::create_directories(out / "point_times");
-
   if (options.every == 0) throw std::invalid_argument("writeSequence: every must be >= 1");
   const std::vector<double>& change = options.recorded_height_change;
   if (!change.empty() && change.size() < sweepsSpanned(options))
     throw std::invalid_argument("writeSequence: a recorded height change per sweep is needed");
+  for (const char* dir : {"velodyne", "labels"}) fs::create_directories(out / dir);
+  if (options.write_point_times) fs::create_directories(out / "point_times");
+
   Poses poses;
   Poses recorded;
   std::string times;
@@ -48,14 +48,15 @@ SequenceSummary writeSequence(const fs::path& out, const Scene& scene, const Lid
     imu.emplace(options.imu, options.scan.seed,
                 options.scan.sensor_seed.value_or(options.scan.seed));
   std::vector<std::optional<GravityReference>> gravity;
+  std::size_t imu_sweep = 0;  // the next sweep the attitude sensor reads
   ProgressBar progress("socc-sim", options.frames, options.show_progress);
   for (std::size_t i = 0; i < options.frames; ++i) {
     const std::size_t k = i * options.every;  // the sweep
     const double t = options.frame_period * static_cast<double>(k);
     // The attitude sensor reads the sweeps not written too, so that its readings of the
     // written ones are those of the full-rate sequence.
-    for (std::size_t skipped = i == 0 ? k : k + 1 - options.every; imu && skipped < k; ++skipped) {
-      const double ts = options.frame_period * static_cast<double>(skipped);
+    for (; imu && imu_sweep < k; ++imu_sweep) {
+      const double ts = options.frame_period * static_cast<double>(imu_sweep);
       imu->measure(scene.trajectory.poseAt(ts).linear(), ts);
     }
     const SimulatedScan scan = simulateScan(scene, model, t, k, options.scan);
@@ -75,6 +76,7 @@ SequenceSummary writeSequence(const fs::path& out, const Scene& scene, const Lid
       recorded.push_back(first_inverse * Eigen::Translation3d(0.0, 0.0, -change[k]) * pose);
     // The up direction in the sensor frame at the pose's time, independent of frame 0's tilt.
     if (imu) gravity.push_back(imu->measure(pose.linear(), t));
+    imu_sweep = k + 1;
     char line[32];
     std::snprintf(line, sizeof(line), "%e\n", t);
     times += line;
