@@ -20,6 +20,7 @@ YamlFields fields(OdomConfig& c) {
       {"deskew_iterations", &c.deskew_iterations},
       {"sweep_twist_sigma_linear", &c.sweep_twist_sigma_linear},
       {"sweep_twist_sigma_angular", &c.sweep_twist_sigma_angular},
+      {"range_calibration", &c.range_calibration},
       {"azimuth_times", &c.azimuth_times},
       {"azimuth_start_deg", &c.azimuth_start_deg},
       {"azimuth_clockwise", &c.azimuth_clockwise},

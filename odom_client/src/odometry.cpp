@@ -91,7 +91,12 @@ Odometry::Odometry(const OdomConfig& config, const Eigen::Isometry3d& initial_po
       period_(config.frame_period),
       pose_(initial_pose),
       keep_first_pose_(initial_pose_known && !config.refine_initial_pose),
-      tilt_(config.gravity_tilt_walk_deg * M_PI / 180.0) {}
+      tilt_(config.gravity_tilt_walk_deg * M_PI / 180.0) {
+  if (!config.range_calibration) return;
+  RangeCalibrationParams calibration;
+  calibration.planarity_threshold = config.planarity_threshold;
+  range_calibration_.emplace(calibration);
+}
 
 PreparedScan prepareScan(const OdomConfig& config, const LabeledCloud& raw, std::int64_t seq,
                          std::int64_t utime) {
@@ -132,6 +137,16 @@ Vector6d Odometry::twistTo(const Eigen::Isometry3d& mid_pose, double time) const
 }
 
 FrameEstimate Odometry::registerFrame(const PreparedScan& scan, const LocalMap& map) {
+  if (!range_calibration_) return registerCorrected(scan, map);
+  PreparedScan corrected = scan;
+  range_calibration_->apply(corrected.cloud);
+  FrameEstimate out = registerCorrected(corrected, map);
+  if (out.registered && out.health.healthy() && !out.held)
+    range_calibration_->observe(corrected.cloud.points, out.cloud.points, out.pose, map);
+  return out;
+}
+
+FrameEstimate Odometry::registerCorrected(const PreparedScan& scan, const LocalMap& map) {
   if (!has_motion_model_ && !held_ && scan.cloud.hasTimes()) {
     held_ = scan;  // deskewed once the next scan gives the motion
     FrameEstimate out;

@@ -27,6 +27,9 @@ struct OdomConfig {
   // measured twist; both 0: off). docs/robustness.md says how they were chosen.
   double sweep_twist_sigma_linear = 0.05;    // [m/s]
   double sweep_twist_sigma_angular = 0.005;  // [rad/s]
+  // Per-laser range offsets and scales fitted from the lasers' disagreement on the map's walls
+  // (range_calibration.hpp).
+  bool range_calibration = true;
 
   // Per-point times of scans that carry none, derived from each point's azimuth (a spinning
   // sensor, e.g. KITTI): the sweep starts at azimuth_start_deg and turns one revolution per

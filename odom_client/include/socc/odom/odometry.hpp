@@ -21,6 +21,7 @@
 #include "socc/odom/frame_period.hpp"
 #include "socc/odom/local_map.hpp"
 #include "socc/odom/odom_config.hpp"
+#include "socc/odom/range_calibration.hpp"
 #include "socc/odom/registration.hpp"
 #include "socc/odom/se3.hpp"
 #include "socc/odom/tilt_reference.hpp"
@@ -111,6 +112,10 @@ class Odometry {
   void reset(const Eigen::Isometry3d& pose);
 
   double sigma() const { return threshold_.sigma(); }
+  /// The per-laser range calibration (none when config.range_calibration is off).
+  const RangeCalibration* rangeCalibration() const {
+    return range_calibration_ ? &*range_calibration_ : nullptr;
+  }
   /// [s] the time between scans as their stamps show it (frame_period.hpp).
   double framePeriod() const { return period_.period(); }
   /// Body twist per second of the constant-velocity model (translation first).
@@ -118,6 +123,8 @@ class Odometry {
 
  private:
   struct Sweep;  // one deskew + registration pass's result
+  // registerFrame of a scan whose ranges the calibration corrected.
+  FrameEstimate registerCorrected(const PreparedScan& scan, const LocalMap& map);
   // params: params_ when none.
   Sweep registerSweep(const PreparedScan& scan, const LocalMap& map, const Eigen::Isometry3d& guess,
                       const Vector6d& twist, double sigma, const SweepTwistPrior* prior = nullptr,
@@ -170,7 +177,8 @@ class Odometry {
   // first scan integrated there would carry that error into everyone's map.
   bool keep_first_pose_ = false;
   SurpriseCheck surprise_check_;
-  TiltReference tilt_;                     // the gravity reference's hold on roll and pitch
+  TiltReference tilt_;  // the gravity reference's hold on roll and pitch
+  std::optional<RangeCalibration> range_calibration_;  // config_.range_calibration
   std::optional<PreparedScan> held_;       // first scan with times, waiting for the motion
   std::optional<FrameEstimate> released_;  // held_ once finalised
 };

@@ -1,0 +1,271 @@
+#include "socc/odom/range_calibration.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace socc::odom {
+namespace {
+
+constexpr double kDegrees = 180.0 / M_PI;
+constexpr int kUnknowns = 3;  // per laser: range offset, range scale, azimuth
+// Prior of a laser's errors: a few cm, a few tenths of a percent, a few tenths of a degree
+// (factory calibrations leave less, docs/robustness.md).
+const Eigen::Vector3d kPriorSigma(0.05, 0.005, 0.005);
+// The bin table's range of elevation tangents (+-71.6 deg; steeper points share the end bins)
+// and its step (at most 0.006 deg of elevation).
+constexpr float kMaxTangent = 3.f;
+constexpr float kTangentStep = 1e-4f;
+
+}  // namespace
+
+RangeCalibration::RangeCalibration(const RangeCalibrationParams& params)
+    : params_(params),
+      laser_of_bin_(static_cast<std::size_t>(std::ceil(180.0 / params.bin_deg)) + 1, -1) {
+  const auto slots = static_cast<std::size_t>(std::lround(2.0 * kMaxTangent / kTangentStep)) + 1;
+  tangent_bins_.reserve(slots);
+  for (std::size_t i = 0; i < slots; ++i) {
+    const double elevation =
+        std::atan(-kMaxTangent + (static_cast<double>(i) + 0.5) * kTangentStep);
+    const int bin = static_cast<int>(std::floor((elevation * kDegrees + 90.0) / params.bin_deg));
+    tangent_bins_.push_back(std::clamp(bin, 0, static_cast<int>(laser_of_bin_.size()) - 1));
+  }
+}
+
+int RangeCalibration::binOf(const Eigen::Vector3f& p) const {
+  // This runs for every point of every scan: the tangent of the elevation looked up in a table
+  // instead of an arc tangent per point.
+  const float horizontal = std::sqrt(p.x() * p.x() + p.y() * p.y());
+  const float tangent =
+      horizontal > 0.f ? p.z() / horizontal : (p.z() > 0.f ? kMaxTangent : -kMaxTangent);
+  const float slot = std::clamp((tangent + kMaxTangent) / kTangentStep, 0.f,
+                                static_cast<float>(tangent_bins_.size() - 1));
+  return tangent_bins_[static_cast<std::size_t>(slot)];
+}
+
+int RangeCalibration::laserOf(int bin) {
+  int& laser = laser_of_bin_[static_cast<std::size_t>(bin)];
+  if (laser >= 0) return laser;
+  laser = static_cast<int>(corrections_.size());
+  corrections_.emplace_back(Eigen::Vector2d::Zero());
+  const auto n = static_cast<Eigen::Index>(kUnknowns * corrections_.size());
+  info_.conservativeResizeLike(Eigen::MatrixXd::Zero(n, n));
+  evidence_.conservativeResizeLike(Eigen::VectorXd::Zero(n));
+  return laser;
+}
+
+void RangeCalibration::apply(LabeledCloud& cloud) const {
+  for (Eigen::Vector3f& p : cloud.points) {
+    const int laser = laser_of_bin_[static_cast<std::size_t>(binOf(p))];
+    if (laser < 0) continue;
+    const Eigen::Vector2d& c = corrections_[static_cast<std::size_t>(laser)];
+    const double range = p.norm();
+    if (range <= 0.0 || (c(0) == 0.0 && c(1) == 0.0)) continue;
+    p *= static_cast<float>(1.0 - c(1) - c(0) / range);
+  }
+}
+
+std::vector<RangeCalibration::Sample> RangeCalibration::collect(const Points& raw,
+                                                                const Points& placed,
+                                                                const Eigen::Isometry3d& pose,
+                                                                const LocalMap& map) const {
+  std::vector<Sample> out;
+  const std::size_t n = std::min(raw.size(), placed.size());
+  const std::size_t stride =
+      std::max<std::size_t>(1, n / std::max<std::size_t>(1, params_.samples));
+  const Eigen::Matrix3d rotation = pose.linear();
+  for (std::size_t i = 0; i < n; i += stride) {
+    const Eigen::Vector3d p = raw[i].cast<double>();
+    const double range = p.norm();
+    const double horizontal = p.head<2>().norm();
+    if (range < params_.min_range || horizontal <= 0.0) continue;
+    const Eigen::Vector3d q = pose * placed[i].cast<double>();
+    const std::optional<Neighbor> hit = map.nearest(q, params_.max_distance);
+    if (!hit) continue;
+    const MapVoxel& v = map.voxel(hit->index);
+    // A looser bound on one voxel than on a piece of wall: the voxels' normals lean with their
+    // lasers' disagreement (two rings 0.14 m apart, 6 cm apart in range: 23 deg).
+    if (!isPlanar(v, params_.planarity_threshold) ||
+        std::abs(v.normal.z()) > 2.0 * params_.max_normal_z)
+      continue;
+    const Eigen::Vector3d ray = rotation * p;
+    Eigen::Vector3d normal = v.normal.normalized();
+    if (normal.dot(ray) > 0.0) normal = -normal;
+    if (-normal.dot(ray) / range < params_.min_incidence) continue;
+    if (std::abs(normal.dot(q - v.point)) > params_.max_residual) continue;
+    const int bin = binOf(raw[i]);
+    const int laser = laser_of_bin_[static_cast<std::size_t>(bin)];
+    Eigen::Vector3d uncorrected = q;
+    if (laser >= 0) {
+      const Eigen::Vector2d& c = corrections_[static_cast<std::size_t>(laser)];
+      uncorrected += ray * ((c(0) + c(1) * range) / range);
+    }
+    // A piece of wall: a cell, and the facing in 16 sectors (walls are near vertical). Two
+    // grids half a cell apart, so that lasers on either side of one grid's cell border still
+    // meet in the other's cells.
+    const auto sector = static_cast<std::uint64_t>(
+        std::floor((std::atan2(normal.y(), normal.x()) + M_PI) / (2.0 * M_PI) * 16.0));
+    const auto surface = [&](double shift) {
+      const Eigen::Vector3d cell = (q / params_.surface_size).array() + shift;
+      const auto bits = [](double x) {
+        return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x))) & 0xfffffULL;
+      };
+      return bits(cell.x()) | bits(cell.y()) << 20 | (bits(cell.z()) & 0xfffULL) << 40 |
+             (sector & 0xfULL) << 52;
+    };
+    out.push_back({{surface(0.0), surface(0.5)},
+                   bin,
+                   uncorrected,
+                   v.point,
+                   ray,
+                   rotation * Eigen::Vector3d(-p.y(), p.x(), 0.0),
+                   normal});
+  }
+  return out;
+}
+
+void RangeCalibration::observe(const Points& raw, const Points& placed,
+                               const Eigen::Isometry3d& pose, const LocalMap& map) {
+  const double fade = std::exp(-1.0 / params_.memory_frames);
+  info_ *= fade;
+  evidence_ *= fade;
+  std::vector<Sample> found = collect(raw, placed, pose, map);
+  for (Sample& s : found) s.laser = laserOf(s.laser);
+  accumulate(found);
+  if (++frames_ % params_.fit_every == 0) fit();
+}
+
+void RangeCalibration::accumulate(std::vector<Sample>& found) {
+  for (int grid = 0; grid < 2; ++grid) accumulate(found, grid);
+}
+
+void RangeCalibration::accumulate(std::vector<Sample>& found, int grid) {
+  // The map only says where walls are and which way they face: its points came from whichever
+  // lasers saw a wall first, each with its own error, so they are no common reference. Each
+  // piece of wall's plane offset is therefore one more unknown, eliminated here (Schur
+  // complement): within one piece only the differences between this scan's points count, i.e.
+  // between its lasers, as in Levinson & Thrun's (RSS 2010) energy of two beams on one surface.
+  std::sort(found.begin(), found.end(),
+            [&](const Sample& a, const Sample& b) { return a.surface[grid] < b.surface[grid]; });
+  for (std::size_t begin = 0, end = 0; begin < found.size(); begin = end) {
+    for (end = begin; end < found.size() && found[end].surface[grid] == found[begin].surface[grid];
+         ++end) {
+    }
+    addSurface(found.begin() + static_cast<std::ptrdiff_t>(begin),
+               found.begin() + static_cast<std::ptrdiff_t>(end));
+  }
+}
+
+namespace {
+
+double median(std::vector<double> values) {
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+}  // namespace
+
+void RangeCalibration::addSurface(std::vector<Sample>::const_iterator begin,
+                                  std::vector<Sample>::const_iterator end) {
+  if (end - begin < 2) return;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  for (auto s = begin; s != end; ++s) normal += s->normal;
+  // One vertical plane for the piece: its offset cancels, not its normal. Vertical, because
+  // lasers whose scales grow with their elevation lean every wall by the same angle: the map's
+  // normals, made of those lasers' points, lean with them, and only gravity tells the two apart.
+  normal.normalize();
+  if (std::abs(normal.z()) > params_.max_normal_z) return;
+  normal.z() = 0.0;
+  normal.normalize();
+  // One plane only: a car before a wall, facing the same way, is another (its map voxels are).
+  std::vector<double> anchors, residuals;
+  for (auto s = begin; s != end; ++s) {
+    anchors.push_back(normal.dot(s->anchor));
+    residuals.push_back(normal.dot(s->point));
+  }
+  const double anchor = median(anchors), level = median(residuals);
+  std::vector<std::pair<int, Eigen::Vector3d>> sums;  // the gradient's sum by laser
+  int kept = 0;
+  double residual_sum = 0.0;
+  for (auto s = begin; s != end; ++s) {
+    const double residual = normal.dot(s->point);
+    // The lasers' own errors part the points (and the map voxels) of one wall by up to
+    // max_scale_error x range.
+    const double range = s->ray.norm();
+    const double tolerance = params_.max_step + params_.max_scale_error * range;
+    if (std::abs(normal.dot(s->anchor) - anchor) > tolerance ||
+        std::abs(residual - level) > tolerance)
+      continue;
+    const double along = normal.dot(s->ray) / range;
+    const Eigen::Vector3d g(along, along * range, normal.dot(s->azimuth));
+    const Eigen::Index at = kUnknowns * s->laser;
+    info_.block<kUnknowns, kUnknowns>(at, at) += 0.5 * g * g.transpose();  // 0.5: two grids
+    evidence_.segment<kUnknowns>(at) += 0.5 * g * residual;
+    residual_sum += residual;
+    ++kept;
+    const auto same =
+        std::find_if(sums.begin(), sums.end(), [&](const auto& e) { return e.first == s->laser; });
+    if (same == sums.end())
+      sums.emplace_back(s->laser, g);
+    else
+      same->second += g;
+  }
+  if (kept == 0) return;
+  const double count = kept;
+  for (const auto& [a, sum_a] : sums) {
+    const Eigen::Index at = kUnknowns * a;
+    evidence_.segment<kUnknowns>(at) -= 0.5 * sum_a * (residual_sum / count);
+    for (const auto& [b, sum_b] : sums)
+      info_.block<kUnknowns, kUnknowns>(at, kUnknowns * b) -=
+          0.5 * sum_a * sum_b.transpose() / count;
+  }
+}
+
+void RangeCalibration::fit() {
+  const Eigen::Index n = info_.rows();
+  if (n == 0) return;
+  const double weight = 1.0 / (params_.noise * params_.noise);
+  Eigen::MatrixXd a = weight * info_;
+  for (Eigen::Index i = 0; i < n; ++i) a(i, i) += 1.0 / std::pow(kPriorSigma(i % kUnknowns), 2);
+  // The lasers' common errors scale and shift the world, which no comparison between lasers
+  // sees: held at zero by a stiff constraint on the sum of each error over all lasers, so that a
+  // laser's covariance is that of its error relative to the others.
+  const double lasers = static_cast<double>(corrections_.size());
+  for (int k = 0; k < kUnknowns; ++k) {
+    const double stiff = 1e4 / std::pow(kPriorSigma(k), 2) / lasers;
+    for (Eigen::Index i = k; i < n; i += kUnknowns)
+      for (Eigen::Index j = k; j < n; j += kUnknowns) a(i, j) += stiff;
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> solver(a);
+  const Eigen::VectorXd errors = solver.solve(weight * evidence_);
+  const Eigen::MatrixXd covariance = solver.solve(Eigen::MatrixXd::Identity(n, n));
+  std::vector<bool> known(corrections_.size(), false);
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  int count = 0;
+  for (std::size_t l = 0; l < known.size(); ++l) {
+    const auto at = static_cast<Eigen::Index>(kUnknowns * l);
+    known[l] = std::sqrt(covariance(at + 1, at + 1)) < params_.max_scale_sigma;
+    if (!known[l]) continue;
+    mean += errors.segment<2>(at);
+    ++count;
+  }
+  // The corrected lasers keep their mean: correcting only some lasers must not rescale the world.
+  if (count > 0) mean /= count;
+  for (std::size_t l = 0; l < known.size(); ++l)
+    corrections_[l] = known[l] ? Eigen::Vector2d(errors.segment<2>(kUnknowns * l) - mean)
+                               : Eigen::Vector2d::Zero();
+}
+
+std::vector<RangeCalibration::Laser> RangeCalibration::lasers() const {
+  std::vector<Laser> out;
+  for (std::size_t b = 0; b < laser_of_bin_.size(); ++b) {
+    const int laser = laser_of_bin_[b];
+    if (laser < 0) continue;
+    const Eigen::Vector2d& c = corrections_[static_cast<std::size_t>(laser)];
+    if (c(0) != 0.0 || c(1) != 0.0)
+      out.push_back({(static_cast<double>(b) + 0.5) * params_.bin_deg - 90.0, c(0), c(1)});
+  }
+  return out;
+}
+
+}  // namespace socc::odom

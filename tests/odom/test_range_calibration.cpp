@@ -1,0 +1,159 @@
+// Per-laser range calibration (range_calibration.hpp): lasers whose ranges carry different
+// scales disagree about one wall, and the fit finds each laser's scale relative to the others
+// (a common scale of all lasers is not observable and is left alone).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "socc/odom/range_calibration.hpp"
+#include "socc/odom/scan_map.hpp"
+
+using namespace socc::odom;
+
+namespace {
+
+constexpr int kLasers = 16;
+constexpr double kDegree = M_PI / 180.0;
+
+// -2.95 .. +3.05 deg, 0.4 deg apart: each in the middle of one of the calibration's 0.1 deg bins.
+double elevationOf(int laser) {
+  return (-2.95 + 0.4 * laser) * kDegree;
+}
+
+// Scales of -0.4..+0.4 % and offsets of -3..+3 cm, mixed over the lasers.
+std::vector<double> errorScales() {
+  std::vector<double> scale;
+  for (int k = 0; k < kLasers; ++k) scale.push_back(0.004 * std::sin(1.7 * k + 0.3));
+  return scale;
+}
+std::vector<double> errorOffsets() {
+  std::vector<double> offset;
+  for (int k = 0; k < kLasers; ++k) offset.push_back(0.03 * std::cos(2.3 * k));
+  return offset;
+}
+
+// Range from origin along d to a walled yard: flat ground 1.73 m below the sensor, walls at
+// x = -40 / +50 and y = -30 / +25 m. Negative: no hit.
+double yardRange(const Eigen::Vector3d& origin, const Eigen::Vector3d& d) {
+  double best = -1.0;
+  const auto take = [&](double t) {
+    if (t > 0.5 && (best < 0.0 || t < best)) best = t;
+  };
+  if (d.z() < 0.0) take((-1.73 - origin.z()) / d.z());
+  if (d.x() != 0.0) {
+    take((50.0 - origin.x()) / d.x());
+    take((-40.0 - origin.x()) / d.x());
+  }
+  if (d.y() != 0.0) {
+    take((25.0 - origin.y()) / d.y());
+    take((-30.0 - origin.y()) / d.y());
+  }
+  return best;
+}
+
+// The scan at origin (sensor frame, axes of the map) of a sensor whose laser k reads its ranges
+// as r * (1 + scale[k]) + offset[k].
+socc::LabeledCloud yardScan(const Eigen::Vector3d& origin, const std::vector<double>& scale,
+                            const std::vector<double>& offset) {
+  socc::LabeledCloud scan;
+  for (int k = 0; k < kLasers; ++k)
+    for (int c = 0; c < 1800; ++c) {
+      const double azimuth = 2.0 * M_PI * c / 1800.0;
+      const double e = elevationOf(k);
+      const Eigen::Vector3d d(std::cos(e) * std::cos(azimuth), std::cos(e) * std::sin(azimuth),
+                              std::sin(e));
+      const double r = yardRange(origin, d);
+      if (r < 0.0 || r > 100.0) continue;
+      const double reported =
+          r * (1.0 + scale[static_cast<std::size_t>(k)]) + offset[static_cast<std::size_t>(k)];
+      scan.points.push_back((reported * d).cast<float>());
+    }
+  return scan;
+}
+
+// The yard's map as scans of a sensor with these errors give it from a few places.
+LocalMap yardMap(const std::vector<double>& scale, const std::vector<double>& offset) {
+  socc::LabeledCloud all;
+  for (const Eigen::Vector3d& origin :
+       {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(8, -5, 0), Eigen::Vector3d(-10, 6, 0)})
+    for (const Eigen::Vector3f& p : yardScan(origin, scale, offset).points)
+      all.points.push_back(p + origin.cast<float>());
+  return buildScanMap(all, 0.5);
+}
+
+// The calibration after observing the sensor's scans from a few places at their true poses, on
+// the exact map or on the map that the sensor made itself.
+RangeCalibration observed(const std::vector<double>& scale, const std::vector<double>& offset,
+                          bool own_map = false) {
+  const std::vector<double> zero(kLasers, 0.0);
+  const LocalMap map = own_map ? yardMap(scale, offset) : yardMap(zero, zero);
+  RangeCalibrationParams params;
+  params.samples = 100000;  // every point: the test's scans are small
+  params.fit_every = 1;
+  RangeCalibration calibration(params);
+  for (int round = 0; round < 3; ++round)
+    for (const Eigen::Vector3d& origin :
+         {Eigen::Vector3d(2, 1, 0), Eigen::Vector3d(-5, -3, 0), Eigen::Vector3d(6, 4, 0)}) {
+      socc::LabeledCloud scan = yardScan(origin, scale, offset);
+      calibration.apply(scan);
+      calibration.observe(scan.points, scan.points, Eigen::Isometry3d(Eigen::Translation3d(origin)),
+                          map);
+    }
+  return calibration;
+}
+
+// Each wall point of the sensor's scan at origin, corrected by calibration, is at its exact range
+// times (1 + scale) plus offset: the lasers agree up to a common scale and offset.
+void expectAgreeing(const RangeCalibration& calibration, const std::vector<double>& scale,
+                    const std::vector<double>& offset, double common_scale, double common_offset) {
+  const Eigen::Vector3d origin(1, 2, 0);
+  socc::LabeledCloud scan = yardScan(origin, scale, offset);
+  const std::vector<double> zero(kLasers, 0.0);
+  const socc::LabeledCloud exact = yardScan(origin, zero, zero);  // the same rays
+  calibration.apply(scan);
+  ASSERT_EQ(scan.size(), exact.size());
+  int walls = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (exact.points[i].z() < -1.7f) continue;  // the ground: no wall, not calibrated on
+    const double r = exact.points[i].cast<double>().norm();
+    ASSERT_NEAR(scan.points[i].normalized().dot(exact.points[i].normalized()), 1.0, 1e-6);
+    ASSERT_NEAR(scan.points[i].cast<double>().norm(), r * (1.0 + common_scale) + common_offset,
+                2e-4 * r + 0.003)
+        << "point " << i << " at elevation "
+        << std::asin(exact.points[i].z() / exact.points[i].norm()) / kDegree;
+    ++walls;
+  }
+  EXPECT_GT(walls, 1000);
+}
+
+double mean(const std::vector<double>& values) {
+  double sum = 0.0;
+  for (const double v : values) sum += v;
+  return sum / static_cast<double>(values.size());
+}
+
+}  // namespace
+
+TEST(RangeCalibration, ItsCorrectionLeavesTheLasersAgreeing) {
+  const std::vector<double> scale = errorScales(), offset = errorOffsets();
+  const RangeCalibration calibration = observed(scale, offset);
+  EXPECT_EQ(calibration.lasers().size(), static_cast<std::size_t>(kLasers));
+  expectAgreeing(calibration, scale, offset, mean(scale), mean(offset));
+}
+
+TEST(RangeCalibration, TheLasersAreTheReferenceNotTheMap) {
+  // The map's walls are made of the same lasers' points, each with its own error: a laser
+  // compared with them would keep part of its error.
+  const std::vector<double> scale = errorScales(), offset = errorOffsets();
+  const RangeCalibration calibration = observed(scale, offset, true);
+  EXPECT_EQ(calibration.lasers().size(), static_cast<std::size_t>(kLasers));
+  expectAgreeing(calibration, scale, offset, mean(scale), mean(offset));
+}
+
+TEST(RangeCalibration, LeavesACommonScaleAlone) {
+  // Every laser 0.3 % long: the world looks 0.3 % larger, which no map can tell.
+  const std::vector<double> scale(kLasers, 0.003), offset(kLasers, 0.0);
+  expectAgreeing(observed(scale, offset), scale, offset, 0.003, 0.0);
+}
