@@ -122,11 +122,13 @@ void addOptions(CLI::App& app, Args& a) {
                  "several times: a later file's keys override an earlier one's (e.g. "
                  "config/kitti.yaml for the sensor, then config/baseline.yaml for the method)")
       ->allow_extra_args(false);
-  app.add_option("--out-dir", a.out_dir,
-                 "write poses_kitti.txt, poses_tum.txt and frames.csv here, and at the end "
-                 "poses_revised_kitti.txt / poses_revised_tum.txt when the server runs the "
-                 "consistency service: the poses revised by its pose graph (GET_KEYFRAMES, "
-                 "docs/consistency.md \"The revised trajectory\")");
+  app.add_option(
+      "--out-dir", a.out_dir,
+      "write poses_kitti.txt, poses_tum.txt and frames.csv here, and at the end "
+      "range_calibration.txt (each laser's range correction, when range_calibration "
+      "is on) and poses_revised_kitti.txt / poses_revised_tum.txt when the server runs the "
+      "consistency service: the poses revised by its pose graph (GET_KEYFRAMES, "
+      "docs/consistency.md \"The revised trajectory\")");
   app.add_flag("--no-revised", a.no_revised,
                "do not ask the server for the revised trajectory at the end of the run");
   app.add_option("--revised-wait", a.revised_wait_s,
@@ -361,6 +363,9 @@ int runOdometry(const Args& a, const OdomConfig& config, socc::rpc::MapClient& c
     rc = 1;
   }
   writeOutputs(a.out_dir, runner.trajectory(), runner.endedInOwnFrame());
+  if (!a.out_dir.empty() && config.range_calibration)
+    writeRangeCalibration((fs::path(a.out_dir) / "range_calibration.txt").string(),
+                          runner.rangeCalibration());
   removeRevised(a.out_dir);  // an earlier run's must not pass for this one's
   if (!a.out_dir.empty() && !a.no_revised && rc != 1 && !runner.endedInOwnFrame()) {
     // Stopped by a signal: the keyframes the service holds now, without waiting for more.

@@ -116,6 +116,8 @@ void OdomRunner::run(ScanSource& source, FrameLog& log) {
               << own_->keyframeBytes() / (1024.0 * 1024.0) << " MiB)\n";
   bar.finish();
   wall_seconds_ = std::chrono::duration<double>(Clock::now() - run_start).count();
+  if (const RangeCalibration* calibration = odometry.rangeCalibration())
+    range_lasers_ = calibration->lasers();
 }
 
 FrameStats OdomRunner::processScan(Odometry& odometry, const PreparedScan& prepared,

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <stdexcept>
 
 namespace socc::odom {
 namespace {
@@ -266,6 +269,19 @@ std::vector<RangeCalibration::Laser> RangeCalibration::lasers() const {
       out.push_back({(static_cast<double>(b) + 0.5) * params_.bin_deg - 90.0, c(0), c(1)});
   }
   return out;
+}
+
+void writeRangeCalibration(const std::string& path,
+                           const std::vector<RangeCalibration::Laser>& lasers) {
+  std::ofstream out(path);
+  out << "# per-laser range calibration (odom_client, range_calibration: true): a laser's range r\n"
+         "# is corrected to r - offset - scale * r; lasers not listed are not corrected\n"
+         "# elevation_deg offset_m scale\n"
+      << std::fixed;
+  for (const RangeCalibration::Laser& l : lasers)
+    out << std::setprecision(2) << l.elevation_deg << ' ' << std::setprecision(4) << l.offset << ' '
+        << std::setprecision(6) << l.scale << '\n';
+  if (!out) throw std::runtime_error("cannot write " + path);
 }
 
 }  // namespace socc::odom

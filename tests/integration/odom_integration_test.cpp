@@ -107,6 +107,11 @@ TEST_F(OdomEndToEnd, SixteenKittiFramesWriteEveryOutput) {
   int rows = 0;
   for (std::string line; std::getline(csv, line);) ++rows;
   EXPECT_EQ(rows, 17);  // header + 16 frames
+  // The per-laser range calibration (on by default) says what it corrected, if anything yet.
+  std::ifstream calibration(out / "range_calibration.txt");
+  std::string header;
+  ASSERT_TRUE(std::getline(calibration, header));
+  EXPECT_EQ(header.rfind("# per-laser range calibration", 0), 0u) << header;
 
   const auto stats = client_->getStats();
   ASSERT_TRUE(stats.ok());

@@ -1,10 +1,10 @@
 // Per-laser range calibration (range_calibration.hpp): lasers whose ranges carry different
-// scales disagree about one wall, and the fit finds each laser's scale relative to the others
-// (a common scale of all lasers is not observable and is left alone).
+// scales disagree about one wall, and the fit finds each laser's scale relative to the others by
+// comparing them on each piece of wall, whatever the map's points say (a common scale of all
+// lasers is not observable and is left alone).
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
 #include <vector>
 
 #include "socc/odom/range_calibration.hpp"

@@ -92,6 +92,9 @@ class OdomRunner {
   /// --own-frame: the run ended before the robot was merged into the shared map; trajectory()
   /// then holds own-frame poses (identity at its first scan) and nothing was integrated.
   bool endedInOwnFrame() const { return own_.has_value(); }
+  /// The lasers the per-laser range calibration corrected, as it stood at the end of run()
+  /// (empty when off, or when run() threw).
+  const std::vector<RangeCalibration::Laser>& rangeCalibration() const { return range_lasers_; }
 
  private:
   /// One prepared scan through the pipeline; its stats.
@@ -189,6 +192,7 @@ class OdomRunner {
   std::optional<Eigen::Isometry3d> last_good_;  // pose of the last integrated frame
   int relocalizations_ = 0;
   std::vector<FrameCorrection> applied_;
+  std::vector<RangeCalibration::Laser> range_lasers_;  // rangeCalibration()
   std::string jump_;  // the last correction, for the next frame's row
   // --own-frame, until the merge.
   std::optional<OwnFrameMap> own_;

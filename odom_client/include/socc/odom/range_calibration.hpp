@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "socc/odom/local_map.hpp"
@@ -95,5 +96,11 @@ class RangeCalibration {
   std::vector<Eigen::Vector2d> corrections_;  // offset, scale by laser
   int frames_ = 0;
 };
+
+/// Writes lasers as text, one line per laser: elevation [deg], offset [m], scale, under a
+/// header that says how a range is corrected. Throws std::runtime_error when path cannot be
+/// written.
+void writeRangeCalibration(const std::string& path,
+                           const std::vector<RangeCalibration::Laser>& lasers);
 
 }  // namespace socc::odom
