@@ -14,6 +14,7 @@
 #include "socc/odom/scan_map.hpp"
 #include "socc/odom/se3.hpp"
 #include "socc/odom/voxel_downsampling.hpp"
+#include "walled_ground.hpp"
 
 using namespace socc::odom;
 
@@ -26,25 +27,9 @@ Eigen::Vector3d coneBeam(double e, double a) {
   return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
 }
 
-// Range along the ray from `origin` to a straight street along x: flat ground 1.73 m below the
-// sensor, facades at y = +-9 m, both ends closed 60 m away so that the along-track direction is
-// pinned too. Negative: no hit.
-double coneStreetRange(const Eigen::Vector3d& origin, const Eigen::Vector3d& d) {
-  double best = -1.0;
-  const auto take = [&](double t) {
-    if (t > 0.5 && (best < 0.0 || t < best)) best = t;
-  };
-  if (d.z() < 0.0) take((-1.73 - origin.z()) / d.z());
-  if (d.y() != 0.0) {
-    take((9.0 - origin.y()) / d.y());
-    take((-9.0 - origin.y()) / d.y());
-  }
-  if (d.x() != 0.0) {
-    take((60.0 - origin.x()) / d.x());
-    take((-60.0 - origin.x()) / d.x());
-  }
-  return best;
-}
+// A straight street along x: flat ground 1.73 m below the sensor, facades at y = +-9 m, both
+// ends closed 60 m away so that the along-track direction is pinned too.
+constexpr socc::odom_test::WalledGround kConeStreet{-1.73, -60.0, 60.0, -9.0, 9.0};
 
 // The scan of a 64-beam sensor at (x, 0, 0) whose beams point `bias_deg` higher than their
 // nominal elevations (-24.8 .. +2 deg), reported at the nominal ones (sensor frame).
@@ -55,8 +40,8 @@ socc::LabeledCloud coneScan(double x, double bias_deg) {
     const double nominal = (-24.8 + 26.8 * b / 63.0) * kConeDeg;
     for (int c = 0; c < 720; ++c) {
       const double azimuth = 2.0 * M_PI * c / 720.0;
-      const double range =
-          coneStreetRange(origin, coneBeam(nominal + bias_deg * kConeDeg, azimuth));
+      const double range = socc::odom_test::rangeTo(
+          kConeStreet, origin, coneBeam(nominal + bias_deg * kConeDeg, azimuth));
       if (range < 5.0 || range > 100.0) continue;
       scan.points.push_back((range * coneBeam(nominal, azimuth)).cast<float>());
     }

@@ -9,6 +9,7 @@
 
 #include "socc/odom/range_calibration.hpp"
 #include "socc/odom/scan_map.hpp"
+#include "walled_ground.hpp"
 
 using namespace socc::odom;
 
@@ -34,24 +35,8 @@ std::vector<double> errorOffsets() {
   return offset;
 }
 
-// Range from origin along d to a walled yard: flat ground 1.73 m below the sensor, walls at
-// x = -40 / +50 and y = -30 / +25 m. Negative: no hit.
-double yardRange(const Eigen::Vector3d& origin, const Eigen::Vector3d& d) {
-  double best = -1.0;
-  const auto take = [&](double t) {
-    if (t > 0.5 && (best < 0.0 || t < best)) best = t;
-  };
-  if (d.z() < 0.0) take((-1.73 - origin.z()) / d.z());
-  if (d.x() != 0.0) {
-    take((50.0 - origin.x()) / d.x());
-    take((-40.0 - origin.x()) / d.x());
-  }
-  if (d.y() != 0.0) {
-    take((25.0 - origin.y()) / d.y());
-    take((-30.0 - origin.y()) / d.y());
-  }
-  return best;
-}
+// A walled yard: flat ground 1.73 m below the sensor, walls at x = -40 / +50 and y = -30 / +25 m.
+constexpr socc::odom_test::WalledGround kYard{-1.73, -40.0, 50.0, -30.0, 25.0};
 
 // The scan at origin (sensor frame, axes of the map) of a sensor whose laser k reads its ranges
 // as r * (1 + scale[k]) + offset[k].
@@ -64,7 +49,7 @@ socc::LabeledCloud yardScan(const Eigen::Vector3d& origin, const std::vector<dou
       const double e = elevationOf(k);
       const Eigen::Vector3d d(std::cos(e) * std::cos(azimuth), std::cos(e) * std::sin(azimuth),
                               std::sin(e));
-      const double r = yardRange(origin, d);
+      const double r = socc::odom_test::rangeTo(kYard, origin, d);
       if (r < 0.0 || r > 100.0) continue;
       const double reported =
           r * (1.0 + scale[static_cast<std::size_t>(k)]) + offset[static_cast<std::size_t>(k)];
