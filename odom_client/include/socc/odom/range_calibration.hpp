@@ -28,7 +28,7 @@ namespace socc::odom {
 struct RangeCalibrationParams {
   double bin_deg = 0.1;         // [deg] elevation bin: one laser, or two within this of each other
   double memory_frames = 50.0;  // the fit's evidence fades with this time constant [frames]
-  std::size_t samples = 8000;   // points compared with the map per frame (evenly spread)
+  std::size_t samples = 8000;   // points looked up in the map per frame (evenly spread)
   double min_range = 10.0;      // [m] nearer points say little about a scale
   double max_distance = 1.0;    // [m] to the voxel's first point
   double surface_size = 2.0;    // [m] the cells in which points of one facing share one plane
@@ -37,8 +37,9 @@ struct RangeCalibrationParams {
                                 //   its piece of wall, plus max_scale_error x range: one plane
   double max_scale_error = 0.005;  // a laser's largest scale error
   double min_incidence = 0.5;      // |normal . ray|: the surface faces the ray
-  double max_normal_z = 0.3;       // walls only: on the ground a laser's elevation error looks
-                                   //   like a range error
+  double max_normal_z = 0.3;       // walls only (a piece's mean normal; one voxel's may lean
+                                   //   twice as far): on the ground a laser's elevation error
+                                   //   looks like a range error
   double planarity_threshold = 0.1;
   double max_scale_sigma = 5e-4;  // a laser is corrected once its scale is known to this
   double noise = 0.03;            // [m] one residual's standard deviation
