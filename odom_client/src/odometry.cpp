@@ -138,11 +138,15 @@ Vector6d Odometry::twistTo(const Eigen::Isometry3d& mid_pose, double time) const
 
 FrameEstimate Odometry::registerFrame(const PreparedScan& scan, const LocalMap& map) {
   if (!range_calibration_) return registerCorrected(scan, map);
-  PreparedScan corrected = scan;
-  range_calibration_->apply(corrected.cloud);
-  FrameEstimate out = registerCorrected(corrected, map);
+  std::optional<PreparedScan> corrected;  // a copy only once some laser is corrected
+  if (range_calibration_->corrects()) {
+    corrected = scan;
+    range_calibration_->apply(corrected->cloud);
+  }
+  const PreparedScan& used = corrected ? *corrected : scan;
+  FrameEstimate out = registerCorrected(used, map);
   if (out.registered && out.health.healthy() && !out.held)
-    range_calibration_->observe(corrected.cloud.points, out.cloud.points, out.pose, map);
+    range_calibration_->observe(used.cloud.points, out.cloud.points, out.pose, map);
   return out;
 }
 

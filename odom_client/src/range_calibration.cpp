@@ -56,21 +56,26 @@ int RangeCalibration::laserOf(int bin) {
   return laser;
 }
 
+double RangeCalibration::rangeError(int laser, double range) const {
+  if (laser < 0) return 0.0;
+  const Eigen::Vector2d& c = corrections_[static_cast<std::size_t>(laser)];
+  return c(0) + c(1) * range;
+}
+
 void RangeCalibration::apply(LabeledCloud& cloud) const {
+  if (!corrects_) return;
   for (Eigen::Vector3f& p : cloud.points) {
-    const int laser = laser_of_bin_[static_cast<std::size_t>(binOf(p))];
-    if (laser < 0) continue;
-    const Eigen::Vector2d& c = corrections_[static_cast<std::size_t>(laser)];
     const double range = p.norm();
-    if (range <= 0.0 || (c(0) == 0.0 && c(1) == 0.0)) continue;
-    p *= static_cast<float>(1.0 - c(1) - c(0) / range);
+    if (range <= 0.0) continue;
+    const double error = rangeError(laser_of_bin_[static_cast<std::size_t>(binOf(p))], range);
+    if (error != 0.0) p *= static_cast<float>(1.0 - error / range);
   }
 }
 
 std::vector<RangeCalibration::Sample> RangeCalibration::collect(const Points& raw,
                                                                 const Points& placed,
                                                                 const Eigen::Isometry3d& pose,
-                                                                const LocalMap& map) const {
+                                                                const LocalMap& map) {
   std::vector<Sample> out;
   const std::size_t n = std::min(raw.size(), placed.size());
   const std::size_t stride =
@@ -95,28 +100,19 @@ std::vector<RangeCalibration::Sample> RangeCalibration::collect(const Points& ra
     if (normal.dot(ray) > 0.0) normal = -normal;
     if (-normal.dot(ray) / range < params_.min_incidence) continue;
     if (std::abs(normal.dot(q - v.point)) > params_.max_residual) continue;
-    const int bin = binOf(raw[i]);
-    const int laser = laser_of_bin_[static_cast<std::size_t>(bin)];
-    Eigen::Vector3d uncorrected = q;
-    if (laser >= 0) {
-      const Eigen::Vector2d& c = corrections_[static_cast<std::size_t>(laser)];
-      uncorrected += ray * ((c(0) + c(1) * range) / range);
-    }
+    const int laser = laserOf(binOf(raw[i]));
+    const Eigen::Vector3d uncorrected = q + ray * (rangeError(laser, range) / range);
     // A piece of wall: a cell, and the facing in 16 sectors (walls are near vertical). Two
     // grids half a cell apart, so that lasers on either side of one grid's cell border still
     // meet in the other's cells.
-    const auto sector = static_cast<std::uint64_t>(
-        std::floor((std::atan2(normal.y(), normal.x()) + M_PI) / (2.0 * M_PI) * 16.0));
-    const auto surface = [&](double shift) {
-      const Eigen::Vector3d cell = (q / params_.surface_size).array() + shift;
-      const auto bits = [](double x) {
-        return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x))) & 0xfffffULL;
-      };
-      return bits(cell.x()) | bits(cell.y()) << 20 | (bits(cell.z()) & 0xfffULL) << 40 |
-             (sector & 0xfULL) << 52;
-    };
-    out.push_back({{surface(0.0), surface(0.5)},
-                   bin,
+    const int sector = static_cast<int>(std::floor((std::atan2(normal.y(), normal.x()) + M_PI) /
+                                                   (2.0 * M_PI) * 16.0)) %
+                       16;
+    const double inv_size = 1.0 / params_.surface_size;
+    const Eigen::Vector3d half_cell = Eigen::Vector3d::Constant(0.5 * params_.surface_size);
+    out.push_back({{voxelIndex(q, inv_size), voxelIndex(q + half_cell, inv_size)},
+                   sector,
+                   laser,
                    uncorrected,
                    v.point,
                    ray,
@@ -132,7 +128,6 @@ void RangeCalibration::observe(const Points& raw, const Points& placed,
   info_ *= fade;
   evidence_ *= fade;
   std::vector<Sample> found = collect(raw, placed, pose, map);
-  for (Sample& s : found) s.laser = laserOf(s.laser);
   accumulate(found);
   if (++frames_ % params_.fit_every == 0) fit();
 }
@@ -147,11 +142,13 @@ void RangeCalibration::accumulate(std::vector<Sample>& found, int grid) {
   // piece of wall's plane offset is therefore one more unknown, eliminated here (Schur
   // complement): within one piece only the differences between this scan's points count, i.e.
   // between its lasers, as in Levinson & Thrun's (RSS 2010) energy of two beams on one surface.
-  std::sort(found.begin(), found.end(),
-            [&](const Sample& a, const Sample& b) { return a.surface[grid] < b.surface[grid]; });
+  const auto less = [grid](const Sample& a, const Sample& b) {
+    if (a.cell[grid] != b.cell[grid]) return indexLess(a.cell[grid], b.cell[grid]);
+    return a.sector < b.sector;
+  };
+  std::sort(found.begin(), found.end(), less);
   for (std::size_t begin = 0, end = 0; begin < found.size(); begin = end) {
-    for (end = begin; end < found.size() && found[end].surface[grid] == found[begin].surface[grid];
-         ++end) {
+    for (end = begin + 1; end < found.size() && !less(found[begin], found[end]); ++end) {
     }
     addSurface(found.begin() + static_cast<std::ptrdiff_t>(begin),
                found.begin() + static_cast<std::ptrdiff_t>(end));
@@ -257,6 +254,7 @@ void RangeCalibration::fit() {
   for (std::size_t l = 0; l < known.size(); ++l)
     corrections_[l] = known[l] ? Eigen::Vector2d(errors.segment<2>(kUnknowns * l) - mean)
                                : Eigen::Vector2d::Zero();
+  corrects_ = count > 0;
 }
 
 std::vector<RangeCalibration::Laser> RangeCalibration::lasers() const {

@@ -22,6 +22,7 @@
 
 #include "socc/odom/local_map.hpp"
 #include "socc/point_cloud.hpp"
+#include "socc/voxel.hpp"
 
 namespace socc::odom {
 
@@ -50,6 +51,8 @@ class RangeCalibration {
  public:
   explicit RangeCalibration(const RangeCalibrationParams& params = {});
 
+  /// Whether any laser is corrected (apply() would move a point).
+  bool corrects() const { return corrects_; }
   /// Moves every point of cloud (sensor frame) along its ray by its laser's correction.
   void apply(LabeledCloud& cloud) const;
   /// Compares a registered scan's lasers with each other on the map's walls: raw as apply() left
@@ -70,18 +73,21 @@ class RangeCalibration {
   // One scan point on a map wall, as the uncorrected point would be (the fit is of the laser's
   // whole error, not of its change).
   struct Sample {
-    std::uint64_t surface[2];  // the piece of wall it lies on, in each grid (cell, facing)
-    int laser;                 // its bin until observe() gives it a laser
-    Eigen::Vector3d point;     // world frame
-    Eigen::Vector3d anchor;    // its map voxel's point: which plane it is on
-    Eigen::Vector3d ray;       // sensor to point, world frame: d point / d range scale
-    Eigen::Vector3d azimuth;   // d point / d azimuth
-    Eigen::Vector3d normal;    // the map's, facing the sensor
+    VoxelIndex cell[2];  // the piece of wall it lies on: its cell in each grid,
+    int sector;          //   and its facing
+    int laser;
+    Eigen::Vector3d point;    // world frame
+    Eigen::Vector3d anchor;   // its map voxel's point: which plane it is on
+    Eigen::Vector3d ray;      // sensor to point, world frame: d point / d range scale
+    Eigen::Vector3d azimuth;  // d point / d azimuth
+    Eigen::Vector3d normal;   // the map's, facing the sensor
   };
   int binOf(const Eigen::Vector3f& p) const;
   int laserOf(int bin);
+  // [m] how much too long laser's ranges of this length are (its correction).
+  double rangeError(int laser, double range) const;
   std::vector<Sample> collect(const Points& raw, const Points& placed,
-                              const Eigen::Isometry3d& pose, const LocalMap& map) const;
+                              const Eigen::Isometry3d& pose, const LocalMap& map);
   void accumulate(std::vector<Sample>& samples);
   void accumulate(std::vector<Sample>& samples, int grid);
   // The samples of one piece of wall, their plane's offset eliminated.
@@ -95,6 +101,7 @@ class RangeCalibration {
   Eigen::MatrixXd info_;           // sum of g g^T over all lasers' errors, surfaces eliminated
   Eigen::VectorXd evidence_;       // sum of g * residual
   std::vector<Eigen::Vector2d> corrections_;  // offset, scale by laser
+  bool corrects_ = false;                     // corrects()
   int frames_ = 0;
 };
 
