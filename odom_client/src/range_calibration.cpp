@@ -11,9 +11,9 @@ namespace {
 
 constexpr double kDegrees = 180.0 / M_PI;
 constexpr int kUnknowns = 3;  // per laser: range offset, range scale, azimuth
-// Prior of a laser's errors: a few cm, a few tenths of a percent, a few tenths of a degree
-// (factory calibrations leave less, docs/robustness.md).
-const Eigen::Vector3d kPriorSigma(0.05, 0.005, 0.005);
+// [rad] the prior spread of a laser's azimuth offset (a nuisance unknown: a few tenths of a
+// degree, more than factory calibrations leave).
+constexpr double kAzimuthSpread = 0.005;
 // The bin table's range of elevation tangents (+-71.6 deg; steeper points share the end bins)
 // and its step (at most 0.006 deg of elevation).
 constexpr float kMaxTangent = 3.f;
@@ -224,37 +224,40 @@ void RangeCalibration::addSurface(std::vector<Sample>::const_iterator begin,
 void RangeCalibration::fit() {
   const Eigen::Index n = info_.rows();
   if (n == 0) return;
+  // Every laser is corrected by its posterior mean under a wide prior: a laser seen little keeps
+  // near the others, a correction grows with its evidence. A cut-off (lasers known to 0.05 %)
+  // switched lasers in and out as the evidence faded, which moved the scans' geometry from frame
+  // to frame where few lasers see walls far away (indoors).
+  const Eigen::Vector3d spread(params_.offset_spread, params_.scale_spread, kAzimuthSpread);
   const double weight = 1.0 / (params_.noise * params_.noise);
   Eigen::MatrixXd a = weight * info_;
-  for (Eigen::Index i = 0; i < n; ++i) a(i, i) += 1.0 / std::pow(kPriorSigma(i % kUnknowns), 2);
+  for (Eigen::Index i = 0; i < n; ++i) a(i, i) += 1.0 / std::pow(spread(i % kUnknowns), 2);
   // The lasers' common errors scale and shift the world, which no comparison between lasers
   // sees: held at zero by a stiff constraint on the sum of each error over all lasers, so that a
   // laser's covariance is that of its error relative to the others.
   const double lasers = static_cast<double>(corrections_.size());
   for (int k = 0; k < kUnknowns; ++k) {
-    const double stiff = 1e4 / std::pow(kPriorSigma(k), 2) / lasers;
+    const double stiff = 1e4 / std::pow(spread(k), 2) / lasers;
     for (Eigen::Index i = k; i < n; i += kUnknowns)
       for (Eigen::Index j = k; j < n; j += kUnknowns) a(i, j) += stiff;
   }
   const Eigen::LDLT<Eigen::MatrixXd> solver(a);
   const Eigen::VectorXd errors = solver.solve(weight * evidence_);
-  const Eigen::MatrixXd covariance = solver.solve(Eigen::MatrixXd::Identity(n, n));
-  std::vector<bool> known(corrections_.size(), false);
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  int count = 0;
-  for (std::size_t l = 0; l < known.size(); ++l) {
-    const auto at = static_cast<Eigen::Index>(kUnknowns * l);
-    known[l] = std::sqrt(covariance(at + 1, at + 1)) < params_.max_scale_sigma;
-    if (!known[l]) continue;
-    mean += errors.segment<2>(at);
-    ++count;
-  }
-  // The corrected lasers keep their mean: correcting only some lasers must not rescale the world.
-  if (count > 0) mean /= count;
-  for (std::size_t l = 0; l < known.size(); ++l)
-    corrections_[l] = known[l] ? Eigen::Vector2d(errors.segment<2>(kUnknowns * l) - mean)
-                               : Eigen::Vector2d::Zero();
-  corrects_ = count > 0;
+  const Eigen::VectorXd variance = solver.solve(Eigen::MatrixXd::Identity(n, n)).diagonal();
+  // The corrections keep the lasers' mean weighted by how well each is known, not the plain
+  // mean: the lasers that see the far walls best are those whose points put the walls into the
+  // map, and the world's scale is theirs (a gauge on all lasers rescaled it by the errors of
+  // lasers seen little).
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero(), weights = Eigen::Vector2d::Zero();
+  for (Eigen::Index at = 0; at < n; at += kUnknowns)
+    for (int k = 0; k < 2; ++k) {
+      mean(k) += errors(at + k) / variance(at + k);
+      weights(k) += 1.0 / variance(at + k);
+    }
+  mean = mean.cwiseQuotient(weights);
+  for (std::size_t l = 0; l < corrections_.size(); ++l)
+    corrections_[l] = errors.segment<2>(static_cast<Eigen::Index>(kUnknowns * l)) - mean;
+  corrects_ = true;
 }
 
 std::vector<RangeCalibration::Laser> RangeCalibration::lasers() const {

@@ -13,7 +13,8 @@
 // (a fit against them kept part of each laser's error: docs/robustness.md, "tried, not kept").
 // A laser is known by its elevation (a bin of the point's elevation angle: scans carry no laser
 // index, e.g. KITTI's .bin files). A common offset and scale of all lasers is not observable (it
-// scales the world); the corrections keep the lasers' mean.
+// scales the world); the corrections keep the lasers' mean, each laser weighted by how well it
+// is known (the far-seeing lasers, whose scale the world has).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
@@ -42,9 +43,12 @@ struct RangeCalibrationParams {
                                    //   twice as far): on the ground a laser's elevation error
                                    //   looks like a range error
   double planarity_threshold = 0.1;
-  double max_scale_sigma = 5e-4;  // a laser is corrected once its scale is known to this
-  double noise = 0.03;            // [m] one residual's standard deviation
-  int fit_every = 5;              // [frames] between solves of the joint problem
+  // The prior spread of the lasers' range offsets and scales: wider than factory calibrations
+  // leave (HDL-64: cm and ~0.2 %, sim/README.md "Realism"), so that the evidence decides.
+  double offset_spread = 0.05;  // [m]
+  double scale_spread = 0.005;
+  double noise = 0.03;  // [m] one residual's standard deviation
+  int fit_every = 5;    // [frames] between solves of the joint problem
 };
 
 class RangeCalibration {
@@ -66,7 +70,7 @@ class RangeCalibration {
     double offset;         // [m] subtracted from its ranges
     double scale;          // subtracted from its ranges as scale * range
   };
-  /// The corrected lasers (bins), by elevation.
+  /// The lasers (bins) seen on walls so far, by elevation, with their corrections.
   std::vector<Laser> lasers() const;
 
  private:
