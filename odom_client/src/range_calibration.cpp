@@ -224,10 +224,10 @@ void RangeCalibration::addSurface(std::vector<Sample>::const_iterator begin,
 void RangeCalibration::fit() {
   const Eigen::Index n = info_.rows();
   if (n == 0) return;
-  // Every laser is corrected by its posterior mean under a wide prior: a laser seen little keeps
-  // near the others, a correction grows with its evidence. A cut-off (lasers known to 0.05 %)
-  // switched lasers in and out as the evidence faded, which moved the scans' geometry from frame
-  // to frame where few lasers see walls far away (indoors).
+  // Every laser is corrected by its posterior mean under the prior of the lasers' spread: a laser
+  // seen little keeps near the others, a correction grows with its evidence. A cut-off (lasers
+  // known to 0.05 %) switched lasers in and out as the evidence faded, which moved the scans'
+  // geometry from frame to frame where few lasers see walls far away (indoors).
   const Eigen::Vector3d spread(params_.offset_spread, params_.scale_spread, kAzimuthSpread);
   const double weight = 1.0 / (params_.noise * params_.noise);
   Eigen::MatrixXd a = weight * info_;
