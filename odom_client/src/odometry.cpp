@@ -138,7 +138,7 @@ Vector6d Odometry::twistTo(const Eigen::Isometry3d& mid_pose, double time) const
 
 FrameEstimate Odometry::registerFrame(const PreparedScan& scan, const LocalMap& map) {
   if (!range_calibration_) return registerCorrected(scan, map);
-  std::optional<PreparedScan> corrected;  // a copy only once some laser is corrected
+  std::optional<PreparedScan> corrected;  // a copy only once the lasers are fitted
   if (range_calibration_->corrects()) {
     corrected = scan;
     range_calibration_->apply(corrected->cloud);

@@ -63,7 +63,7 @@ double RangeCalibration::rangeError(int laser, double range) const {
 }
 
 void RangeCalibration::apply(LabeledCloud& cloud) const {
-  if (!corrects_) return;
+  if (!fitted_) return;
   for (Eigen::Vector3f& p : cloud.points) {
     const double range = p.norm();
     if (range <= 0.0) continue;
@@ -81,6 +81,8 @@ std::vector<RangeCalibration::Sample> RangeCalibration::collect(const Points& ra
   const std::size_t stride =
       std::max<std::size_t>(1, n / std::max<std::size_t>(1, params_.samples));
   const Eigen::Matrix3d rotation = pose.linear();
+  const double inv_size = 1.0 / params_.surface_size;
+  const Eigen::Vector3d half_cell = Eigen::Vector3d::Constant(0.5 * params_.surface_size);
   for (std::size_t i = 0; i < n; i += stride) {
     const Eigen::Vector3d p = raw[i].cast<double>();
     const double range = p.norm();
@@ -108,8 +110,6 @@ std::vector<RangeCalibration::Sample> RangeCalibration::collect(const Points& ra
     const int sector = static_cast<int>(std::floor((std::atan2(normal.y(), normal.x()) + M_PI) /
                                                    (2.0 * M_PI) * 16.0)) %
                        16;
-    const double inv_size = 1.0 / params_.surface_size;
-    const Eigen::Vector3d half_cell = Eigen::Vector3d::Constant(0.5 * params_.surface_size);
     out.push_back({{voxelIndex(q, inv_size), voxelIndex(q + half_cell, inv_size)},
                    sector,
                    laser,
@@ -241,9 +241,12 @@ void RangeCalibration::fit() {
     for (Eigen::Index i = k; i < n; i += kUnknowns)
       for (Eigen::Index j = k; j < n; j += kUnknowns) a(i, j) += stiff;
   }
-  const Eigen::LDLT<Eigen::MatrixXd> solver(a);
+  const Eigen::LLT<Eigen::MatrixXd> solver(a);  // a is positive definite: the prior
   const Eigen::VectorXd errors = solver.solve(weight * evidence_);
-  const Eigen::VectorXd variance = solver.solve(Eigen::MatrixXd::Identity(n, n)).diagonal();
+  // Only the variances are needed, the diagonal of a^-1 = L^-T L^-1: the squared norms of the
+  // columns of L^-1, one triangular solve instead of the whole inverse.
+  const Eigen::MatrixXd inverse_factor = solver.matrixL().solve(Eigen::MatrixXd::Identity(n, n));
+  const Eigen::VectorXd variance = inverse_factor.colwise().squaredNorm().transpose();
   // The corrections keep the lasers' mean weighted by how well each is known, not the plain
   // mean: the lasers that see the far walls best are those whose points put the walls into the
   // map, and the world's scale is theirs (a gauge on all lasers rescaled it by the errors of
@@ -257,7 +260,7 @@ void RangeCalibration::fit() {
   mean = mean.cwiseQuotient(weights);
   for (std::size_t l = 0; l < corrections_.size(); ++l)
     corrections_[l] = errors.segment<2>(static_cast<Eigen::Index>(kUnknowns * l)) - mean;
-  corrects_ = true;
+  fitted_ = true;
 }
 
 std::vector<RangeCalibration::Laser> RangeCalibration::lasers() const {
@@ -266,8 +269,7 @@ std::vector<RangeCalibration::Laser> RangeCalibration::lasers() const {
     const int laser = laser_of_bin_[b];
     if (laser < 0) continue;
     const Eigen::Vector2d& c = corrections_[static_cast<std::size_t>(laser)];
-    if (c(0) != 0.0 || c(1) != 0.0)
-      out.push_back({(static_cast<double>(b) + 0.5) * params_.bin_deg - 90.0, c(0), c(1)});
+    out.push_back({(static_cast<double>(b) + 0.5) * params_.bin_deg - 90.0, c(0), c(1)});
   }
   return out;
 }

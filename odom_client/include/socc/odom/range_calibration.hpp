@@ -56,8 +56,9 @@ class RangeCalibration {
  public:
   explicit RangeCalibration(const RangeCalibrationParams& params = {});
 
-  /// Whether any laser is corrected (apply() would move a point).
-  bool corrects() const { return corrects_; }
+  /// Whether the lasers have been fitted (from then on apply() moves the points of every laser
+  /// seen on a wall; before, it leaves the cloud as it is).
+  bool corrects() const { return fitted_; }
   /// Moves every point of cloud (sensor frame) along its ray by its laser's correction.
   void apply(LabeledCloud& cloud) const;
   /// Compares a registered scan's lasers with each other on the map's walls: raw as apply() left
@@ -71,7 +72,8 @@ class RangeCalibration {
     double offset;         // [m] subtracted from its ranges
     double scale;          // subtracted from its ranges as scale * range
   };
-  /// The lasers (bins) seen on walls so far, by elevation, with their corrections.
+  /// The lasers (bins) seen on walls so far, by elevation, with their corrections (zero until
+  /// the first fit).
   std::vector<Laser> lasers() const;
 
  private:
@@ -106,7 +108,7 @@ class RangeCalibration {
   Eigen::MatrixXd info_;           // sum of g g^T over all lasers' errors, surfaces eliminated
   Eigen::VectorXd evidence_;       // sum of g * residual
   std::vector<Eigen::Vector2d> corrections_;  // offset, scale by laser
-  bool corrects_ = false;                     // corrects()
+  bool fitted_ = false;                       // corrects()
   int frames_ = 0;
 };
 
