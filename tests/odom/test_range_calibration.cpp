@@ -158,3 +158,35 @@ TEST(RangeCalibration, LeavesACommonScaleAlone) {
   EXPECT_NEAR(common(0), 0.003, 2e-5);
   EXPECT_NEAR(common(1), 0.0, 2e-3);
 }
+
+TEST(RangeCalibration, MovesNoPointBeforeItsFirstFit) {
+  // The lasers seen are listed from their first observation, with no correction until the joint
+  // problem is solved (every fit_every frames).
+  const std::vector<double> scale = errorScales(), offset = errorOffsets();
+  const std::vector<double> zero(kLasers, 0.0);
+  RangeCalibrationParams params;
+  params.samples = 100000;
+  params.fit_every = 3;
+  RangeCalibration calibration(params);
+  const LocalMap map = yardMap(zero, zero);
+  const Eigen::Vector3d origin(2, 1, 0);
+  const socc::LabeledCloud scan = yardScan(origin, scale, offset);
+  for (int frame = 0; frame < 2; ++frame)
+    calibration.observe(scan.points, scan.points, Eigen::Isometry3d(Eigen::Translation3d(origin)),
+                        map);
+  EXPECT_FALSE(calibration.corrects());
+  ASSERT_EQ(calibration.lasers().size(), static_cast<std::size_t>(kLasers));
+  for (const RangeCalibration::Laser& laser : calibration.lasers()) {
+    EXPECT_EQ(laser.offset, 0.0);
+    EXPECT_EQ(laser.scale, 0.0);
+  }
+  socc::LabeledCloud applied = scan;
+  calibration.apply(applied);
+  EXPECT_EQ(applied.points, scan.points);
+
+  calibration.observe(scan.points, scan.points, Eigen::Isometry3d(Eigen::Translation3d(origin)),
+                      map);
+  EXPECT_TRUE(calibration.corrects());
+  calibration.apply(applied);
+  EXPECT_NE(applied.points, scan.points);
+}
