@@ -119,9 +119,10 @@ Eigen::Vector2d expectAgreeing(const RangeCalibration& calibration,
   const Eigen::Vector2d common = normal.ldlt().solve(rhs);  // scale, offset
   double worst = 0.0, worst_range = 0.0;  // the largest excess over the tolerance, and where
   for (const auto& [r, corrected] : walls) {
-    const double off = std::abs(corrected - (r * (1.0 + common(0)) + common(1)));
-    if (off - (tolerance * r + 0.003) > worst) {
-      worst = off - (tolerance * r + 0.003);
+    const double excess =
+        std::abs(corrected - (r * (1.0 + common(0)) + common(1))) - (tolerance * r + 0.003);
+    if (excess > worst) {
+      worst = excess;
       worst_range = r;
     }
   }
@@ -170,10 +171,9 @@ TEST(RangeCalibration, MovesNoPointBeforeItsFirstFit) {
   RangeCalibration calibration(params);
   const LocalMap map = yardMap(zero, zero);
   const Eigen::Vector3d origin(2, 1, 0);
+  const Eigen::Isometry3d pose(Eigen::Translation3d{origin});
   const socc::LabeledCloud scan = yardScan(origin, scale, offset);
-  for (int frame = 0; frame < 2; ++frame)
-    calibration.observe(scan.points, scan.points, Eigen::Isometry3d(Eigen::Translation3d(origin)),
-                        map);
+  for (int frame = 0; frame < 2; ++frame) calibration.observe(scan.points, scan.points, pose, map);
   EXPECT_FALSE(calibration.corrects());
   ASSERT_EQ(calibration.lasers().size(), static_cast<std::size_t>(kLasers));
   for (const RangeCalibration::Laser& laser : calibration.lasers()) {
@@ -184,8 +184,7 @@ TEST(RangeCalibration, MovesNoPointBeforeItsFirstFit) {
   calibration.apply(applied);
   EXPECT_EQ(applied.points, scan.points);
 
-  calibration.observe(scan.points, scan.points, Eigen::Isometry3d(Eigen::Translation3d(origin)),
-                      map);
+  calibration.observe(scan.points, scan.points, pose, map);
   EXPECT_TRUE(calibration.corrects());
   calibration.apply(applied);
   EXPECT_NE(applied.points, scan.points);
