@@ -1,5 +1,6 @@
 #include "socc/sim/sequence_writer.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <optional>
@@ -8,6 +9,7 @@
 #include "socc/gravity_file.hpp"
 #include "socc/kitti_io.hpp"
 #include "socc/progress_bar.hpp"
+#include "socc/sim/beam_calibration.hpp"
 #include "socc/sim/label_noise.hpp"
 
 namespace socc::sim {
@@ -25,6 +27,35 @@ void writeText(const fs::path& file, const std::string& text) {
   std::ofstream out(file);
   out << text;
   if (!out) throw std::runtime_error(file.string() + ": cannot write");
+}
+
+bool anyBeamError(const BeamErrors& e) {
+  return e.elevation_sigma_deg != 0.0 || e.elevation_bias_deg != 0.0 ||
+         e.azimuth_sigma_deg != 0.0 || e.range_offset_sigma != 0.0 || e.range_scale_sigma != 0.0;
+}
+
+// The sensor instance's per-laser calibration errors, the truth an estimate of them (odom_client's
+// range_calibration.txt) is compared with; none (a stale one removed) without such errors.
+void writeBeamTruth(const fs::path& file, const LidarModel& model, const ScanOptions& scan) {
+  if (scan.realism == nullptr || !anyBeamError(scan.realism->beams)) {
+    fs::remove(file);
+    return;
+  }
+  constexpr double kDegreesPerRadian = 180.0 / M_PI;
+  const BeamCalibration c = drawBeamCalibration(scan.realism->beams, model.elevations_deg.size(),
+                                                scan.sensor_seed.value_or(scan.seed));
+  std::string text =
+      "# socc-sim sensor instance: per-laser calibration errors (angles true minus nominal;\n"
+      "# reported range = true range * (1 + range_scale) + range_offset)\n"
+      "# nominal_elevation_deg elevation_error_deg azimuth_error_deg range_offset_m range_scale\n";
+  for (std::size_t b = 0; b < model.elevations_deg.size(); ++b) {
+    char line[160];
+    std::snprintf(line, sizeof(line), "%.4f %.5f %.5f %.5f %.6f\n", model.elevations_deg[b],
+                  c.elevation_error[b] * kDegreesPerRadian, c.azimuth_error[b] * kDegreesPerRadian,
+                  c.range_offset[b], c.range_scale[b]);
+    text += line;
+  }
+  writeText(file, text);
 }
 
 }  // namespace
@@ -90,6 +121,7 @@ SequenceSummary writeSequence(const fs::path& out, const Scene& scene, const Lid
     fs::remove(out / "poses_recorded_heights.txt");  // a stale one would belong to another route
   writeText(out / "times.txt", times);
   writeText(out / "calib.txt", "Tr: 1 0 0 0 0 1 0 0 0 0 1 0\n");
+  writeBeamTruth(out / "beams.txt", model, options.scan);
   if (imu)
     writeGravityFile(out / "gravity.txt", gravity);
   else

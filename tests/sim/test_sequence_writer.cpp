@@ -14,6 +14,8 @@
 
 #include "socc/gravity_file.hpp"
 #include "socc/kitti_io.hpp"
+#include "socc/sim/beam_calibration.hpp"
+#include "socc/sim/realism.hpp"
 #include "socc/sim/sequence_writer.hpp"
 
 namespace socc::sim {
@@ -154,6 +156,46 @@ TEST_F(SequenceWriter, EveryNthSweepWritesTheFullRateSequencesFramesByteForByte)
   none.show_progress = false;
   EXPECT_THROW(writeSequence(tempDir("none"), buildScene({}), lidarPreset("vlp16"), none),
                std::invalid_argument);
+}
+
+// With the realism's beam errors the sequence names its sensor instance's per-laser truth: one
+// line per laser, the errors every scan was made with; exact sequences have none.
+TEST_F(SequenceWriter, BeamsTxtHoldsTheSensorInstancesCalibrationErrors) {
+  const Realism kitti = realismPreset("kitti");
+  SequenceOptions options;
+  options.frames = 1;
+  options.show_progress = false;
+  options.scan = {true, 4};
+  options.scan.realism = &kitti;
+  options.scan.sensor_seed = 9;
+  SceneOptions scene_options;
+  scene_options.frames = 1;
+  const Scene scene = buildScene(scene_options);
+  const LidarModel model = lidarPreset("vlp16");
+  const fs::path out = tempDir("beams");
+  writeSequence(out, scene, model, options);
+  const BeamCalibration truth = drawBeamCalibration(kitti.beams, 16, 9);
+  std::ifstream in(out / "beams.txt");
+  std::size_t laser = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    double elevation = 0, elevation_error = 0, azimuth_error = 0, offset = 0, scale = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf %lf %lf %lf", &elevation, &elevation_error,
+                          &azimuth_error, &offset, &scale),
+              5)
+        << line;
+    ASSERT_LT(laser, 16u);
+    EXPECT_NEAR(elevation, model.elevations_deg[laser], 1e-4);
+    EXPECT_NEAR(elevation_error, truth.elevation_error[laser] * 180.0 / M_PI, 1e-5);
+    EXPECT_NEAR(azimuth_error, truth.azimuth_error[laser] * 180.0 / M_PI, 1e-5);
+    EXPECT_NEAR(offset, truth.range_offset[laser], 1e-5);
+    EXPECT_NEAR(scale, truth.range_scale[laser], 1e-6);
+    ++laser;
+  }
+  EXPECT_EQ(laser, 16u);
+  options.scan.realism = nullptr;  // the same directory, exact: no stale truth
+  writeSequence(out, scene, model, options);
+  EXPECT_FALSE(fs::exists(out / "beams.txt"));
 }
 
 TEST_F(SequenceWriter, TheRecordedHeightsReferenceDiffersOnlyInHeight) {

@@ -6,6 +6,7 @@
 //   socc/gravity_file.hpp)
 //   poses_recorded_heights.txt (with recorded_height_change: poses.txt at a recording's heights,
 //   the reference its published drift figures are scored against)
+//   beams.txt (with realism's beam errors: the sensor instance's per-laser calibration errors)
 #include <filesystem>
 #include <vector>
 
