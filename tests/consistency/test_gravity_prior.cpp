@@ -16,7 +16,6 @@
 #include "consistency_restore.hpp"
 #include "consistency_service.hpp"
 #include "gravity_reference.hpp"
-#include "gravity_window.hpp"
 #include "keyframe_store.hpp"
 #include "pose_graph.hpp"
 #include "store_records.hpp"
@@ -427,115 +426,6 @@ TEST(GravityReference, AServiceStoresAndRestoresItsKeyframesReferences) {
   EXPECT_EQ(restored.stats().keyframes, 4);
   EXPECT_EQ(restored.stats().gravity_keyframes, 3);
   EXPECT_TRUE(KeyframeStore::read(file).keyframes.back().keyframe.gravity);
-}
-
-// A reading of the up direction in the frame of a sensor at p: the world's up with a tilt error
-// of err about the sensor's x axis.
-GravityReference reading(const Eigen::Isometry3d& p, double err, double sigma = 0.002) {
-  const Eigen::Vector3d up = p.linear().transpose() * Eigen::Vector3d::UnitZ();
-  return {Eigen::AngleAxisd(err, Eigen::Vector3d::UnitX()) * up, sigma};
-}
-
-TEST(GravityWindow, TheMeanOfTheReadingsInTheKeyframesFrame) {
-  // A keyframe and four integrations after it, turning and pitching as they go; their readings'
-  // errors (+-0.004 rad) cancel in the mean, which is the world's up in the keyframe's frame.
-  const auto at = [](int i) {
-    return pose({0.7 * i, 0.1 * i, 0.0}, 0.05 * i, 0.01 * i, -0.004 * i);
-  };
-  GravityWindow window;
-  window.add(at(0), reading(at(0), 0.1));  // before a keyframe: ignored
-  window.start(at(0), reading(at(0), 0.004));
-  EXPECT_FALSE(window.reference());  // the keyframe's own reading alone
-  for (int i = 1; i <= 3; ++i)
-    window.add(at(i), reading(at(i), i % 2 == 1 ? -0.004 : 0.004, 0.003));
-  window.add(at(4), reading(at(4), 0.3));  // far from the others: a pose that jumped
-  window.add(at(4), std::nullopt);
-  const std::optional<GravityReference> ref = window.reference();
-  ASSERT_TRUE(ref);
-  const Eigen::Vector3d truth = at(0).linear().transpose() * Eigen::Vector3d::UnitZ();
-  EXPECT_LT(angle(ref->up, truth), 0.0004);  // a tenth of one reading's error
-  EXPECT_DOUBLE_EQ(ref->sigma, 0.003);       // the largest stated
-  window.start(at(5), std::nullopt);
-  EXPECT_FALSE(window.reference());
-  window.add(at(6), reading(at(6), 0.0));
-  ASSERT_TRUE(window.reference());  // a keyframe without a reading gets its window's
-  EXPECT_LT(angle(window.reference()->up, at(5).linear().transpose() * Eigen::Vector3d::UnitZ()),
-            1e-12);
-}
-
-TEST(GravityPrior, SetReplacesANodesPriorOrAddsOne) {
-  PoseGraph g;
-  g.addNode(Eigen::Isometry3d::Identity());
-  g.addNode(Eigen::Isometry3d::Identity());
-  g.addGravityPrior({0, {0.0, 0.01, 1.0}, 0.001});
-  g.setGravityPrior({0, {0.0, 0.0, 2.0}, 0.002});
-  ASSERT_EQ(g.gravityPriors().size(), 1u);
-  EXPECT_TRUE(g.gravityPriors()[0].up.isApprox(Eigen::Vector3d::UnitZ()));
-  EXPECT_DOUBLE_EQ(g.gravityPriors()[0].sigma, 0.002);
-  g.setGravityPrior({1, {0.0, 0.0, 1.0}, 0.002});
-  EXPECT_EQ(g.gravityPriors().size(), 2u);
-  EXPECT_THROW(g.setGravityPrior({0, {0.0, 0.0, 1.0}, 0.0}), std::invalid_argument);
-  EXPECT_THROW(g.setGravityPrior({2, {0.0, 0.0, 1.0}, 0.001}), std::logic_error);
-}
-
-TEST(GravityReference, RecordsKeepThePreviousKeyframesReference) {
-  const GravityReference own{Eigen::Vector3d(0.01, -0.02, 1.0).normalized(), 0.003};
-  const GravityReference previous{Eigen::Vector3d(-0.01, 0.0, 1.0).normalized(), 0.004};
-  StoredKeyframe record = keyframeRecord(own);
-  const std::string without = encodeKeyframe(record);
-  record.keyframe.previous_gravity = previous;
-  const std::string with = encodeKeyframe(record);
-  EXPECT_EQ(with.size(), without.size() + 33);
-  const StoredKeyframe back = decodeKeyframe(with);
-  ASSERT_TRUE(back.keyframe.gravity && back.keyframe.previous_gravity);
-  EXPECT_TRUE(back.keyframe.previous_gravity->up.isApprox(previous.up, 1e-15));
-  EXPECT_DOUBLE_EQ(back.keyframe.previous_gravity->sigma, previous.sigma);
-  record.keyframe.gravity.reset();  // the previous one's without its own
-  const StoredKeyframe only = decodeKeyframe(encodeKeyframe(record));
-  EXPECT_FALSE(only.keyframe.gravity);
-  EXPECT_TRUE(only.keyframe.previous_gravity);
-  std::string swapped = with;  // tags out of order: not a record this server wrote
-  std::swap(swapped[without.size() - 33], swapped[without.size()]);
-  EXPECT_THROW(decodeKeyframe(swapped), std::runtime_error);
-  StoredWaiting waiting;
-  waiting.robot = "car";
-  waiting.keyframe = keyframeRecord(own).keyframe;
-  waiting.keyframe.points.clear();
-  waiting.keyframe.previous_gravity = previous;
-  EXPECT_TRUE(decodeWaiting(encodeWaiting(waiting)).keyframe.previous_gravity);
-}
-
-TEST(GravityReference, AServiceRefinesAKeyframesReferenceWithTheIntegrationsAfterIt) {
-  // Integrations 0.7 m apart (keyframes 0, 5, 10), their readings off by +-0.004 rad in turn
-  // (2 sigma):
-  // keyframe 5's record carries keyframe 0's reference made from integrations 0-4, nearer the
-  // truth than keyframe 0's own reading, and a restart from the store goes on with it.
-  TempDir dir;
-  const auto file = dir.path() / "store";
-  ConsistencyParams params;
-  const auto at = [](int i) { return pose({0.7 * i, 0.0, 0.0}, 0.02 * i, 0.005 * i); };
-  const auto err = [](int i) { return i % 2 == 0 ? 0.004 : -0.004; };
-  {
-    ConsistencyService live(params, map::MapConfig{}, {}, KeyframeStore::create(file, false, true));
-    for (int i = 0; i <= 10; ++i)
-      live.observe("car", i, i, at(i), wallScan(), reading(at(i), err(i)));
-    live.flush();
-  }
-  const StoreContents contents = KeyframeStore::read(file);
-  ASSERT_EQ(contents.keyframes.size(), 3u);
-  EXPECT_EQ(contents.keyframes[1].keyframe.seq, 5);
-  EXPECT_FALSE(contents.keyframes[0].keyframe.previous_gravity);  // the robot's first
-  const std::optional<GravityReference>& refined = contents.keyframes[1].keyframe.previous_gravity;
-  ASSERT_TRUE(refined);
-  const Eigen::Vector3d truth = at(0).linear().transpose() * Eigen::Vector3d::UnitZ();
-  const double own_error = angle(contents.keyframes[0].keyframe.gravity->up, truth);
-  EXPECT_NEAR(own_error, 0.004, 1e-6);
-  EXPECT_LT(angle(refined->up, truth), own_error / 4.0);  // the mean of five: 0.0008 rad
-  ConsistencyService restored(params, map::MapConfig{}, {},
-                              KeyframeStore::resume(file, contents, true), &contents, 0);
-  restored.observe("car", 15, 15, at(15), wallScan(), reading(at(15), 0.0));
-  restored.flush();
-  EXPECT_EQ(restored.stats().keyframes, 4);
 }
 
 }  // namespace

@@ -170,10 +170,6 @@ void ConsistencyService::restoreKeyframe(const StoredKeyframe& stored) {
   for (const PoseEdge& e : stored.edges) graph_.addEdge(e);
   for (const PosePrior& p : stored.priors) graph_.addPrior(p);
   addGravityPrior(kf);  // from the keyframe's reference and the params of this run
-  if (!track.keyframe_ids.empty()) refineGravityPrior(kf, track.keyframe_ids.back());
-  // A journal replay after it shows the integrations the snapshot does not hold: the window
-  // refines it with those.
-  track.gravity_window.start(kf.odom_pose, kf.gravity);
   estimates_.push_back(stored.estimate);
   track.last_keyframe_pose = kf.odom_pose;
   track.last_pose = kf.odom_pose;
@@ -251,8 +247,6 @@ void ConsistencyService::restoreWaiting(const StoredWaiting& stored) {
   pending.keyframe.odom_pose = kf.odom_pose;
   pending.keyframe.travelled = kf.travelled;
   pending.keyframe.gravity = kf.gravity;
-  pending.keyframe.previous_gravity = kf.previous_gravity;
-  track.gravity_window.start(kf.odom_pose, kf.gravity);
   switch (stored.form) {
     case WaitingForm::kCloud:
       pending.cloud = std::make_shared<const LabeledCloud>(stored.cloud);

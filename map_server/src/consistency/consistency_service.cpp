@@ -50,7 +50,7 @@ void ConsistencyService::observe(const std::string& robot, std::int64_t seq, std
   bool full_cloud = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!isKeyframe(robot, seq, pose, gravity, pending.keyframe)) return;
+    if (!isKeyframe(robot, seq, pose, pending.keyframe)) return;
     // Its place in the queue is taken now; the cloud is copied or reduced off the lock (the
     // worker goes on meanwhile; only this thread observes).
     full_cloud = pending_clouds_ < params_.max_pending_scans;
@@ -79,9 +79,7 @@ void ConsistencyService::observe(const std::string& robot, std::int64_t seq, std
 }
 
 bool ConsistencyService::isKeyframe(const std::string& robot, std::int64_t seq,
-                                    const Eigen::Isometry3d& pose,
-                                    const std::optional<GravityReference>& gravity,
-                                    Keyframe& keyframe) {
+                                    const Eigen::Isometry3d& pose, Keyframe& keyframe) {
   auto [it, added] = robots_.try_emplace(robot);
   RobotTrack& track = it->second;
   if (added) {
@@ -95,12 +93,8 @@ bool ConsistencyService::isKeyframe(const std::string& robot, std::int64_t seq,
   if (track.last_keyframe_pose &&
       (track.last_keyframe_pose->translation() - pose.translation()).norm() <
           params_.keyframe_distance &&
-      angleBetween(*track.last_keyframe_pose, pose) < params_.keyframe_angle) {
-    track.gravity_window.add(pose, gravity);
+      angleBetween(*track.last_keyframe_pose, pose) < params_.keyframe_angle)
     return false;
-  }
-  keyframe.previous_gravity = track.gravity_window.reference();
-  track.gravity_window.start(pose, gravity);
   track.last_keyframe_pose = pose;
   keyframe.robot = track.index;
   keyframe.robot_kf = track.keyframes++;
@@ -454,7 +448,6 @@ void ConsistencyService::addToGraph(const Keyframe& kf, RobotTrack& track,
                (previous.odom_pose.inverse() * kf.odom_pose);
     graph_.addEdge(*odometry);
   }
-  if (!track.keyframe_ids.empty()) refineGravityPrior(kf, track.keyframe_ids.back());
   track.last_motion.reset();
   if (!track.keyframe_ids.empty() && odometry) track.last_motion = odometry->relative;
   graph_.addNode(estimate);
@@ -481,12 +474,6 @@ bool ConsistencyService::addGravityPrior(const Keyframe& kf) {
   graph_.addGravityPrior(
       {kf.id, kf.gravity->up, std::max(kf.gravity->sigma, params_.gravity_sigma_floor)});
   return true;
-}
-
-void ConsistencyService::refineGravityPrior(const Keyframe& kf, int previous) {
-  if (!kf.previous_gravity || !params_.gravity_priors) return;
-  graph_.setGravityPrior({previous, kf.previous_gravity->up,
-                          std::max(kf.previous_gravity->sigma, params_.gravity_sigma_floor)});
 }
 
 Eigen::Isometry3d ConsistencyService::corrected(const std::string& robot, std::int64_t seq,

@@ -29,7 +29,6 @@
 #include <vector>
 
 #include "consistency_params.hpp"
-#include "gravity_window.hpp"
 #include "grid_rebuild.hpp"
 #include "keyframe.hpp"
 #include "keyframe_reduction.hpp"
@@ -165,17 +164,15 @@ class ConsistencyService {
     // The relative pose of the odometry edge into the last keyframe, as the graph measures it
     // (none before the second keyframe): the motion the next edge's check continues.
     std::optional<Eigen::Isometry3d> last_motion;
-    // The readings of the integrations from the robot's last keyframe on (the map's thread).
-    GravityWindow gravity_window;
     // Restored from the store: integrations up to this seq are in it (a journal replay shows
     // them again).
     std::int64_t restored_seq = std::numeric_limits<std::int64_t>::min();
   };
 
   /// Whether robot's integration at (seq, pose) is a keyframe (its fields but the scan's into
-  /// keyframe); counts its path and its gravity reading either way. Under the lock.
+  /// keyframe); counts its path either way. Under the lock.
   bool isKeyframe(const std::string& robot, std::int64_t seq, const Eigen::Isometry3d& pose,
-                  const std::optional<GravityReference>& gravity, Keyframe& keyframe);
+                  Keyframe& keyframe);
   void run();
   void process(Pending pending);
   /// odometry: the edge from the robot's previous keyframe (none for its first).
@@ -183,9 +180,6 @@ class ConsistencyService {
                   const std::optional<PoseEdge>& odometry);
   /// kf's gravity prior, when it has a reference and the priors are on; true when added.
   bool addGravityPrior(const Keyframe& kf);
-  /// kf's robot's previous keyframe (previous) gets kf's previous_gravity as its prior, when kf
-  /// has one and the priors are on.
-  void refineGravityPrior(const Keyframe& kf, int previous);
   /// The odometry edge from the robot's previous keyframe to kf (scan to scan where it snapped;
   /// snap: whether it did).
   std::optional<PoseEdge> measureOdometry(const Keyframe& kf, const std::string& robot, bool& snap);

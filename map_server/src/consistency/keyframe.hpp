@@ -24,10 +24,6 @@ struct Keyframe {
   double travelled = 0.0;  // [m] the robot's path length up to this keyframe
   // The up direction its INTEGRATE carried (sensor frame; none: the robot has no reference).
   std::optional<GravityReference> gravity = std::nullopt;
-  // The robot's previous keyframe's reference made from every integration it stands for (from
-  // it up to this one): the mean of their up directions in its sensor frame
-  // (gravity_window.hpp). None when no integration between them carried one.
-  std::optional<GravityReference> previous_gravity = std::nullopt;
   std::vector<Eigen::Vector3f> points;  // sensor frame, voxel-downsampled
   ScanContext descriptor;
   KeyframeScan scan;  // what the grid is rebuilt from (finer, with labels)

@@ -119,7 +119,7 @@ double PoseGraph::priorError(const PosePrior& prior) const {
   return r.squaredNorm();
 }
 
-GravityPrior PoseGraph::checkedGravityPrior(const GravityPrior& prior) const {
+void PoseGraph::addGravityPrior(const GravityPrior& prior) {
   if (prior.node < 0 || prior.node >= static_cast<int>(poses_.size()))
     throw std::logic_error("pose graph: no node " + std::to_string(prior.node));
   const double norm = prior.up.norm();
@@ -127,22 +127,8 @@ GravityPrior PoseGraph::checkedGravityPrior(const GravityPrior& prior) const {
     throw std::invalid_argument("pose graph: a gravity prior needs sigma > 0 and an up vector");
   GravityPrior p = prior;
   p.up /= norm;
-  return p;
-}
-
-void PoseGraph::addGravityPrior(const GravityPrior& prior) {
-  const GravityPrior p = checkedGravityPrior(prior);
   if (!up_) up_ = (pose(p.node).linear() * p.up).normalized();
   gravity_.push_back(p);
-}
-
-void PoseGraph::setGravityPrior(const GravityPrior& prior) {
-  // A node's prior is replaced soon after it was added: searched from the back.
-  const auto same = std::find_if(gravity_.rbegin(), gravity_.rend(),
-                                 [&](const GravityPrior& g) { return g.node == prior.node; });
-  if (same == gravity_.rend()) return addGravityPrior(prior);
-  *same = checkedGravityPrior(prior);
-  optimum_.reset();
 }
 
 double PoseGraph::gravityError(const GravityPrior& prior) const {

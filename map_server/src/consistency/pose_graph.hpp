@@ -69,9 +69,6 @@ class PoseGraph {
   /// it holds exactly); later ones leave it to the optimization. Throws std::logic_error on a
   /// node that does not exist, std::invalid_argument on a sigma not > 0 or a zero up.
   void addGravityPrior(const GravityPrior& prior);
-  /// Replaces prior.node's gravity prior (a better reference for it: gravity_window.hpp), or adds
-  /// one when it has none. Throws as addGravityPrior.
-  void setGravityPrior(const GravityPrior& prior);
 
   /// Optimizes all nodes from their current poses. Throws std::logic_error on an edge or prior
   /// naming a node that does not exist.
@@ -112,8 +109,6 @@ class PoseGraph {
   /// The cost of this graph optimized from its current poses (addConsistentEdge's baseline):
   /// the last optimization's when nothing changed since, or nothing that moves the optimum.
   double optimumCost();
-  /// prior with a unit up, after checking its node, sigma and up (as addGravityPrior throws).
-  GravityPrior checkedGravityPrior(const GravityPrior& prior) const;
 
   // The last optimization's result (addConsistentEdge reuses it): the graph of the first
   // nodes/edges/priors elements optimized from the current poses costs chi2; at_poses: the

@@ -120,45 +120,29 @@ Keyframe getKeyframeFields(ByteReader& r) {
   return k;
 }
 
-// A keyframe's gravity references, after every other field of its record (keyframe and
-// waiting), each only when it has one, so a store without references is byte for byte what it
-// was and an older map_server reads it; a record from before references ends without them.
-// Each is {uint8 tag, up (3 doubles), sigma (double)}: tag 1 its own reference, tag 2 its
-// robot's previous keyframe's from every integration between them (since 2026-12-08; a
-// map_server from before reads a record with it as corrupt).
+// A keyframe's gravity reference, after every other field of its record (keyframe and waiting):
+// written only when it has one, so a store without references is byte for byte what it was and
+// an older map_server reads it; a record from before references ends without it. {uint8 1, up
+// (3 doubles), sigma (double)}.
 constexpr std::uint8_t kGravityTag = 1;
-constexpr std::uint8_t kPreviousGravityTag = 2;
 
-void putReference(ByteWriter& w, std::uint8_t tag, const std::optional<GravityReference>& gravity) {
+void putGravity(ByteWriter& w, const std::optional<GravityReference>& gravity) {
   if (!gravity) return;
-  w.put<std::uint8_t>(tag);
+  w.put<std::uint8_t>(kGravityTag);
   for (int i = 0; i < 3; ++i) w.put<double>(gravity->up[i]);
   w.put<double>(gravity->sigma);
 }
 
-void putGravity(ByteWriter& w, const Keyframe& k) {
-  putReference(w, kGravityTag, k.gravity);
-  putReference(w, kPreviousGravityTag, k.previous_gravity);
-}
-
-GravityReference getReference(ByteReader& r) {
+std::optional<GravityReference> getGravity(ByteReader& r) {
+  if (r.remaining() == 0) return std::nullopt;
+  if (r.get<std::uint8_t>() != kGravityTag)
+    throw std::runtime_error("keyframe: unknown field after its record");
   Eigen::Vector3d up;
   for (int i = 0; i < 3; ++i) up[i] = r.get<double>();
   const double sigma = r.get<double>();
   std::optional<GravityReference> gravity = gravityReference(up, sigma);
   if (!gravity) throw std::runtime_error("keyframe: a gravity reference without a direction");
-  return *gravity;
-}
-
-void getGravity(ByteReader& r, Keyframe& k) {
-  std::uint8_t last = 0;  // tags in order, each once
-  while (r.remaining() > 0) {
-    const std::uint8_t tag = r.get<std::uint8_t>();
-    if (tag <= last || tag > kPreviousGravityTag)
-      throw std::runtime_error("keyframe: unknown field after its record");
-    (tag == kGravityTag ? k.gravity : k.previous_gravity) = getReference(r);
-    last = tag;
-  }
+  return gravity;
 }
 
 void expectEnd(const ByteReader& r) {
@@ -181,7 +165,7 @@ std::string encodeKeyframe(const StoredKeyframe& record) {
     putInformation(w, p.information);
     w.put<std::uint8_t>(p.fixed ? 1 : 0);
   }
-  putGravity(w, record.keyframe);
+  putGravity(w, record.keyframe.gravity);
   return w.bytes();
 }
 
@@ -200,7 +184,7 @@ StoredKeyframe decodeKeyframe(const std::string& payload) {
     p.information = getInformation(r);
     p.fixed = r.get<std::uint8_t>() != 0;
   }
-  getGravity(r, out.keyframe);
+  out.keyframe.gravity = getGravity(r);
   expectEnd(r);
   return out;
 }
@@ -290,7 +274,7 @@ std::string encodeWaiting(const StoredWaiting& record) {
   for (const Eigen::Vector3f& p : record.cloud.points)
     for (int i = 0; i < 3; ++i) w.put<float>(p[i]);
   putArray(w, record.cloud.labels);
-  putGravity(w, record.keyframe);
+  putGravity(w, record.keyframe.gravity);
   return w.bytes();
 }
 
@@ -311,7 +295,7 @@ StoredWaiting decodeWaiting(const std::string& payload) {
     throw std::runtime_error("waiting keyframe: labels and points differ");
   if (out.form != WaitingForm::kCloud && !out.cloud.points.empty())
     throw std::runtime_error("waiting keyframe: a cloud in a record without one");
-  getGravity(r, out.keyframe);
+  out.keyframe.gravity = getGravity(r);
   expectEnd(r);
   return out;
 }
