@@ -6,16 +6,13 @@
 namespace socc::sim {
 
 bool Realism::anyScanError() const {
-  const BeamErrors& b = beams;
   const ReturnErrors& r = returns;
-  return b.elevation_sigma_deg > 0 || b.elevation_bias_deg != 0 || b.azimuth_sigma_deg > 0 ||
-         b.range_offset_sigma > 0 || b.range_scale_sigma > 0 || r.noise_per_metre > 0 ||
-         r.incidence_noise_gain > 0 || r.detection_threshold > 0 || r.range_walk > 0 ||
-         r.dark_fraction > 0 || r.glass_fraction > 0 || r.mixed_pixel_probability > 0 ||
-         r.beam_divergence_mrad > 0 || r.foliage_depth > 0 || r.foliage_dropout > 0 ||
-         terrain.road_roughness > 0 || terrain.terrain_roughness > 0 ||
-         labels.boundary_probability > 0 || labels.confusion_probability > 0 ||
-         labels.single_scan_classes;
+  return beams.any() || r.noise_per_metre > 0 || r.incidence_noise_gain > 0 ||
+         r.detection_threshold > 0 || r.range_walk > 0 || r.dark_fraction > 0 ||
+         r.glass_fraction > 0 || r.mixed_pixel_probability > 0 || r.beam_divergence_mrad > 0 ||
+         r.foliage_depth > 0 || r.foliage_dropout > 0 || terrain.road_roughness > 0 ||
+         terrain.terrain_roughness > 0 || labels.boundary_probability > 0 ||
+         labels.confusion_probability > 0 || labels.single_scan_classes;
 }
 
 // The figures and their sources are in sim/README.md ("Realism").

@@ -29,15 +29,10 @@ void writeText(const fs::path& file, const std::string& text) {
   if (!out) throw std::runtime_error(file.string() + ": cannot write");
 }
 
-bool anyBeamError(const BeamErrors& e) {
-  return e.elevation_sigma_deg != 0.0 || e.elevation_bias_deg != 0.0 ||
-         e.azimuth_sigma_deg != 0.0 || e.range_offset_sigma != 0.0 || e.range_scale_sigma != 0.0;
-}
-
 // The sensor instance's per-laser calibration errors, the truth an estimate of them (odom_client's
 // range_calibration.txt) is compared with; none (a stale one removed) without such errors.
 void writeBeamTruth(const fs::path& file, const LidarModel& model, const ScanOptions& scan) {
-  if (scan.realism == nullptr || !anyBeamError(scan.realism->beams)) {
+  if (scan.realism == nullptr || !scan.realism->beams.any()) {
     fs::remove(file);
     return;
   }

@@ -15,6 +15,11 @@ struct BeamErrors {
   double azimuth_sigma_deg = 0.0;    // per-laser horizontal-angle offset
   double range_offset_sigma = 0.0;   // [m] per-laser range offset
   double range_scale_sigma = 0.0;    // per-laser relative range scale error
+
+  bool any() const {
+    return elevation_sigma_deg > 0 || elevation_bias_deg != 0 || azimuth_sigma_deg > 0 ||
+           range_offset_sigma > 0 || range_scale_sigma > 0;
+  }
 };
 
 /// How one return depends on range, incidence, reflectivity and what the beam hits.
