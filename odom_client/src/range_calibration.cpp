@@ -225,16 +225,19 @@ void RangeCalibration::fit() {
   const Eigen::Index n = info_.rows();
   if (n == 0) return;
   // Every laser is corrected by its posterior mean under the prior of the lasers' spread: a laser
-  // seen little keeps near the others, a correction grows with its evidence. A cut-off (lasers
+  // seen little keeps near zero, a correction grows with its evidence. A cut-off (lasers
   // known to 0.05 %) switched lasers in and out as the evidence faded, which moved the scans'
   // geometry from frame to frame where few lasers see walls far away (indoors).
   const Eigen::Vector3d spread(params_.offset_spread, params_.scale_spread, kAzimuthSpread);
   const double weight = 1.0 / (params_.noise * params_.noise);
   Eigen::MatrixXd a = weight * info_;
   for (Eigen::Index i = 0; i < n; ++i) a(i, i) += 1.0 / std::pow(spread(i % kUnknowns), 2);
+  const Eigen::VectorXd errors = Eigen::LLT<Eigen::MatrixXd>(a).solve(weight * evidence_);
   // The lasers' common errors scale and shift the world, which no comparison between lasers
-  // sees: held at zero by a stiff constraint on the sum of each error over all lasers, so that a
-  // laser's covariance is that of its error relative to the others.
+  // sees: for the covariances they are held at zero by a stiff constraint on the sum of each
+  // error over all lasers, so that a laser's covariance is that of its error relative to the
+  // others. Not for the means: there the lasers seen least would absorb the others' sum (-0.5 %
+  // of scale on lasers with no evidence, docs/robustness.md "Corrected where the evidence is").
   const double lasers = static_cast<double>(corrections_.size());
   for (int k = 0; k < kUnknowns; ++k) {
     const double stiff = 1e4 / std::pow(spread(k), 2) / lasers;
@@ -242,8 +245,7 @@ void RangeCalibration::fit() {
       for (Eigen::Index j = k; j < n; j += kUnknowns) a(i, j) += stiff;
   }
   const Eigen::LLT<Eigen::MatrixXd> solver(a);  // a is positive definite: the prior
-  const Eigen::VectorXd errors = solver.solve(weight * evidence_);
-  // Only the variances are needed, the diagonal of a^-1 = L^-T L^-1: the squared norms of the
+  // Only each laser's own block of the covariance a^-1 = L^-T L^-1 is needed: products of the
   // columns of L^-1, one triangular solve instead of the whole inverse.
   const Eigen::MatrixXd inverse_factor = solver.matrixL().solve(Eigen::MatrixXd::Identity(n, n));
   const Eigen::VectorXd variance = inverse_factor.colwise().squaredNorm().transpose();
@@ -258,8 +260,18 @@ void RangeCalibration::fit() {
       weights(k) += 1.0 / variance(at + k);
     }
   mean = mean.cwiseQuotient(weights);
-  for (std::size_t l = 0; l < corrections_.size(); ++l)
-    corrections_[l] = errors.segment<2>(static_cast<Eigen::Index>(kUnknowns * l)) - mean;
+  // That shift of the world's reference is given to a laser only in what its own evidence
+  // determines of its offset and scale (1 - posterior / prior covariance): a laser seen on almost
+  // no wall keeps its factory calibration, one seen at one range alone takes the shift at that
+  // range.
+  const Eigen::Matrix2d prior_precision = spread.head<2>().cwiseAbs2().cwiseInverse().asDiagonal();
+  for (std::size_t l = 0; l < corrections_.size(); ++l) {
+    const auto at = static_cast<Eigen::Index>(kUnknowns * l);
+    const auto columns = inverse_factor.middleCols<2>(at);
+    const Eigen::Matrix2d determined =
+        Eigen::Matrix2d::Identity() - columns.transpose() * columns * prior_precision;
+    corrections_[l] = errors.segment<2>(at) - determined * mean;
+  }
   fitted_ = true;
 }
 

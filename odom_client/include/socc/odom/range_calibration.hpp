@@ -14,7 +14,8 @@
 // A laser is known by its elevation (a bin of the point's elevation angle: scans carry no laser
 // index, e.g. KITTI's .bin files). A common offset and scale of all lasers is not observable (it
 // scales the world); the corrections keep the lasers' mean, each laser weighted by how well it
-// is known (the far-seeing lasers, whose scale the world has).
+// is known (the far-seeing lasers, whose scale the world has); a laser takes that shift only in
+// what its own evidence determines, so one seen little keeps its factory calibration.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
