@@ -35,9 +35,14 @@ def rows(path):
     return out
 
 
-def match(calibration, elevation, correction):
+def in_bin(nominal, elevation, correction):
+    """Whether a simulated laser of this nominal elevation is the calibration's laser (bin)."""
+    return abs(nominal + correction - elevation) <= 0.05 + 1e-6
+
+
+def match(calibration, nominal, correction):
     """The calibration's (offset, scale) for a laser of this nominal elevation, or None."""
-    near = [(o, s) for e, o, s in calibration if abs(elevation + correction - e) <= 0.05 + 1e-6]
+    near = [(o, s) for e, o, s in calibration if in_bin(nominal, e, correction)]
     return near[0] if len(near) == 1 else None
 
 
@@ -102,8 +107,7 @@ def main():
     estimates = rows(a.calibration)  # elevation_deg, offset, scale
     pairs = []
     for elevation, offset, scale in estimates:
-        near = [b for b in beams if match([(elevation, offset, scale)], b[0],
-                                          a.vertical_correction)]
+        near = [b for b in beams if in_bin(b[0], elevation, a.vertical_correction)]
         if len(near) != 1:
             print("laser at %.2f deg: %d simulated lasers in its bin, skipped" % (elevation, len(near)))
             continue
